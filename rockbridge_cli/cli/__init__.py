@@ -1,0 +1,62 @@
+"""The ``rockbridge`` command line: a thin layer that parses, calls the library and prints.
+
+User errors (bad config, bad record, bad arguments) exit with status 2 and one readable message;
+runtime failures exit with status 1; ``--debug`` shows the traceback instead.
+"""
+
+from __future__ import annotations
+
+import sys
+
+import click
+
+from .. import __version__
+from ..errors import InputError
+
+
+class _Group(click.Group):
+    """A click group that turns library exceptions into readable messages and exit codes."""
+
+    def invoke(self, ctx: click.Context):
+        try:
+            return super().invoke(ctx)
+        except InputError as exc:
+            if ctx.obj and ctx.obj.get("debug"):
+                raise
+            click.echo(f"error: {exc}", err=True)
+            ctx.exit(2)
+        except (click.exceptions.Exit, click.exceptions.Abort, click.ClickException):
+            raise
+        except KeyboardInterrupt:
+            click.echo("interrupted", err=True)
+            ctx.exit(130)
+        except Exception as exc:  # a runtime failure, not the user's input
+            if ctx.obj and ctx.obj.get("debug"):
+                raise
+            click.echo(f"error: {type(exc).__name__}: {exc} (rerun with --debug for details)", err=True)
+            ctx.exit(1)
+
+
+@click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(__version__, prog_name="rockbridge")
+@click.option("--debug", is_flag=True, help="Show full tracebacks on errors.")
+@click.pass_context
+def main(ctx: click.Context, debug: bool) -> None:
+    """Seismic response of bridges on rocking piers (Thomaidis, Camara & Kappos 2022)."""
+    ctx.ensure_object(dict)
+    ctx.obj["debug"] = debug
+
+
+@main.group()
+def plot() -> None:
+    """Figures: peaks, histories, spectra and the paper's parametric plots."""
+
+
+def _register() -> None:
+    from . import analysis, bridge, records, study  # noqa: F401  (each module adds its commands)
+
+
+_register()
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,1 @@
+"""Placeholder: commands are added as the issues land."""

@@ -1,0 +1,89 @@
+"""YAML loading and pydantic validation with file- and field-precise messages."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, TypeVar
+
+import yaml
+from pydantic import BaseModel, ConfigDict, ValidationError
+
+from ..errors import InputError
+
+ModelT = TypeVar("ModelT", bound=BaseModel)
+
+
+class StrictModel(BaseModel):
+    """Base of every config model: unknown keys are errors, values are never coerced silently."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
+
+
+def read_yaml(path: str | Path) -> dict[str, Any]:
+    """Read a YAML file that must hold a mapping.
+
+    Raises
+    ------
+    InputError
+        The file is missing, unreadable, not valid YAML, empty or not a mapping.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise InputError(path, [("", "file not found")]) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(path, [("", f"cannot read the file ({exc})")]) from None
+    try:
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f"line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+        reason = getattr(exc, "problem", None) or str(exc)
+        raise InputError(path, [(where, f"invalid YAML: {reason}")]) from None
+    if data is None:
+        raise InputError(path, [("", "the file is empty")])
+    if not isinstance(data, dict):
+        raise InputError(path, [("", f"expected a mapping of keys to values, got {type(data).__name__}")])
+    return data
+
+
+def validate(model: type[ModelT], data: Any, source: str | Path, **context: Any) -> ModelT:
+    """Validate ``data`` against ``model``, turning every pydantic error into an `InputError`.
+
+    Parameters
+    ----------
+    model
+        The pydantic model class.
+    data
+        The parsed YAML (or any mapping).
+    source
+        The file the data came from, named in the message.
+    context
+        Passed to the validators (for example the folder that relative paths are resolved against).
+    """
+    try:
+        return model.model_validate(data, context=context or None)
+    except ValidationError as exc:
+        raise InputError(source, [_describe(err) for err in exc.errors()]) from None
+
+
+def load(model: type[ModelT], path: str | Path, **context: Any) -> ModelT:
+    """Read and validate a YAML config file; relative paths inside it resolve against its folder."""
+    path = Path(path)
+    return validate(model, read_yaml(path), path, base_dir=path.parent, **context)
+
+
+def _describe(error: dict[str, Any]) -> tuple[str, str]:
+    where = ".".join(str(part) for part in error["loc"])
+    reason = error["msg"].removeprefix("Value error, ")
+    if error["type"] == "extra_forbidden":
+        reason = "unknown key"
+    elif error["type"] not in ("missing",) and "input" in error:
+        reason = f"{reason} (got {_short(error['input'])})"
+    return where, reason
+
+
+def _short(value: Any, limit: int = 60) -> str:
+    text = repr(value)
+    return text if len(text) <= limit else text[: limit - 3] + "..."

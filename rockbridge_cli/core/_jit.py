@@ -1,0 +1,13 @@
+"""The one place the numerical core chooses its compiler.
+
+Every hot kernel is plain Python on floats and numpy arrays, decorated with `jit`. numba compiles it
+to machine code (cached on disk after the first run); with the environment variable
+``NUMBA_DISABLE_JIT=1`` the very same functions run as ordinary Python, which the tests use to
+check that both give the same numbers.
+"""
+
+from __future__ import annotations
+
+import numba
+
+jit = numba.njit(cache=True, nogil=True, fastmath=False, error_model="numpy")

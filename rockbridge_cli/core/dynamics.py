@@ -1,0 +1,115 @@
+"""Equation of motion of the rocking bridge in Lagrangian form (MODEL.md §4).
+
+    M(φ)·φ̈ + ½·M'(φ)·φ̇² + ∂V/∂φ = Q
+
+with the generalised mass M = Σ m_i·|∂p_i/∂φ|² + I1 + I2·ψ'² + I_deck·θ'², the potential
+V = g·Σ m_i·z_i (+ ½k(|u_deck| − u_jo)² while the deck presses on an abutment) and the generalised
+force Q = −ü_g·Σ m_i·∂x_i/∂φ (− c·(∂u_deck/∂φ)²·φ̇ while in contact). This is the paper's
+Eq. (18) without its two misprints (MODEL.md §4); φ̇ = θ̇1 and φ̈ = θ̈1.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._jit import jit
+from .geometry import Model
+from .kinematics import centres
+
+
+@jit
+def coefficients(model: Model, s: float, theta1: float, fits: np.ndarray):
+    """Configuration-dependent coefficients of the equation of motion in mode s.
+
+    Parameters
+    ----------
+    model
+        The bridge.
+    s
+        Rocking mode, +1 or −1 [-].
+    theta1
+        Rotation of the tall pier [rad].
+    fits
+        Kinematics selector (see `kinematics.linkage`).
+
+    Returns
+    -------
+    mass : generalised mass M [kg·m²]
+    dmass : M' = dM/dφ [kg·m²/rad]
+    gravity : ∂V_gravity/∂φ = g·Σ m_i·∂z_i/∂φ [N·m]
+    inertia : Σ m_i·∂x_i/∂φ, the lever of the ground's inertia force [kg·m]
+    u_deck : horizontal displacement of the deck's centre of gravity [m]
+    du_deck : ∂u_deck/∂φ [m]
+    """
+    pos, d1, d2, ang = centres(model, s, theta1, fits)
+    dpsi, dtheta, d2psi, d2theta = ang[0], ang[1], ang[2], ang[3]
+    m1, m2, md = model.m1, model.m2, model.md
+    mass = (
+        m1 * (d1[0] ** 2 + d1[1] ** 2)
+        + m2 * (d1[2] ** 2 + d1[3] ** 2)
+        + md * (d1[4] ** 2 + d1[5] ** 2)
+        + model.I1
+        + model.I2 * dpsi**2
+        + model.Id * dtheta**2
+    )
+    dmass = 2.0 * (
+        m1 * (d1[0] * d2[0] + d1[1] * d2[1])
+        + m2 * (d1[2] * d2[2] + d1[3] * d2[3])
+        + md * (d1[4] * d2[4] + d1[5] * d2[5])
+        + model.I2 * dpsi * d2psi
+        + model.Id * dtheta * d2theta
+    )
+    gravity = model.g * (m1 * d1[1] + m2 * d1[3] + md * d1[5])
+    inertia = m1 * d1[0] + m2 * d1[2] + md * d1[4]
+    return mass, dmass, gravity, inertia, pos[4] - 0.5 * model.L2, d1[4]
+
+
+@jit
+def acceleration(
+    model: Model,
+    s: float,
+    theta1: float,
+    omega: float,
+    ground: float,
+    contact: bool,
+    fits: np.ndarray,
+) -> float:
+    """Angular acceleration θ̈1 of the tall pier.
+
+    Parameters
+    ----------
+    model, s, theta1, fits
+        As in `coefficients`.
+    omega
+        Angular velocity θ̇1 [rad/s].
+    ground
+        Ground acceleration ü_g, positive to the right [m/s²].
+    contact
+        Whether the deck presses on an abutment (|u_deck| ≥ u_jo); switches the spring–dashpot on.
+
+    Returns
+    -------
+    θ̈1 [rad/s²]
+    """
+    mass, dmass, gravity, inertia, u, du = coefficients(model, s, theta1, fits)
+    force = -ground * inertia - gravity - 0.5 * dmass * omega * omega
+    if contact:
+        overlap = abs(u) - model.u_jo
+        force -= model.k * overlap * np.sign(u) * du + model.c * du * du * omega
+    return force / mass
+
+
+@jit
+def energy(model: Model, s: float, theta1: float, omega: float, contact: bool, fits: np.ndarray):
+    """Mechanical energy above rest: ½·M·θ̇1² + ΔV_gravity (+ the spring's) [J]."""
+    mass = coefficients(model, s, theta1, fits)[0]
+    pos = centres(model, s, theta1, fits)[0]
+    potential = model.g * (
+        model.m1 * (pos[1] - model.H1)
+        + model.m2 * (pos[3] - 2.0 * model.H1 + model.H2)
+        + model.md * (pos[5] - 2.0 * model.H1 - model.h)
+    )
+    if contact:
+        overlap = abs(pos[4] - 0.5 * model.L2) - model.u_jo
+        potential += 0.5 * model.k * overlap * overlap
+    return 0.5 * mass * omega * omega + potential

@@ -1,0 +1,193 @@
+"""Onset of rocking, impacts at the rocking interfaces, pounding and failure limits.
+
+* Onset (Eq. 8, MODEL.md §5): mode s starts when s·ü_g exceeds the static threshold at rest.
+* Impacts at the rocking interfaces (Eqs. 21–29, MODEL.md §6): the impulse–momentum balance of the
+  three bodies with impulses at the new pivots, the abutment seats carrying L1/(L1 + L2) of the
+  pier–deck impulses, solved as one linear system. The corrected closed form of Eq. (30) is kept
+  as an independent check (`restitution_eq30`).
+* Pounding on the backwall (Eq. 20) is `geometry.pounding_ratio`.
+* Failure (MODEL.md §7): the abutment–backfill fails at |u_deck| = u_jo + u_ab, a pier overturns at
+  |u_pier| = B; `capacities` finds the tall pier's rotation at which each is reached.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.optimize import brentq
+
+from .dynamics import coefficients
+from .geometry import Model, ratios
+from .kinematics import EXACT, centres, displacements
+
+
+def onset_threshold(model: Model, s: float) -> float:
+    """Ground acceleration at which rocking starts in mode s (Eq. 8) [m/s²].
+
+    The virtual work of the ground's inertia forces equals that of gravity at rest:
+    ü_g,min = g·Σ m_i·∂z_i/∂φ / (−Σ m_i·∂x_i/∂φ). Positive for mode p, negative for mode n;
+    rocking in mode s starts when s·ü_g > s·ü_g,min.
+    """
+    _, _, gravity, inertia, _, _ = coefficients(model, s, 0.0, EXACT)
+    return gravity / -inertia
+
+
+def restitution(model: Model, s: float, abutment_seats: bool = True) -> float:
+    """Coefficient of restitution η = φ̇_II/φ̇_I of an impact that ends mode s.
+
+    Solves the impulse–momentum balance of the three bodies at rest (MODEL.md §6): unknown
+    impulses at the new base pivots (A, C), at the new pier–deck pivots (B, D) and, for a bridge,
+    vertical impulses at the abutment seats E, E' with Λ_E = L1/(L1 + L2)·Λ_B,z and
+    Λ_E' = L1/(L1 + L2)·Λ_D,z (Eqs. 21–22); the bodies move in mode s before and in mode −s after.
+
+    Parameters
+    ----------
+    model
+        The bridge.
+    s
+        The mode before the impact: +1 for p→n, −1 for n→p [-].
+    abutment_seats
+        False drops the seat impulses: the asymmetric frame of Dimitrakopoulos & Giouvanidis (2015).
+
+    Returns
+    -------
+    η [-]; the angular velocity keeps its sign across the impact (φ̇_II = η·φ̇_I).
+    """
+    before = _rest_jacobian(model, s)
+    after = _rest_jacobian(model, -s)
+    pos = centres(model, s, 0.0, EXACT)[0]
+    cg = np.reshape(pos, (3, 2))
+    # New pivots (those of mode −s): base of pier 1, base of pier 2, deck on pier 1, deck on pier 2.
+    B, H1, H2, L2 = model.B, model.H1, model.H2, model.L2
+    base1 = (s * B, 0.0)
+    base2 = (L2 + s * B, 2.0 * (H1 - H2))
+    top1 = (-s * B, 2.0 * H1)
+    top2 = (L2 - s * B, 2.0 * H1)
+    seats = (-model.L1, L2 + model.L1)
+    share = model.L1 / (model.L1 + L2) if (abutment_seats and model.has_abutments) else 0.0
+
+    # Unknowns: Λ_A (x, z), Λ_C (x, z), Λ_B (x, z), Λ_D (x, z), Λ_E, Λ_E', φ̇_II; φ̇_I = 1.
+    # Λ_A, Λ_C act on the piers from the ground; Λ_B, Λ_D on the deck from the piers.
+    matrix = np.zeros((11, 11))
+    rhs = np.zeros(11)
+    masses = (model.m1, model.m2, model.md)
+    inertias = (model.I1, model.I2, model.Id)
+    loads = (  # (body, unknown column of the x-impulse, point, sign)
+        (0, 0, base1, 1.0), (0, 4, top1, -1.0),
+        (1, 2, base2, 1.0), (1, 6, top2, -1.0),
+        (2, 4, top1, 1.0), (2, 6, top2, 1.0),
+    )  # fmt: skip
+    for body, column, point, sign in loads:
+        rx, rz = point[0] - cg[body, 0], point[1] - cg[body, 1]
+        matrix[3 * body, column] += sign
+        matrix[3 * body + 1, column + 1] += sign
+        matrix[3 * body + 2, column] += -sign * rz
+        matrix[3 * body + 2, column + 1] += sign * rx
+    for column, x_seat in zip((8, 9), seats):
+        matrix[7, column] = 1.0
+        matrix[8, column] = x_seat - cg[2, 0]
+    for body in range(3):
+        for axis in range(3):
+            weight = inertias[body] if axis == 2 else masses[body]
+            matrix[3 * body + axis, 10] = -weight * after[body, axis]
+            rhs[3 * body + axis] = -weight * before[body, axis]
+    matrix[9, 8], matrix[9, 5] = 1.0, -share
+    matrix[10, 9], matrix[10, 7] = 1.0, -share
+    return float(np.linalg.solve(matrix, rhs)[10])
+
+
+def _rest_jacobian(model: Model, s: float) -> np.ndarray:
+    """Velocities (ẋ, ż, ω) of pier 1, pier 2 and deck per unit φ̇ at rest in mode s, shape (3, 3)."""
+    _, d1, _, ang = centres(model, s, 0.0, EXACT)
+    return np.array(
+        [[d1[0], d1[1], 1.0], [d1[2], d1[3], ang[0]], [d1[4], d1[5], ang[1]]], dtype=float
+    )
+
+
+def restitution_eq30(model: Model, s: float) -> float:
+    """Corrected closed form of Eq. (30): η of a bridge (with seats) for the impact ending mode s.
+
+    MODEL.md §6: the ∓2α6·b̄(h̄² − 1) and ±2α8·b̄(h̄² − 1) terms belong inside the preceding
+    B²(…) brackets; the upper signs (s = +1) give p→n, the lower (s = −1) n→p. Kept as an
+    independent check of `restitution`.
+    """
+    r = ratios(model)
+    hb, bb, Lb = r["h_bar"], r["b_bar"], r["L_bar"]
+    B, H1, h = model.B, model.H1, model.h
+    a1 = 4 * Lb**3 + 6 * Lb**2 + 4 * Lb + 1
+    a2 = 4 * Lb**3 + 4 * Lb**2 + Lb
+    a3 = 2 * Lb**2 + 3 * Lb + 1
+    a4 = 2 * Lb**3 + 4 * Lb**2 + 3 * Lb + 1
+    a5 = (Lb + 1) ** 2
+    a6 = 2 * Lb**3 + 3 * Lb**2 + Lb
+    a7 = 4 * Lb**3 + 8 * Lb**2 + 7 * Lb + 2
+    a8 = 2 * Lb**3 + 5 * Lb**2 + 5 * Lb + 2
+    d = hb - 1.0
+    num = (
+        a1 * (H1**2 - B**2) * model.m1 + a1 * model.I1
+        + a1 * (H1**2 - hb**2 * B**2) * model.m2 + a1 * hb**2 * model.I2
+        + (
+            4 * a1 * H1**2 + s * 4 * a2 * H1 * h * bb * d - 4 * a3 * h**2 * bb**2 * d**2
+            - B**2 * (a4 * (hb + 1) ** 2 - 4 * a5 * bb**2 * d**2 - s * 2 * a6 * bb * (hb**2 - 1))
+        ) * model.md
+        - 4 * a3 * bb**2 * d**2 * model.Id
+    )  # fmt: skip
+    den = (
+        a1 * (H1**2 + B**2) * model.m1 + a1 * model.I1
+        + a1 * (H1**2 + hb**2 * B**2) * model.m2 + a1 * hb**2 * model.I2
+        + (
+            4 * a1 * H1**2 - s * 4 * a7 * H1 * h * bb * d + 4 * a3 * h**2 * bb**2 * d**2
+            + B**2 * (a4 * (hb + 1) ** 2 + 4 * a5 * bb**2 * d**2 + s * 2 * a8 * bb * (hb**2 - 1))
+        ) * model.md
+        + 4 * a3 * bb**2 * d**2 * model.Id
+    )  # fmt: skip
+    return num / den
+
+
+def capacities(model: Model) -> dict[str, dict[str, float]]:
+    """Rotation of the tall pier at which each failure limit is reached, per mode.
+
+    Returns
+    -------
+    ``{limit: {"p": θ1 [rad], "n": θ1 [rad]}}`` for ``abutment`` (|u_deck| = u_jo + u_ab; absent
+    without abutments), ``overturning_pier1`` and ``overturning_pier2`` (|u_pier| = B). A limit the
+    linkage cannot reach before the tall pier's own overturning angle is ``inf``.
+    """
+    limits = {
+        "abutment": (4, model.u_jo + model.u_ab),
+        "overturning_pier1": (0, model.B),
+        "overturning_pier2": (2, model.B),
+    }
+    if not model.has_abutments:
+        del limits["abutment"]
+    if model.m2 == 0.0:
+        del limits["overturning_pier2"]
+    return {
+        name: {mode: _rotation_at(model, s, index, limit) for mode, s in (("p", 1.0), ("n", -1.0))}
+        for name, (index, limit) in limits.items()
+    }
+
+
+def governing_failure(model: Model) -> str:
+    """The failure limit reached at the smallest rotation of the tall pier, over both modes."""
+    caps = capacities(model)
+    return min(caps, key=lambda name: min(abs(v) for v in caps[name].values()))
+
+
+def _rotation_at(model: Model, s: float, index: int, limit: float) -> float:
+    """Smallest s·θ1 > 0 with |displacement[index]| = limit, or ±inf if none below α1."""
+
+    def excess(t: float) -> float:
+        return abs(displacements(model, s, s * t, EXACT)[index]) - limit
+
+    grid = np.linspace(0.0, model.alpha1, 257)[1:]
+    previous = 0.0
+    for t in grid:
+        value = excess(t)
+        if not math.isfinite(value):
+            break
+        if value >= 0.0:
+            return s * brentq(excess, previous, t, xtol=1e-15, rtol=1e-14)
+        previous = t
+    return s * math.inf

@@ -1,0 +1,31 @@
+"""Exceptions that carry a user-facing message (the command line maps them to exit codes)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+
+class InputError(Exception):
+    """A file or value the user supplied cannot be used.
+
+    Parameters
+    ----------
+    source
+        The file (or other named input) at fault.
+    problems
+        One ``(where, reason)`` pair per problem; ``where`` is a dotted field path, a line number
+        or an empty string when the whole input is at fault.
+    """
+
+    def __init__(self, source: str | Path, problems: list[tuple[str, str]]):
+        self.source = str(source)
+        self.problems = problems
+        super().__init__(str(self))
+
+    def __str__(self) -> str:
+        if len(self.problems) == 1:
+            where, reason = self.problems[0]
+            return f"{self.source}: {where + ': ' if where else ''}{reason}"
+        lines = [f"{self.source}: {len(self.problems)} problems"]
+        lines += [f"  {where + ': ' if where else ''}{reason}" for where, reason in self.problems]
+        return "\n".join(lines)
