@@ -152,7 +152,7 @@ def capacities(model: Model) -> dict[str, dict[str, float]]:
     -------
     ``{limit: {"p": θ1 [rad], "n": θ1 [rad]}}`` for ``abutment`` (|u_deck| = u_jo + u_ab; absent
     without abutments), ``overturning_pier1`` and ``overturning_pier2`` (|u_pier| = B). A limit the
-    linkage cannot reach before the tall pier's own overturning angle is ``inf``.
+    linkage cannot reach below 1.5·α1 is ``inf``.
     """
     limits = {
         "abutment": (4, model.u_jo + model.u_ab),
@@ -176,12 +176,12 @@ def governing_failure(model: Model) -> str:
 
 
 def _rotation_at(model: Model, s: float, index: int, limit: float) -> float:
-    """Smallest s·θ1 > 0 with |displacement[index]| = limit, or ±inf if none below α1."""
+    """Smallest s·θ1 > 0 with |displacement[index]| = limit, or ±inf if none below 1.5·α1."""
 
     def excess(t: float) -> float:
         return abs(displacements(model, s, s * t, EXACT)[index]) - limit
 
-    grid = np.linspace(0.0, model.alpha1, 257)[1:]
+    grid = np.linspace(0.0, 1.5 * model.alpha1, 385)[1:]
     previous = 0.0
     for t in grid:
         value = excess(t)

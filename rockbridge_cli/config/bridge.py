@@ -1,0 +1,187 @@
+"""The bridge config: what a YAML file says about one bridge, validated, and turned into a `Model`.
+
+Lengths are the full dimensions a designer draws (pier width 2B, heights 2H, deck depth 2h), in SI
+units. Optional parts are optional: without ``abutments`` the bridge is a rocking frame; with a
+single pier height and no deck it is Housner's block. Heights are listed left to right; a bridge
+whose taller pier stands on the right is analysed as the mirror image of one with the tall pier on
+the left (MODEL.md §1), and `BridgeConfig.mirrored` says so.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from pydantic import Field, PositiveFloat, model_validator
+
+from ..core import geometry
+from ..core.geometry import Model
+from . import loading
+from .loading import StrictModel
+
+
+class Piers(StrictModel):
+    """The rocking piers: square sections of one width, one or two heights."""
+
+    width: PositiveFloat = Field(description="Pier width 2B (square section) [m]")
+    heights: list[PositiveFloat] = Field(
+        min_length=1,
+        max_length=2,
+        description="Pier heights 2H, left to right; one value makes a single block [m]",
+    )
+
+    @model_validator(mode="after")
+    def _slender(self) -> Piers:
+        for height in self.heights:
+            if self.width >= height:
+                raise ValueError(
+                    f"the width ({self.width} m) must be smaller than every height ({height} m): "
+                    "a pier with B ≥ H does not rock on its corners in this model"
+                )
+        return self
+
+
+class Deck(StrictModel):
+    """The deck: a rigid beam on the piers (and on the abutment seats)."""
+
+    depth: PositiveFloat = Field(description="Deck depth 2h [m]")
+    area: PositiveFloat | None = Field(
+        None, description="Cross-section area A_deck; mass = density·A·(2L1 + L2) [m²]"
+    )
+    mass: PositiveFloat | None = Field(None, description="Deck mass m_deck, instead of area [kg]")
+    inertia: PositiveFloat | None = Field(
+        None,
+        description="Moment of inertia about its centre of gravity; default m·(L_tot² + (2h)²)/12 "
+        "[kg·m²]",
+    )
+
+    @model_validator(mode="after")
+    def _area_or_mass(self) -> Deck:
+        if (self.area is None) == (self.mass is None):
+            raise ValueError("give exactly one of 'area' and 'mass'")
+        return self
+
+
+class Spans(StrictModel):
+    """Span lengths."""
+
+    side: float = Field(0.0, ge=0.0, description="Side (end) span L1, pier to abutment [m]")
+    central: PositiveFloat = Field(description="Central span L2, between the piers [m]")
+
+
+class Pounding(StrictModel):
+    """Deck–backwall pounding (Eqs. 19–20). Defaults: MODEL.md §2 (m_abut = 38 000 kg)."""
+
+    restitution: float = Field(0.6, ge=0.0, le=1.0, description="Coefficient of restitution e [-]")
+    mass: PositiveFloat | None = Field(
+        None, description="Backfill mass m_abut; default ρ_s·L_cr·B_abut·h_bw [kg]"
+    )
+    soil_density: PositiveFloat = Field(2000.0, description="Backfill density ρ_s [kg/m³]")
+    critical_length: PositiveFloat = Field(1.0, description="Backfill length L_cr [m]")
+    backwall_width: PositiveFloat = Field(9.5, description="Backwall width B_abut [m]")
+    backwall_height: PositiveFloat = Field(2.0, description="Backwall height h_bw [m]")
+
+    @property
+    def backfill_mass(self) -> float:
+        """m_abut [kg]."""
+        if self.mass is not None:
+            return self.mass
+        return geometry.backfill_mass(
+            self.soil_density, self.critical_length, self.backwall_width, self.backwall_height
+        )
+
+
+class Abutments(StrictModel):
+    """Seat-type abutments with an end-joint gap and a Kelvin–Voigt backfill (Eqs. 15–17)."""
+
+    gap: float = Field(ge=0.0, description="End-joint gap u_jo [m]")
+    stiffness: float = Field(ge=0.0, description="Backfill spring k [N/m]")
+    damping: float = Field(ge=0.0, description="Backfill dashpot c [N·s/m]")
+    ultimate_displacement: PositiveFloat = Field(
+        description="Backfill displacement at failure beyond the gap, u_ab [m]"
+    )
+    pounding: Pounding = Field(default_factory=Pounding, description="Backwall pounding")
+
+
+class BridgeConfig(StrictModel):
+    """One bridge, as a YAML file describes it."""
+
+    name: str | None = Field(None, description="Label used in tables and plots")
+    description: str | None = Field(None, description="Free text")
+    piers: Piers
+    deck: Deck | None = Field(None, description="Absent only for a single block")
+    spans: Spans | None = Field(None, description="Absent only for a single block")
+    abutments: Abutments | None = Field(None, description="Absent: a rocking frame")
+    density: PositiveFloat = Field(2500.0, description="Density of piers and deck ρ [kg/m³]")
+    gravity: PositiveFloat = Field(9.81, description="Acceleration of gravity g [m/s²]")
+
+    @model_validator(mode="after")
+    def _parts_fit(self) -> BridgeConfig:
+        if len(self.piers.heights) == 1:
+            extra = [p for p in ("deck", "spans", "abutments") if getattr(self, p) is not None]
+            if extra:
+                raise ValueError(
+                    f"a single pier is a free-standing block: remove {', '.join(extra)} "
+                    "or give two pier heights"
+                )
+            return self
+        missing = [p for p in ("deck", "spans") if getattr(self, p) is None]
+        if missing:
+            raise ValueError(f"two piers need {' and '.join(missing)}")
+        assert self.spans is not None
+        if self.spans.central <= self.piers.width:
+            raise ValueError(
+                f"the central span ({self.spans.central} m) must exceed the pier width "
+                f"({self.piers.width} m)"
+            )
+        return self
+
+    @property
+    def mirrored(self) -> bool:
+        """True when the taller pier stands on the right (the model runs on the mirror image)."""
+        heights = self.piers.heights
+        return len(heights) == 2 and heights[1] > heights[0]
+
+    def label(self, fallback: str = "bridge") -> str:
+        """The bridge's name, or ``fallback``."""
+        return self.name or fallback
+
+    def to_model(self) -> Model:
+        """The core `Model`, tall pier first, in SI units."""
+        B = 0.5 * self.piers.width
+        heights = sorted(self.piers.heights, reverse=True)
+        H1 = 0.5 * heights[0]
+        if len(heights) == 1:
+            return geometry.single_block(B, H1, self.density, self.gravity)
+        assert self.deck is not None and self.spans is not None
+        H2 = 0.5 * heights[1]
+        L1, L2 = self.spans.side, self.spans.central
+        length = 2.0 * L1 + L2
+        md = self.deck.mass if self.deck.mass is not None else self.density * self.deck.area * length
+        inertia = self.deck.inertia or geometry.deck_inertia(md, length, self.deck.depth)
+        m1 = geometry.pier_mass(self.density, B, H1)
+        m2 = geometry.pier_mass(self.density, B, H2)
+        abut = self.abutments
+        return Model(
+            B=B, H1=H1, H2=H2, L1=L1, L2=L2, h=0.5 * self.deck.depth,
+            m1=m1, m2=m2, md=md,
+            I1=geometry.pier_inertia(m1, B, H1), I2=geometry.pier_inertia(m2, B, H2), Id=inertia,
+            g=self.gravity,
+            has_abutments=1.0 if abut else 0.0,
+            u_jo=abut.gap if abut else float("inf"),
+            k=abut.stiffness if abut else 0.0,
+            c=abut.damping if abut else 0.0,
+            u_ab=abut.ultimate_displacement if abut else float("inf"),
+            e=abut.pounding.restitution if abut else 1.0,
+            m_abut=abut.pounding.backfill_mass if abut else 0.0,
+        )  # fmt: skip
+
+
+def load_bridge(path: str | Path) -> BridgeConfig:
+    """Read and validate a bridge YAML file.
+
+    Raises
+    ------
+    InputError
+        Naming the file, the field path, the value and the reason for every problem.
+    """
+    return loading.load(BridgeConfig, path)

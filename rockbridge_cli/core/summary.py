@@ -1,0 +1,61 @@
+"""The numbers a designer checks first for one bridge, as a flat dictionary of SI values."""
+
+from __future__ import annotations
+
+from . import impacts
+from .geometry import Model, kind, pounding_ratio, ratios
+
+
+def summarize(model: Model, mirrored: bool = False) -> dict[str, object]:
+    """Derived constants, onset, restitution and failure capacities of a bridge.
+
+    Parameters
+    ----------
+    model
+        The bridge (tall pier first).
+    mirrored
+        True when the user's bridge has its tall pier on the right: the modes p and n are then
+        swapped so that "p" is counter-clockwise rocking in the user's drawing.
+
+    Returns
+    -------
+    dict with ``model`` (its kind), masses [kg], inertias [kg·m²], ``R1``, ``R2`` [m], ``alpha1``,
+    ``alpha2`` [rad], ``h_bar``, ``b_bar``, ``L_bar``, ``gamma`` [-], ``q`` [m/N], onset
+    accelerations ``ug_min_p``, ``ug_min_n`` [m/s², magnitudes] and in g (``*_g``), ``eta_pn``,
+    ``eta_np`` (bridge), ``eta_frame_pn``, ``eta_frame_np`` (same bridge without seat impulses),
+    ``pounding_ratio`` [-], ``capacities`` (tall-pier rotation at each failure limit [rad]) and
+    ``governing_failure``.
+    """
+    modes = (-1.0, 1.0) if mirrored else (1.0, -1.0)  # the core's modes behind the user's p and n
+    onset = [abs(impacts.onset_threshold(model, s)) for s in modes]
+    caps = impacts.capacities(model)
+    if mirrored:
+        caps = {name: {"p": -v["n"], "n": -v["p"]} for name, v in caps.items()}
+    out: dict[str, object] = {
+        "model": kind(model),
+        "mirrored": mirrored,
+        "m_pier1": model.m1,
+        "m_pier2": model.m2,
+        "m_deck": model.md,
+        "m_abut": model.m_abut,
+        "I_pier1": model.I1,
+        "I_pier2": model.I2,
+        "I_deck": model.Id,
+        "R1": model.R1,
+        "R2": model.R2,
+        "alpha1": model.alpha1,
+        "alpha2": model.alpha2,
+        **ratios(model),
+        "ug_min_p": onset[0],
+        "ug_min_n": onset[1],
+        "ug_min_p_g": onset[0] / model.g,
+        "ug_min_n_g": onset[1] / model.g,
+        "eta_pn": impacts.restitution(model, modes[0]),
+        "eta_np": impacts.restitution(model, modes[1]),
+        "eta_frame_pn": impacts.restitution(model, modes[0], abutment_seats=False),
+        "eta_frame_np": impacts.restitution(model, modes[1], abutment_seats=False),
+        "pounding_ratio": pounding_ratio(model),
+        "capacities": caps,
+        "governing_failure": impacts.governing_failure(model),
+    }
+    return out
