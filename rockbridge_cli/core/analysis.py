@@ -1,0 +1,217 @@
+"""One response-history analysis: a bridge, a ground motion and a fidelity preset in, a `Response` out."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import fidelity, impacts
+from ._jit import jit
+from .geometry import Model, kind, pounding_ratio
+from .kinematics import EXACT, displacements, simplified_fits
+from .solver import EVENT_NAMES, PEAK_NAMES, Laws, integrate
+
+HISTORY_UNITS = {
+    "theta1": "rad", "theta1_rate": "rad/s", "mode": "-", "theta2": "rad", "theta_deck": "rad",
+    "u_deck": "m", "v_deck": "m", "u_pier1": "m", "v_pier1": "m", "u_pier2": "m", "v_pier2": "m",
+}  # fmt: skip
+"""Every history a `Response` carries, with its unit. Pier 1 is the tall pier (paper's notation)."""
+
+PEAK_UNITS = {"u_deck": "m", "v_deck": "m", "theta_deck": "rad", "theta1": "rad", "theta2": "rad",
+              "u_pier1": "m", "u_pier2": "m"}  # fmt: skip
+"""Peak quantities: maxima of the absolute values, except v_deck (largest uplift)."""
+
+
+@dataclass
+class Response:
+    """The response of one bridge to one ground motion, in SI units, in the user's frame.
+
+    Attributes
+    ----------
+    model : kind of model that ran (``asymmetric-bridge``, ``single-block``, …)
+    fidelity : name of the preset; ``knobs`` its settings
+    time : sample times of the histories [s]
+    histories : name → array at ``time``; units in `HISTORY_UNITS`
+    events : dict of arrays: ``time`` [s], ``kind`` (name), ``mode`` after (+1, −1, 0 at rest),
+        ``rate_before``, ``rate_after`` (θ̇1 [rad/s])
+    peaks : name → (peak value, time [s]); units in `PEAK_UNITS`
+    t_onset : time of the first onset of rocking, NaN if the bridge never rocks [s]
+    n_impacts, n_poundings : counts of impacts at the rocking interfaces and on the backwall [-]
+    failure_mode : ``none``, ``abutment``, ``overturning_pier1`` or ``overturning_pier2``
+    failure_time : time of failure, NaN without [s]
+    dcr : peak demand/capacity of the governing failure mode (|u_deck|/(u_jo + u_ab) or
+        |u_pier|/B, the larger) [-]; ``dcr_mode`` names it
+    status : ``ok``, or the solver's error message
+    solve_time_s : wall time of the integration alone [s]
+    steps, rejected_steps : integrator statistics [-]
+    """
+
+    model: str
+    fidelity: str
+    knobs: dict
+    time: np.ndarray
+    histories: dict[str, np.ndarray]
+    events: dict[str, np.ndarray]
+    peaks: dict[str, tuple[float, float]]
+    t_onset: float
+    n_impacts: int
+    n_poundings: int
+    failure_mode: str
+    failure_time: float
+    dcr: float
+    dcr_mode: str
+    status: str
+    solve_time_s: float
+    steps: int
+    rejected_steps: int
+    extra: dict = field(default_factory=dict)
+
+    def summary(self) -> dict[str, object]:
+        """Flat dictionary of the scalar results (peaks as ``<name>_max`` and ``<name>_time``)."""
+        out: dict[str, object] = {}
+        for name, (value, when) in self.peaks.items():
+            out[f"{name}_max"] = value
+            out[f"{name}_time"] = when
+        out.update(
+            t_onset=self.t_onset, n_impacts=self.n_impacts, n_poundings=self.n_poundings,
+            failure_mode=self.failure_mode, failure_time=self.failure_time, dcr=self.dcr,
+            dcr_mode=self.dcr_mode, status=self.status, model=self.model, fidelity=self.fidelity,
+            solve_time_s=self.solve_time_s, steps=self.steps, rejected_steps=self.rejected_steps,
+        )  # fmt: skip
+        return out
+
+
+_SOLVER_ERRORS = {
+    1: "the step size fell below 1e-14 s",
+    2: "too many events (chattering that the rest guard did not stop)",
+    3: "the state became non-finite",
+}
+_FAILURES = {5: "abutment", 6: "overturning_pier1", 7: "overturning_pier2"}
+
+
+def laws(model: Model, restitution: float | None = None) -> Laws:
+    """Onset thresholds, restitution coefficients and pounding ratio of a bridge.
+
+    Parameters
+    ----------
+    restitution
+        Overrides η in both directions (for example a measured value) [-].
+    """
+    eta = [restitution if restitution is not None else impacts.restitution(model, s) for s in (1, -1)]
+    return Laws(
+        onset_p=impacts.onset_threshold(model, 1.0),
+        onset_n=impacts.onset_threshold(model, -1.0),
+        eta_p=eta[0],
+        eta_n=eta[1],
+        pounding=pounding_ratio(model),
+    )
+
+
+def analyze(
+    model: Model,
+    acceleration: np.ndarray,
+    time_step: float,
+    preset: str = "default",
+    mirrored: bool = False,
+    restitution: float | None = None,
+    **overrides: object,
+) -> Response:
+    """Response-history analysis of one bridge under one ground motion.
+
+    Parameters
+    ----------
+    model
+        The bridge, tall pier first (`config.bridge.BridgeConfig.to_model`).
+    acceleration
+        Ground acceleration at uniform samples, positive to the right [m/s²].
+    time_step
+        Sample interval of ``acceleration`` [s].
+    preset
+        Fidelity preset (`fidelity.PRESETS`).
+    mirrored
+        The user's bridge has its tall pier on the right: the analysis runs on the mirror image
+        and the results are mirrored back.
+    restitution
+        Overrides the computed η of the rocking interfaces [-].
+    overrides
+        Fidelity knobs to change (`fidelity.knobs`).
+
+    Raises
+    ------
+    ValueError
+        An empty, non-finite or too short record, or a non-positive time step.
+    """
+    acc = np.ascontiguousarray(acceleration, dtype=float)
+    if acc.ndim != 1 or acc.size < 2:
+        raise ValueError("the ground motion needs at least two samples")
+    if not np.all(np.isfinite(acc)):
+        raise ValueError("the ground motion has non-finite values")
+    if not (time_step > 0.0 and np.isfinite(time_step)):
+        raise ValueError(f"the time step must be positive, got {time_step}")
+    values = fidelity.knobs(preset, **overrides)
+    fits = simplified_fits(model) if values["kinematics"] == "simplified" else EXACT
+    sign = -1.0 if mirrored else 1.0
+    bridge_laws = laws(model, restitution)
+
+    start = time.perf_counter()
+    theta1, rate, mode, events, peaks, status = integrate(
+        model, bridge_laws, fits, sign * acc, float(time_step), fidelity.settings(values)
+    )
+    solve_time = time.perf_counter() - start
+
+    track = _observe(model, fits, theta1, mode)
+    histories = {
+        "theta1": sign * theta1, "theta1_rate": sign * rate, "mode": sign * mode,
+        "theta2": sign * track[:, 6], "theta_deck": sign * track[:, 7],
+        "u_deck": sign * track[:, 4], "v_deck": track[:, 5],
+        "u_pier1": sign * track[:, 0], "v_pier1": track[:, 1],
+        "u_pier2": sign * track[:, 2], "v_pier2": track[:, 3],
+    }  # fmt: skip
+    kinds = events[:, 1].astype(int)
+    failure = int(status[1])
+    demands = {"abutment": (peaks[0, 0], model.u_jo + model.u_ab)} if model.has_abutments else {}
+    demands["overturning"] = (max(peaks[5, 0], peaks[6, 0] if model.m2 else 0.0), model.B)
+    dcr_mode = max(demands, key=lambda name: demands[name][0] / demands[name][1])
+    onsets = events[kinds == 0, 0]
+    return Response(
+        model=kind(model),
+        fidelity=preset,
+        knobs=values,
+        time=np.arange(theta1.size) * values["output_step"],
+        histories=histories,
+        events={
+            "time": events[:, 0],
+            "kind": np.array([EVENT_NAMES[i] for i in kinds], dtype=object),
+            "mode": sign * events[:, 2],
+            "rate_before": sign * events[:, 3],
+            "rate_after": sign * events[:, 4],
+        },
+        peaks={name: (float(peaks[i, 0]), float(peaks[i, 1])) for i, name in enumerate(PEAK_NAMES)},
+        t_onset=float(onsets[0]) if onsets.size else float("nan"),
+        n_impacts=int(np.sum(kinds == 1)),
+        n_poundings=int(np.sum(kinds == 2)),
+        failure_mode=_FAILURES.get(failure, "none"),
+        failure_time=float(status[0]) if failure >= 0 else float("nan"),
+        dcr=float(demands[dcr_mode][0] / demands[dcr_mode][1]),
+        dcr_mode=dcr_mode,
+        status=_SOLVER_ERRORS.get(int(status[4]), "ok"),
+        solve_time_s=solve_time,
+        steps=int(status[2]),
+        rejected_steps=int(status[3]),
+    )
+
+
+@jit
+def _observe(model: Model, fits: np.ndarray, theta1: np.ndarray, mode: np.ndarray) -> np.ndarray:
+    """Displacements (see `kinematics.displacements`) at every sample, shape (n, 8)."""
+    out = np.zeros((theta1.size, 8))
+    for i in range(theta1.size):
+        if not np.isfinite(theta1[i]):
+            out[i, :] = np.nan
+        elif mode[i] != 0:
+            values = displacements(model, float(mode[i]), theta1[i], fits)
+            for j in range(8):
+                out[i, j] = values[j]
+    return out

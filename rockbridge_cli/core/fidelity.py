@@ -1,0 +1,69 @@
+"""Named fidelity presets: the speed/accuracy trade a user picks, each a documented set of knobs.
+
+``reference``  the yardstick: adaptive Dormand–Prince 5(4) at rtol 1e-12, events located to
+               1e-13 s, every turning point located, exact kinematics.
+``default``    the best trade measured by ``benchmarks/bench_fidelity.py``: the same scheme at a
+               looser tolerance (every Fig. 9 peak within 1e-3 of ``reference``).
+``fast``       a looser tolerance still, for screening large parametric studies.
+``paper``      the paper's own scheme: fixed-step Runge–Kutta (order 4) at 1e-3 s, events refined
+               by bisection to 5e-6 s, peaks sampled at the steps, simplified kinematics.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from .solver import DOPRI5, RK4, Settings
+
+_COMMON = {"rest_velocity": 1e-5, "output_step": 0.01, "max_events": 200_000}
+
+PRESETS: dict[str, dict[str, Any]] = {
+    "reference": {
+        "kinematics": "exact", "scheme": DOPRI5, "step": 1e-4, "rtol": 1e-12, "atol": 1e-15,
+        "max_step": 0.01, "event_tol": 1e-13, "bisection": False, "turning_points": True,
+    },
+    "default": {
+        "kinematics": "exact", "scheme": DOPRI5, "step": 1e-3, "rtol": 1e-7, "atol": 1e-10,
+        "max_step": 0.01, "event_tol": 1e-9, "bisection": False, "turning_points": True,
+    },
+    "fast": {
+        "kinematics": "exact", "scheme": DOPRI5, "step": 1e-3, "rtol": 1e-5, "atol": 1e-8,
+        "max_step": 0.01, "event_tol": 1e-7, "bisection": False, "turning_points": True,
+    },
+    "paper": {
+        "kinematics": "simplified", "scheme": RK4, "step": 1e-3, "rtol": 0.0, "atol": 0.0,
+        "max_step": 1e-3, "event_tol": 5e-6, "bisection": True, "turning_points": False,
+    },
+}  # fmt: skip
+
+SCHEME_NAMES = {RK4: "rk4", DOPRI5: "dopri5"}
+
+
+def knobs(preset: str, **overrides: Any) -> dict[str, Any]:
+    """The knobs of a preset, with any of them overridden.
+
+    Parameters
+    ----------
+    preset
+        One of `PRESETS`.
+    overrides
+        Knob values to change, for example ``rtol=1e-9`` or ``output_step=0.005``.
+
+    Raises
+    ------
+    ValueError
+        Unknown preset or knob.
+    """
+    if preset not in PRESETS:
+        raise ValueError(f"unknown fidelity {preset!r}; choose one of {', '.join(PRESETS)}")
+    values = {**_COMMON, **PRESETS[preset]}
+    unknown = set(overrides) - set(values)
+    if unknown:
+        raise ValueError(f"unknown fidelity knob(s): {', '.join(sorted(unknown))}")
+    values.update({k: v for k, v in overrides.items() if v is not None})
+    return values
+
+
+def settings(values: dict[str, Any]) -> Settings:
+    """The solver's `Settings` from a knob dictionary (``kinematics`` is not a solver knob)."""
+    return Settings(**{name: values[name] for name in Settings._fields})

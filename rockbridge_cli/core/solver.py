@@ -1,0 +1,428 @@
+"""Event-driven response-history integration of one bridge under one ground motion.
+
+The response is a chain of smooth segments cut by events (MODEL.md §5–7). The integrator is a
+small state machine:
+
+* **at rest** until the ground acceleration, linear between samples, crosses an onset threshold
+  (Eq. 8): the crossing time is solved exactly;
+* **rocking in mode s** (+1 or −1), integrating θ̈1 = f(θ1, θ̇1, ü_g) with the end gap **open** or
+  **closed** (spring–dashpot on), until an event:
+
+  - *impact* at the rocking interfaces (θ1 back to 0): θ̇1 ← η_s·θ̇1, mode ← −s; right after, if
+    |θ̇1| is below the rest velocity and the ground cannot drive the new mode, back **at rest**
+    (the chatter guard);
+  - *pounding* (|u_deck| reaches u_jo from inside): θ̇1 ← ratio·θ̇1, gap closed;
+  - *reopening* (|u_deck| back to u_jo): gap open, no impulse;
+  - *failure* of the abutment–backfill (|u_deck| = u_jo + u_ab) or overturning of a pier
+    (|u_pier| = B): the analysis stops;
+  - optionally a *turning point* (θ̇1 = 0) to catch each peak exactly.
+
+Steps never straddle a record sample, so the ground acceleration is linear within each step. An
+event is located by re-stepping from the step's start with a shorter step (Illinois regula falsi,
+or the paper's plain bisection) until the event time is known to ``event_tol``; the state is then
+taken just past the event. Two one-step schemes are available: the classical fixed-step
+Runge–Kutta of order 4 (the paper's) and the adaptive embedded Dormand–Prince 5(4) pair
+(Dormand & Prince 1980) with error control on θ1 and θ̇1.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from ._jit import jit
+from .dynamics import acceleration
+from .geometry import Model
+from .kinematics import displacements
+
+RK4, DOPRI5 = 0, 1
+"""Integration schemes."""
+
+ONSET, IMPACT, POUNDING, REOPENING, REST, ABUTMENT_FAILURE, PIER1_OVERTURNING, PIER2_OVERTURNING = (
+    range(8)
+)
+EVENT_NAMES = (
+    "onset", "impact", "pounding", "reopening", "rest",
+    "abutment_failure", "pier1_overturning", "pier2_overturning",
+)  # fmt: skip
+"""Event kinds, by code."""
+
+PEAK_NAMES = ("u_deck", "v_deck", "theta_deck", "theta1", "theta2", "u_pier1", "u_pier2")
+"""Peak quantities tracked during the integration, by index (all absolute except v_deck)."""
+
+
+class Settings(NamedTuple):
+    """Numerical knobs of one analysis (see `fidelity` for the named presets).
+
+    Attributes
+    ----------
+    scheme : `RK4` (fixed step) or `DOPRI5` (adaptive) [-]
+    step : fixed step (RK4) or first trial step (DOPRI5) [s]
+    rtol, atol : relative and absolute (θ1 [rad], θ̇1 [rad/s]) tolerances of DOPRI5 [-]
+    max_step : largest step [s]
+    event_tol : event times are located to within this [s]
+    bisection : True for the paper's bisection, False for Illinois regula falsi
+    turning_points : locate every θ̇1 = 0 to catch the peaks exactly
+    rest_velocity : chatter guard, |θ̇1| below which an impact may end in rest [rad/s]
+    output_step : time step of the stored histories [s]
+    max_events : the analysis stops with a solver error beyond this many events [-]
+    """
+
+    scheme: int
+    step: float
+    rtol: float
+    atol: float
+    max_step: float
+    event_tol: float
+    bisection: bool
+    turning_points: bool
+    rest_velocity: float
+    output_step: float
+    max_events: int
+
+
+class Laws(NamedTuple):
+    """Event laws of one bridge, from `impacts` (signs as in the core's frame).
+
+    Attributes
+    ----------
+    onset_p, onset_n : signed onset thresholds (Eq. 8) [m/s²]
+    eta_p, eta_n : restitution of the impact that ends mode p / mode n [-]
+    pounding : velocity ratio at a deck–backwall pounding (Eq. 20) [-]
+    """
+
+    onset_p: float
+    onset_n: float
+    eta_p: float
+    eta_n: float
+    pounding: float
+
+
+@jit
+def _ground(acc: np.ndarray, dt: float, k: int, t: float) -> float:
+    """Ground acceleration at time t inside sample interval k (linear between samples) [m/s²]."""
+    return acc[k] + (acc[k + 1] - acc[k]) * (t / dt - k)
+
+
+@jit
+def _step(model, fits, s, contact, acc, dt, k, t, y, w, h, scheme):
+    """One step of length h from (θ1, θ̇1) = (y, w) at time t.
+
+    Returns the new (θ1, θ̇1) and, for DOPRI5, the local error estimates of both (zero for RK4).
+    """
+    if scheme == RK4:
+        f1 = acceleration(model, s, y, w, _ground(acc, dt, k, t), contact, fits)
+        y2, w2 = y + 0.5 * h * w, w + 0.5 * h * f1
+        f2 = acceleration(model, s, y2, w2, _ground(acc, dt, k, t + 0.5 * h), contact, fits)
+        y3, w3 = y + 0.5 * h * w2, w + 0.5 * h * f2
+        f3 = acceleration(model, s, y3, w3, _ground(acc, dt, k, t + 0.5 * h), contact, fits)
+        y4, w4 = y + h * w3, w + h * f3
+        f4 = acceleration(model, s, y4, w4, _ground(acc, dt, k, t + h), contact, fits)
+        return (
+            y + h / 6.0 * (w + 2.0 * w2 + 2.0 * w3 + w4),
+            w + h / 6.0 * (f1 + 2.0 * f2 + 2.0 * f3 + f4),
+            0.0,
+            0.0,
+        )
+    # Dormand–Prince 5(4): the stages of θ1 are the θ̇1 values, those of θ̇1 the accelerations.
+    a1 = acceleration(model, s, y, w, _ground(acc, dt, k, t), contact, fits)
+    v1 = w
+    y2 = y + h * (v1 / 5.0)
+    v2 = w + h * (a1 / 5.0)
+    a2 = acceleration(model, s, y2, v2, _ground(acc, dt, k, t + h / 5.0), contact, fits)
+    y3 = y + h * (3.0 * v1 + 9.0 * v2) / 40.0
+    v3 = w + h * (3.0 * a1 + 9.0 * a2) / 40.0
+    a3 = acceleration(model, s, y3, v3, _ground(acc, dt, k, t + 0.3 * h), contact, fits)
+    y4 = y + h * (44.0 / 45.0 * v1 - 56.0 / 15.0 * v2 + 32.0 / 9.0 * v3)
+    v4 = w + h * (44.0 / 45.0 * a1 - 56.0 / 15.0 * a2 + 32.0 / 9.0 * a3)
+    a4 = acceleration(model, s, y4, v4, _ground(acc, dt, k, t + 0.8 * h), contact, fits)
+    y5 = y + h * (
+        19372.0 / 6561.0 * v1 - 25360.0 / 2187.0 * v2 + 64448.0 / 6561.0 * v3 - 212.0 / 729.0 * v4
+    )
+    v5 = w + h * (
+        19372.0 / 6561.0 * a1 - 25360.0 / 2187.0 * a2 + 64448.0 / 6561.0 * a3 - 212.0 / 729.0 * a4
+    )
+    a5 = acceleration(model, s, y5, v5, _ground(acc, dt, k, t + 8.0 / 9.0 * h), contact, fits)
+    y6 = y + h * (
+        9017.0 / 3168.0 * v1 - 355.0 / 33.0 * v2 + 46732.0 / 5247.0 * v3
+        + 49.0 / 176.0 * v4 - 5103.0 / 18656.0 * v5
+    )  # fmt: skip
+    v6 = w + h * (
+        9017.0 / 3168.0 * a1 - 355.0 / 33.0 * a2 + 46732.0 / 5247.0 * a3
+        + 49.0 / 176.0 * a4 - 5103.0 / 18656.0 * a5
+    )  # fmt: skip
+    a6 = acceleration(model, s, y6, v6, _ground(acc, dt, k, t + h), contact, fits)
+    y_new = y + h * (
+        35.0 / 384.0 * v1 + 500.0 / 1113.0 * v3 + 125.0 / 192.0 * v4
+        - 2187.0 / 6784.0 * v5 + 11.0 / 84.0 * v6
+    )  # fmt: skip
+    w_new = w + h * (
+        35.0 / 384.0 * a1 + 500.0 / 1113.0 * a3 + 125.0 / 192.0 * a4
+        - 2187.0 / 6784.0 * a5 + 11.0 / 84.0 * a6
+    )  # fmt: skip
+    a7 = acceleration(model, s, y_new, w_new, _ground(acc, dt, k, t + h), contact, fits)
+    # Difference of the 5th- and 4th-order solutions.
+    e1, e3, e4 = 71.0 / 57600.0, -71.0 / 16695.0, 71.0 / 1920.0
+    e5, e6, e7 = -17253.0 / 339200.0, 22.0 / 525.0, -1.0 / 40.0
+    err_y = h * (e1 * v1 + e3 * v3 + e4 * v4 + e5 * v5 + e6 * v6 + e7 * w_new)
+    err_w = h * (e1 * a1 + e3 * a3 + e4 * a4 + e5 * a5 + e6 * a6 + e7 * a7)
+    return y_new, w_new, err_y, err_w
+
+
+@jit
+def _watch(model, s, contact, y, w, fits):
+    """Signed event functions at (θ1, θ̇1) = (y, w); an event fires when its function turns positive.
+
+    Order: impact, gap (closure while open, reopening while closed), abutment failure, pier 1 and
+    pier 2 overturning, turning point. Also returns the displacements (see `displacements`).
+    """
+    disp = displacements(model, s, y, fits)
+    gap = abs(disp[4]) - model.u_jo
+    functions = (
+        -s * y,
+        -gap if contact else gap,
+        abs(disp[4]) - (model.u_jo + model.u_ab),
+        abs(disp[0]) - model.B,
+        abs(disp[2]) - model.B,
+        -s * w,
+    )
+    return functions, disp
+
+
+@jit
+def _fired(before, after, count):
+    """Index of the first of the first ``count`` events whose function turned positive, or −1."""
+    for i in range(count):
+        if after[i] > 0.0 and before[i] <= 0.0:
+            return i
+    return -1
+
+
+@jit
+def _locate(model, fits, s, contact, acc, dt, k, t, y, w, h, kind, glo, ghi, y1, w1, opts):
+    """Length τ ≤ h of the step that ends just past event ``kind``, and the state there.
+
+    The event function is ``glo`` ≤ 0 at the step's start and ``ghi`` > 0 after the full step
+    (state ``y1, w1``). Each trial re-steps from t. When the function starts at exactly zero (right
+    after another event) a point where it is negative is searched first by halving; if none is
+    found above the event tolerance, the event happens at once (τ = 0).
+    """
+    lo, hi = 0.0, h
+    if glo == 0.0:
+        while hi > opts.event_tol:
+            probe = 0.5 * hi
+            yp, wp, _, _ = _step(model, fits, s, contact, acc, dt, k, t, y, w, probe, opts.scheme)
+            gp = _watch(model, s, contact, yp, wp, fits)[0][kind]
+            if gp < 0.0:
+                lo, glo = probe, gp
+                break
+            hi, ghi, y1, w1 = probe, gp, yp, wp
+        if glo == 0.0:
+            return 0.0, y, w
+    side = 0
+    while hi - lo > opts.event_tol:
+        if opts.bisection:
+            mid = 0.5 * (lo + hi)
+        else:
+            mid = hi - ghi * (hi - lo) / (ghi - glo)
+            mid = min(max(mid, lo + 0.01 * (hi - lo)), hi - 0.01 * (hi - lo))
+        ym, wm, _, _ = _step(model, fits, s, contact, acc, dt, k, t, y, w, mid, opts.scheme)
+        gm = _watch(model, s, contact, ym, wm, fits)[0][kind]
+        if gm > 0.0:
+            hi, ghi, y1, w1 = mid, gm, ym, wm
+            if side == 1:
+                glo *= 0.5  # Illinois: halve the value at the end that stayed
+            side = 1
+        else:
+            lo, glo = mid, gm
+            if side == -1:
+                ghi *= 0.5
+            side = -1
+    return hi, y1, w1
+
+
+@jit
+def _log(events, n, t, kind, s, before, after):
+    """Write event n (time, kind, mode after, θ̇1 before, θ̇1 after); returns n + 1."""
+    events[n, 0] = t
+    events[n, 1] = kind
+    events[n, 2] = s
+    events[n, 3] = before
+    events[n, 4] = after
+    return n + 1
+
+
+@jit
+def integrate(model: Model, laws: Laws, fits: np.ndarray, acc: np.ndarray, dt: float, opts):
+    """Integrate one ground motion.
+
+    Parameters
+    ----------
+    model
+        The bridge (core frame: tall pier on the left).
+    laws
+        Onset thresholds and restitution coefficients.
+    fits
+        Kinematics selector (`kinematics.EXACT` or `kinematics.simplified_fits`).
+    acc
+        Ground acceleration at uniform samples, positive to the right [m/s²].
+    dt
+        Sample interval [s].
+    opts
+        `Settings`.
+
+    Returns
+    -------
+    theta1, omega : histories of θ1 [rad] and θ̇1 [rad/s] every ``opts.output_step`` from t = 0
+    mode : rocking mode of each sample, 0 at rest [-]
+    events : array (n, 5): time [s], kind (`EVENT_NAMES`), mode after, θ̇1 before and after
+        [rad/s]
+    peaks : array (7, 2): value and time [s] of each `PEAK_NAMES` quantity
+    status : (end time [s], failure kind or −1, steps, rejected steps, solver error code:
+        0 none, 1 step underflow, 2 too many events, 3 non-finite state)
+    """
+    t_end = (acc.size - 1) * dt
+    n_out = int(np.floor(t_end / opts.output_step + 1e-9)) + 1
+    theta1 = np.zeros(n_out)
+    omega = np.zeros(n_out)
+    mode = np.zeros(n_out, dtype=np.int8)
+    events = np.zeros((opts.max_events, 5))
+    peaks = np.zeros((7, 2))
+    n_events = next_out = steps = rejected = solver_error = 0
+    failure = -1
+    count = 6 if opts.turning_points else 5
+    t, k, s, y, w, h = 0.0, 0, 0.0, 0.0, 0.0, opts.step
+    contact = False
+    while k < acc.size - 1:
+        if s == 0.0:
+            # At rest: the next onset (Eq. 8) on the piecewise-linear ground motion.
+            while k < acc.size - 1:
+                a0 = _ground(acc, dt, k, max(t, k * dt))
+                a1 = acc[k + 1]
+                if a0 > laws.onset_p or a0 < laws.onset_n:
+                    s = 1.0 if a0 > laws.onset_p else -1.0
+                    t = max(t, k * dt)
+                    break
+                if a1 > laws.onset_p or a1 < laws.onset_n:
+                    s = 1.0 if a1 > laws.onset_p else -1.0
+                    target = laws.onset_p if s > 0.0 else laws.onset_n
+                    t = min(max(t, k * dt + dt * (target - acc[k]) / (a1 - acc[k])), (k + 1) * dt)
+                    break
+                k += 1
+            if s == 0.0:
+                break
+            y, w, h = 0.0, 0.0, opts.step
+            contact = model.u_jo <= 0.0
+            n_events = _log(events, n_events, t, ONSET, s, 0.0, 0.0)
+            while next_out < n_out and next_out * opts.output_step <= t:
+                next_out += 1  # samples at rest stay zero
+            if t >= (k + 1) * dt:
+                k += 1
+                continue
+
+        # Rocking: one step, never past the end of the current sample interval. h is the step the
+        # scheme asks for (fixed for RK4), h_step the one taken.
+        boundary = (k + 1) * dt
+        h_step = min(h, opts.max_step, boundary - t)
+        y1, w1, err_y, err_w = _step(
+            model, fits, s, contact, acc, dt, k, t, y, w, h_step, opts.scheme
+        )
+        steps += 1
+        if not (np.isfinite(y1) and np.isfinite(w1)):
+            if opts.scheme == RK4:
+                solver_error = 3
+                break
+            err_y = np.inf
+        if opts.scheme == DOPRI5:
+            scale = max(
+                abs(err_y) / (opts.atol + opts.rtol * max(abs(y), abs(y1))),
+                abs(err_w) / (opts.atol + opts.rtol * max(abs(w), abs(w1))),
+            )
+            if not scale <= 1.0:
+                rejected += 1
+                h = h_step * (max(0.2, 0.9 * scale**-0.2) if np.isfinite(scale) else 0.2)
+                if h < 1e-14:
+                    solver_error = 1
+                    break
+                continue
+            grown = h_step * (min(5.0, 0.9 * scale**-0.2) if scale > 0.0 else 5.0)
+            h = grown if h_step == h else max(h, grown)
+        g0 = _watch(model, s, contact, y, w, fits)[0]
+        g1, disp1 = _watch(model, s, contact, y1, w1, fits)
+        tau = h_step
+        kind = _fired(g0, g1, count)
+        while kind >= 0:
+            # Locate it; if another event fired earlier inside the shortened step, locate that one.
+            tau, y1, w1 = _locate(
+                model, fits, s, contact, acc, dt, k, t, y, w, tau, kind, g0[kind], g1[kind],
+                y1, w1, opts,
+            )  # fmt: skip
+            g1, disp1 = _watch(model, s, contact, y1, w1, fits)
+            earlier = _fired(g0, g1, count)
+            if earlier == kind or earlier < 0:
+                break
+            kind = earlier
+
+        # Accept the step: histories (cubic Hermite between the step's ends) and peaks.
+        t_new = boundary if (kind < 0 and tau == boundary - t) else t + tau
+        while next_out < n_out and next_out * opts.output_step <= t_new + 1e-12:
+            if tau > 0.0:
+                x = (next_out * opts.output_step - t) / tau
+                theta1[next_out] = (
+                    (1.0 + 2.0 * x) * (1.0 - x) ** 2 * y + x * (1.0 - x) ** 2 * tau * w
+                    + x * x * (3.0 - 2.0 * x) * y1 + x * x * (x - 1.0) * tau * w1
+                )  # fmt: skip
+                omega[next_out] = (
+                    6.0 * x * (x - 1.0) * (y - y1) / tau
+                    + (1.0 - x) * (1.0 - 3.0 * x) * w + x * (3.0 * x - 2.0) * w1
+                )  # fmt: skip
+            else:
+                theta1[next_out], omega[next_out] = y1, w1
+            mode[next_out] = np.int8(s)
+            next_out += 1
+        values = (
+            abs(disp1[4]), disp1[5], abs(disp1[7]), abs(y1), abs(disp1[6]),
+            abs(disp1[0]), abs(disp1[2]),
+        )  # fmt: skip
+        for i in range(7):
+            if values[i] > peaks[i, 0]:
+                peaks[i, 0], peaks[i, 1] = values[i], t_new
+        t, y, w = t_new, y1, w1
+        if t >= boundary:
+            k += 1
+        if kind < 0 or kind == 5:  # no event, or a turning point: nothing changes but the peaks
+            continue
+
+        # Apply the event.
+        if n_events >= opts.max_events - 2:
+            solver_error = 2
+            break
+        before = w
+        if kind == 0:  # impact at the rocking interfaces
+            w *= laws.eta_p if s > 0.0 else laws.eta_n
+            s, y = -s, 0.0
+            n_events = _log(events, n_events, t, IMPACT, s, before, w)
+            ground = _ground(acc, dt, min(k, acc.size - 2), t)
+            driven = ground > laws.onset_p if s > 0.0 else ground < laws.onset_n
+            if abs(w) < opts.rest_velocity and not driven:
+                s, w = 0.0, 0.0
+                n_events = _log(events, n_events, t, REST, 0.0, before, 0.0)
+        elif kind == 1:  # the end gap closes (pounding) or reopens
+            if contact:
+                contact = False
+                n_events = _log(events, n_events, t, REOPENING, s, before, w)
+            else:
+                w *= laws.pounding
+                contact = laws.pounding > 0.0
+                n_events = _log(events, n_events, t, POUNDING, s, before, w)
+        else:  # failure ends the analysis
+            failure = ABUTMENT_FAILURE + kind - 2
+            n_events = _log(events, n_events, t, failure, s, before, w)
+            break
+
+    if failure >= 0 or solver_error:  # samples after the end are not defined
+        theta1[next_out:] = np.nan
+        omega[next_out:] = np.nan
+    status = np.array([t, failure, steps, rejected, solver_error], dtype=np.float64)
+    return theta1, omega, mode, events[:n_events].copy(), peaks, status
