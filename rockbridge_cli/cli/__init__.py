@@ -33,7 +33,9 @@ class _Group(click.Group):
         except Exception as exc:  # a runtime failure, not the user's input
             if ctx.obj and ctx.obj.get("debug"):
                 raise
-            click.echo(f"error: {type(exc).__name__}: {exc} (rerun with --debug for details)", err=True)
+            click.echo(
+                f"error: {type(exc).__name__}: {exc} (rerun with --debug for details)", err=True
+            )
             ctx.exit(1)
 
 

@@ -30,12 +30,21 @@ def _rows(name: str, s: dict) -> list[tuple[str, str]]:
     g = s["ug_min_p"] / s["ug_min_p_g"]
     rows = [
         ("bridge", name),
-        ("model", s["model"] + ("  (tall pier on the right: analysed mirrored)" if s["mirrored"] else "")),
-        ("m_pier1, m_pier2, m_deck", f"{s['m_pier1']:.4g}, {s['m_pier2']:.4g}, {s['m_deck']:.4g} kg"),
+        (
+            "model",
+            s["model"] + ("  (tall pier on the right: analysed mirrored)" if s["mirrored"] else ""),
+        ),
+        (
+            "m_pier1, m_pier2, m_deck",
+            f"{s['m_pier1']:.4g}, {s['m_pier2']:.4g}, {s['m_deck']:.4g} kg",
+        ),
         ("h_bar, b_bar, L_bar", f"{s['h_bar']:.4g}, {s['b_bar']:.4g}, {s['L_bar']:.4g}"),
         ("gamma = m_deck/(m1 + m2)", f"{s['gamma']:.4f}"),
         ("q", f"{s['q'] * 1e6:.4f} ·10⁻³ m/kN"),
-        ("onset ug_min p / n", f"{s['ug_min_p_g']:.4f} g / {s['ug_min_n_g']:.4f} g  (g = {g} m/s²)"),
+        (
+            "onset ug_min p / n",
+            f"{s['ug_min_p_g']:.4f} g / {s['ug_min_n_g']:.4f} g  (g = {g} m/s²)",
+        ),
         ("eta bridge p→n / n→p", f"{s['eta_pn']:.4f} / {s['eta_np']:.4f}"),
         ("eta frame  p→n / n→p", f"{s['eta_frame_pn']:.4f} / {s['eta_frame_np']:.4f}"),
         ("pounding ratio", f"{s['pounding_ratio']:.4f}"),

@@ -44,7 +44,9 @@ def read_yaml(path: str | Path) -> dict[str, Any]:
     if data is None:
         raise InputError(path, [("", "the file is empty")])
     if not isinstance(data, dict):
-        raise InputError(path, [("", f"expected a mapping of keys to values, got {type(data).__name__}")])
+        raise InputError(
+            path, [("", f"expected a mapping of keys to values, got {type(data).__name__}")]
+        )
     return data
 
 

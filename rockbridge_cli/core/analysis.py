@@ -1,4 +1,5 @@
-"""One response-history analysis: a bridge, a ground motion and a fidelity preset in, a `Response` out."""
+"""One response-history analysis: a bridge, a ground motion and a fidelity preset in, a `Response`
+out."""
 
 from __future__ import annotations
 
@@ -99,7 +100,9 @@ def laws(model: Model, restitution: float | None = None) -> Laws:
     restitution
         Overrides η in both directions (for example a measured value) [-].
     """
-    eta = [restitution if restitution is not None else impacts.restitution(model, s) for s in (1, -1)]
+    eta = [
+        restitution if restitution is not None else impacts.restitution(model, s) for s in (1, -1)
+    ]
     return Laws(
         onset_p=impacts.onset_threshold(model, 1.0),
         onset_n=impacts.onset_threshold(model, -1.0),

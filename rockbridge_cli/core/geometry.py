@@ -102,7 +102,7 @@ def deck_inertia(mass: float, length: float, depth: float) -> float:
 
 
 def backfill_mass(soil_density: float, length: float, width: float, height: float) -> float:
-    """Backfill mass that resists the deck's pounding, m_abut = ρ_s·L_cr·B_abut·h_bw (Eq. 19) [kg]."""
+    """Backfill mass resisting the deck's pounding, m_abut = ρ_s·L_cr·B_abut·h_bw (Eq. 19) [kg]."""
     return soil_density * length * width * height
 
 

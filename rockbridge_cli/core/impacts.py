@@ -84,7 +84,7 @@ def restitution(model: Model, s: float, abutment_seats: bool = True) -> float:
         matrix[3 * body + 1, column + 1] += sign
         matrix[3 * body + 2, column] += -sign * rz
         matrix[3 * body + 2, column + 1] += sign * rx
-    for column, x_seat in zip((8, 9), seats):
+    for column, x_seat in zip((8, 9), seats, strict=True):
         matrix[7, column] = 1.0
         matrix[8, column] = x_seat - cg[2, 0]
     for body in range(3):
@@ -98,7 +98,7 @@ def restitution(model: Model, s: float, abutment_seats: bool = True) -> float:
 
 
 def _rest_jacobian(model: Model, s: float) -> np.ndarray:
-    """Velocities (ẋ, ż, ω) of pier 1, pier 2 and deck per unit φ̇ at rest in mode s, shape (3, 3)."""
+    """Velocities (ẋ, ż, ω) of pier 1, pier 2 and deck per unit φ̇ at rest in mode s, (3, 3)."""
     _, d1, _, ang = centres(model, s, 0.0, EXACT)
     return np.array(
         [[d1[0], d1[1], 1.0], [d1[2], d1[3], ang[0]], [d1[4], d1[5], ang[1]]], dtype=float

@@ -1,10 +1,11 @@
 """Kinematics of the rocking bridge: a four-bar linkage with one degree of freedom.
 
 Ground A–C, tall pier A–B, deck B–D and short pier C–D (MODEL.md §1, §3). In rocking mode s = +1
-("p", counter-clockwise) the base pivots are the piers' bottom-left corners and the deck pivots their
-top-right corners; in mode s = −1 ("n") the mirror corners. The degree of freedom is the tall pier's
-rotation θ1 = φ − φ1^s (Eq. 1), where φ is the angle of the pier's diagonal A→B from +x and
-φ1^s = π/2 − s·α1 its value at rest. Working in θ1 rather than φ keeps full precision near rest.
+("p", counter-clockwise) the base pivots are the piers' bottom-left corners and the deck pivots
+their top-right corners; in mode s = −1 ("n") the mirror corners. The degree of freedom is the
+tall pier's rotation θ1 = φ − φ1^s (Eq. 1), where φ is the angle of the pier's diagonal A→B
+from +x and φ1^s = π/2 − s·α1 its value at rest. Working in θ1 rather than φ keeps full
+precision near rest.
 
 Positions follow from the loop closure 2R1·e(φ) + L2·e(θ) − 2R2·e(ψ) = C − A, with ψ (the paper's
 φ_CD) the short pier's diagonal angle and θ the deck rotation (Eqs. 2–3), and their derivatives
@@ -73,8 +74,16 @@ def linkage(model: Model, s: float, theta1: float, fits: np.ndarray):
         dtheta = -2.0 * R1 * np.sin(psi - phi) / (L2 * np.sin(psi - theta))
         dpsi = R1 * np.sin(theta - phi) / (R2 * np.sin(theta - psi))
         # r = 2R1·e(φ) + L2·θ'²·e(θ) − 2R2·ψ'²·e(ψ)
-        rx = 2.0 * R1 * np.cos(phi) + L2 * dtheta**2 * np.cos(theta) - 2.0 * R2 * dpsi**2 * np.cos(psi)
-        rz = 2.0 * R1 * np.sin(phi) + L2 * dtheta**2 * np.sin(theta) - 2.0 * R2 * dpsi**2 * np.sin(psi)
+        rx = (
+            2.0 * R1 * np.cos(phi)
+            + L2 * dtheta**2 * np.cos(theta)
+            - 2.0 * R2 * dpsi**2 * np.cos(psi)
+        )
+        rz = (
+            2.0 * R1 * np.sin(phi)
+            + L2 * dtheta**2 * np.sin(theta)
+            - 2.0 * R2 * dpsi**2 * np.sin(psi)
+        )
         d2theta = (rx * np.cos(psi) + rz * np.sin(psi)) / (L2 * np.sin(psi - theta))
         d2psi = -(rx * np.cos(theta) + rz * np.sin(theta)) / (2.0 * R2 * np.sin(theta - psi))
     else:
