@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from pydantic import Field, PositiveFloat, model_validator
+from pydantic import Field, PositiveFloat, ValidationInfo, field_validator, model_validator
 
 from ..core import geometry
 from ..core.geometry import Model
@@ -29,15 +29,17 @@ class Piers(StrictModel):
         description="Pier heights 2H, left to right; one value makes a single block [m]",
     )
 
-    @model_validator(mode="after")
-    def _slender(self) -> Piers:
-        for height in self.heights:
-            if self.width >= height:
+    @field_validator("heights")
+    @classmethod
+    def _slender(cls, heights: list[float], info: ValidationInfo) -> list[float]:
+        width = info.data.get("width")
+        for height in heights:
+            if width is not None and width >= height:
                 raise ValueError(
-                    f"the width ({self.width} m) must be smaller than every height ({height} m): "
+                    f"every height must exceed the width ({width} m), got {height} m: "
                     "a pier with B ≥ H does not rock on its corners in this model"
                 )
-        return self
+        return heights
 
 
 class Deck(StrictModel):
@@ -114,26 +116,23 @@ class BridgeConfig(StrictModel):
     density: PositiveFloat = Field(2500.0, description="Density of piers and deck ρ [kg/m³]")
     gravity: PositiveFloat = Field(9.81, description="Acceleration of gravity g [m/s²]")
 
-    @model_validator(mode="after")
-    def _parts_fit(self) -> BridgeConfig:
-        if len(self.piers.heights) == 1:
-            extra = [p for p in ("deck", "spans", "abutments") if getattr(self, p) is not None]
-            if extra:
-                raise ValueError(
-                    f"a single pier is a free-standing block: remove {', '.join(extra)} "
-                    "or give two pier heights"
-                )
-            return self
-        missing = [p for p in ("deck", "spans") if getattr(self, p) is None]
-        if missing:
-            raise ValueError(f"two piers need {' and '.join(missing)}")
-        assert self.spans is not None
-        if self.spans.central <= self.piers.width:
+    @field_validator("deck", "spans", "abutments")
+    @classmethod
+    def _parts_fit(cls, part: StrictModel | None, info: ValidationInfo) -> StrictModel | None:
+        piers = info.data.get("piers")
+        if piers is None:
+            return part
+        if len(piers.heights) == 1 and part is not None:
             raise ValueError(
-                f"the central span ({self.spans.central} m) must exceed the pier width "
-                f"({self.piers.width} m)"
+                "a single pier is a free-standing block: remove this or give two heights"
             )
-        return self
+        if len(piers.heights) == 2 and part is None and info.field_name != "abutments":
+            raise ValueError("required for a bridge on two piers")
+        if isinstance(part, Spans) and part.central <= piers.width:
+            raise ValueError(
+                f"the central span ({part.central} m) must exceed the pier width ({piers.width} m)"
+            )
+        return part
 
     @property
     def mirrored(self) -> bool:

@@ -119,6 +119,7 @@ def analyze(
     preset: str = "default",
     mirrored: bool = False,
     restitution: float | None = None,
+    initial: tuple[float, float] = (0.0, 0.0),
     **overrides: object,
 ) -> Response:
     """Response-history analysis of one bridge under one ground motion.
@@ -138,6 +139,9 @@ def analyze(
         and the results are mirrored back.
     restitution
         Overrides the computed η of the rocking interfaces [-].
+    initial
+        Initial rotation θ1 [rad] and angular velocity θ̇1 [rad/s] of the tall pier; non-zero
+        values start the bridge rocking at t = 0 (free vibration).
     overrides
         Fidelity knobs to change (`fidelity.knobs`).
 
@@ -160,7 +164,14 @@ def analyze(
 
     start = time.perf_counter()
     theta1, rate, mode, events, peaks, status = integrate(
-        model, bridge_laws, fits, sign * acc, float(time_step), fidelity.settings(values)
+        model,
+        bridge_laws,
+        fits,
+        sign * acc,
+        float(time_step),
+        fidelity.settings(values),
+        sign * float(initial[0]),
+        sign * float(initial[1]),
     )
     solve_time = time.perf_counter() - start
 

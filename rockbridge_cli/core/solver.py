@@ -192,9 +192,14 @@ def _watch(model, s, contact, y, w, fits):
 
 @jit
 def _fired(before, after, count):
-    """Index of the first of the first ``count`` events whose function turned positive, or −1."""
+    """Index of the first of the first ``count`` events whose function turned positive, or −1.
+
+    A function that starts a step at exactly zero counts as negative (it is zero right after its
+    own event), except the turning point's: a step that starts with θ̇1 = 0 starts at the turning
+    point itself (a release from rest), which is not an event.
+    """
     for i in range(count):
-        if after[i] > 0.0 and before[i] <= 0.0:
+        if after[i] > 0.0 and (before[i] < 0.0 or (before[i] == 0.0 and i < 5)):
             return i
     return -1
 
@@ -254,7 +259,16 @@ def _log(events, n, t, kind, s, before, after):
 
 
 @jit
-def integrate(model: Model, laws: Laws, fits: np.ndarray, acc: np.ndarray, dt: float, opts):
+def integrate(
+    model: Model,
+    laws: Laws,
+    fits: np.ndarray,
+    acc: np.ndarray,
+    dt: float,
+    opts: Settings,
+    theta0: float = 0.0,
+    omega0: float = 0.0,
+):
     """Integrate one ground motion.
 
     Parameters
@@ -271,6 +285,9 @@ def integrate(model: Model, laws: Laws, fits: np.ndarray, acc: np.ndarray, dt: f
         Sample interval [s].
     opts
         `Settings`.
+    theta0, omega0
+        Initial rotation [rad] and angular velocity [rad/s]; when either is non-zero the bridge
+        starts rocking at t = 0 in the mode of their sign (free-vibration tests), else at rest.
 
     Returns
     -------
@@ -292,8 +309,13 @@ def integrate(model: Model, laws: Laws, fits: np.ndarray, acc: np.ndarray, dt: f
     n_events = next_out = steps = rejected = solver_error = 0
     failure = -1
     count = 6 if opts.turning_points else 5
-    t, k, s, y, w, h = 0.0, 0, 0.0, 0.0, 0.0, opts.step
-    contact = False
+    t, k, y, w, h = 0.0, 0, theta0, omega0, opts.step
+    s = np.sign(theta0) if theta0 != 0.0 else np.sign(omega0)
+    contact = model.u_jo <= 0.0 or abs(displacements(model, s, y, fits)[4]) > model.u_jo
+    theta1[0], omega[0], mode[0] = y, w, np.int8(s)
+    if s != 0.0:
+        n_events = _log(events, n_events, 0.0, ONSET, s, 0.0, w)
+        peaks[3, 0] = abs(y)
     while k < acc.size - 1:
         if s == 0.0:
             # At rest: the next onset (Eq. 8) on the piecewise-linear ground motion.
