@@ -191,15 +191,16 @@ def _watch(model, s, contact, y, w, fits):
 
 
 @jit
-def _fired(before, after, count):
-    """Index of the first of the first ``count`` events whose function turned positive, or −1.
+def _fired(before, after, count, skip):
+    """Index of the first of the first ``count`` events (other than ``skip``) whose function
+    turned positive, or −1.
 
     A function that starts a step at exactly zero counts as negative (it is zero right after its
     own event), except the turning point's: a step that starts with θ̇1 = 0 starts at the turning
     point itself (a release from rest), which is not an event.
     """
     for i in range(count):
-        if after[i] > 0.0 and (before[i] < 0.0 or (before[i] == 0.0 and i < 5)):
+        if i != skip and after[i] > 0.0 and (before[i] < 0.0 or (before[i] == 0.0 and i < 5)):
             return i
     return -1
 
@@ -373,7 +374,7 @@ def integrate(
         g0 = _watch(model, s, contact, y, w, fits)[0]
         g1, disp1 = _watch(model, s, contact, y1, w1, fits)
         tau = h_step
-        kind = _fired(g0, g1, count)
+        kind = _fired(g0, g1, count, -1)
         while kind >= 0:
             # Locate it; if another event fired earlier inside the shortened step, locate that one.
             tau, y1, w1 = _locate(
@@ -381,8 +382,8 @@ def integrate(
                 y1, w1, opts,
             )  # fmt: skip
             g1, disp1 = _watch(model, s, contact, y1, w1, fits)
-            earlier = _fired(g0, g1, count)
-            if earlier == kind or earlier < 0:
+            earlier = _fired(g0, g1, count, kind)
+            if earlier < 0:
                 break
             kind = earlier
 

@@ -1,0 +1,315 @@
+"""The event-driven integrator against closed forms, conservation laws and independent solvers.
+
+Sources of the expected values are given test by test: Housner (1963) energy balance; an
+independent integration with scipy's DOP853; conservation of energy between impacts (MODEL.md §6);
+the dynamic equivalence of a symmetric frame and a single block (Makris & Vassiliou 2013; DeJong &
+Dimitrakopoulos 2014); Eq. (8) onset; mirror symmetry; and convergence of the scheme itself.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from conftest import G, make_bridge, studied_bridge, with_
+from scipy.integrate import solve_ivp
+
+from rockbridge_cli.core import fidelity, impacts
+from rockbridge_cli.core.analysis import analyze, laws
+from rockbridge_cli.core.dynamics import coefficients
+from rockbridge_cli.core.geometry import single_block
+from rockbridge_cli.core.kinematics import EXACT
+from rockbridge_cli.core.solver import Laws, integrate
+
+DT = 0.01  # record sample interval [s]
+
+
+def ground_motion(duration: float = 12.0, pga: float = 0.6 * G, seed: int = 7) -> np.ndarray:
+    """A broadband synthetic accelerogram: 40 random sines (0.3–6 Hz) under a rise–hold–decay
+    envelope, scaled to ``pga`` [m/s²]. Deterministic in ``seed``."""
+    t = np.arange(0.0, duration + DT / 2, DT)
+    rng = np.random.default_rng(seed)
+    acc = sum(
+        rng.uniform(0.5, 1.0) * np.sin(2 * np.pi * rng.uniform(0.3, 6.0) * t + rng.uniform(0, 6.3))
+        for _ in range(40)
+    )
+    acc = acc * np.minimum(1.0, t / 2.0) * np.exp(-np.maximum(0.0, t - 0.5 * duration) / 2.0)
+    return pga * acc / np.abs(acc).max()
+
+
+def half_sine(amplitude: float, period: float = 1.0, duration: float = 6.0) -> np.ndarray:
+    """One positive half-sine pulse of the given amplitude [m/s²], from t = 0.5 s, then zero."""
+    t = np.arange(0.0, duration + DT / 2, DT)
+    pulse = np.sin(np.pi * (t - 0.5) / (0.5 * period))
+    return np.where((t >= 0.5) & (t <= 0.5 + 0.5 * period), amplitude * pulse, 0.0)
+
+
+def relative_peak_difference(a, b) -> float:
+    return max(abs(a.peaks[k][0] - b.peaks[k][0]) / max(abs(b.peaks[k][0]), 1e-300)
+               for k in ("u_deck", "v_deck", "theta1", "theta2"))  # fmt: skip
+
+
+# ---------------------------------------------------------------- single block (Housner 1963)
+
+
+def test_housner_block_released_from_rest():
+    """A block released at θ0 reaches the impact with ½·I0·ω² = m·g·R·(cos(α − θ0) − cos α) and
+    leaves it with Housner's η; the time of the first impact agrees with scipy's DOP853 applied to
+    θ̈ = −p²·sin(α − θ), p² = 3g/(4R) (Housner's exact equation of motion)."""
+    block = single_block(B=1.0, H=5.0, density=2500.0, g=G)
+    alpha, R, theta0 = block.alpha1, block.R1, 0.1
+    response = analyze(block, np.zeros(401), DT, "reference", initial=(theta0, 0.0))
+    impacts_ = response.events["kind"] == "impact"
+    first_rate = response.events["rate_before"][impacts_][0]
+    expected = -math.sqrt(3.0 * G / (2.0 * R) * (math.cos(alpha - theta0) - math.cos(alpha)))
+    assert first_rate == pytest.approx(expected, rel=1e-10)
+    eta = response.events["rate_after"][impacts_] / response.events["rate_before"][impacts_]
+    np.testing.assert_allclose(eta, 1.0 - 1.5 * math.sin(alpha) ** 2, rtol=1e-12)
+
+    p2 = 3.0 * G / (4.0 * R)
+
+    def hit(t, y):
+        return y[0]
+
+    hit.terminal, hit.direction = True, -1
+    ref = solve_ivp(lambda t, y: (y[1], -p2 * math.sin(alpha - y[0])), (0, 10), (theta0, 0.0),
+                    method="DOP853", rtol=1e-13, atol=1e-15, events=hit)  # fmt: skip
+    assert response.events["time"][impacts_][0] == pytest.approx(ref.t_events[0][0], abs=1e-9)
+
+
+# ---------------------------------------------------------------- conservation of energy
+
+
+@pytest.mark.parametrize("h_bar", [1.0, 1.25, 2.0])
+def test_energy_is_conserved_between_impacts_and_across_them_with_the_mass_ratio(h_bar):
+    """Free rocking of a frame (no abutments, no ground motion): at every impact the bridge is at
+    rest position, so its energy is ½·M_s(0)·θ̇1². Between impacts energy is conserved; with
+    η_s = √(M_s/M_−s) (MODEL.md §6) it is conserved across impacts too: every impact then
+    carries the same energy."""
+    frame = studied_bridge(h_bar, abutments=False)
+    mass = {s: coefficients(frame, s, 0.0, EXACT)[0] for s in (1.0, -1.0)}
+    conservative = Laws(
+        onset_p=impacts.onset_threshold(frame, 1.0),
+        onset_n=impacts.onset_threshold(frame, -1.0),
+        eta_p=math.sqrt(mass[1.0] / mass[-1.0]),
+        eta_n=math.sqrt(mass[-1.0] / mass[1.0]),
+        pounding=1.0,
+    )
+    opts = fidelity.settings(fidelity.knobs("reference"))
+    *_, events, _, status = integrate(
+        frame, conservative, EXACT, np.zeros(2001), DT, opts, 0.004, 0.0
+    )
+    hits = events[events[:, 1] == 1]
+    assert len(hits) >= 10 and status[4] == 0
+    before = 0.5 * np.array([mass[-m] for m in hits[:, 2]]) * hits[:, 3] ** 2  # mode before = −after
+    after = 0.5 * np.array([mass[m] for m in hits[:, 2]]) * hits[:, 4] ** 2
+    np.testing.assert_allclose(after, before, rtol=1e-12)  # across each impact
+    np.testing.assert_allclose(before[1:], after[:-1], rtol=1e-8)  # between impacts
+
+
+# ---------------------------------------------------------------- limit cases
+
+
+def test_symmetric_bridge_keeps_its_deck_level():
+    """h̄ = 1: the deck translates without rotating (θ_deck ≡ 0) and both piers rotate alike."""
+    response = analyze(studied_bridge(1.0), ground_motion(), DT)
+    assert response.n_impacts > 5
+    assert np.nanmax(np.abs(response.histories["theta_deck"])) < 1e-12
+    np.testing.assert_allclose(
+        response.histories["theta2"], response.histories["theta1"], rtol=0, atol=1e-12
+    )
+
+
+def test_symmetric_frame_rocks_like_its_equivalent_block():
+    """Makris & Vassiliou (2013), DeJong & Dimitrakopoulos (2014): a symmetric frame of two piers
+    (mass m each) and a deck (mass m_d) rocks exactly like one block of the same slenderness α and
+    size R_eq = R·(1 + 3γ')/(1 + 2γ'), γ' = m_d/(2m), given the frame's coefficient of
+    restitution."""
+    frame = studied_bridge(1.0, abutments=False)
+    gamma = frame.md / (2.0 * frame.m1)
+    r_eq = frame.R1 * (1 + 3 * gamma) / (1 + 2 * gamma)
+    block = single_block(B=r_eq * math.sin(frame.alpha1), H=r_eq * math.cos(frame.alpha1),
+                         density=2500.0, g=G)  # fmt: skip
+    eta = impacts.restitution(frame, 1.0)
+    acc = ground_motion(seed=3)
+    a = analyze(frame, acc, DT, "reference")
+    b = analyze(block, acc, DT, "reference", restitution=eta)
+    assert a.n_impacts == b.n_impacts > 5
+    np.testing.assert_allclose(a.events["time"], b.events["time"], rtol=0, atol=1e-9)
+    scale = np.max(np.abs(a.histories["theta1"]))
+    np.testing.assert_allclose(a.histories["theta1"], b.histories["theta1"], rtol=0,
+                               atol=1e-8 * scale)  # fmt: skip
+
+
+def test_near_symmetric_bridge_matches_the_symmetric_one():
+    """h̄ = 1 + 1e-12 is no special case: the response equals h̄ = 1 to ~1e-9."""
+    acc = ground_motion(seed=11)
+    exact = analyze(studied_bridge(1.0), acc, DT, "reference")
+    near = analyze(studied_bridge(1.0 + 1e-12), acc, DT, "reference")
+    assert near.n_impacts == exact.n_impacts
+    assert relative_peak_difference(near, exact) < 1e-8
+    assert near.peaks["theta_deck"][0] < 1e-10
+
+
+# ---------------------------------------------------------------- onset (Eq. 8) and signs
+
+
+@pytest.mark.parametrize("h_bar", [1.0, 1.25, 2.0])
+@pytest.mark.parametrize("direction", [1.0, -1.0])
+def test_onset_threshold_separates_rest_from_rocking(h_bar, direction):
+    """A pulse peaking 0.1 % below |ü_g,min| of its direction (Eq. 8) leaves the bridge at rest;
+    0.1 % above, it rocks in that direction. MODEL.md §1: a positive ground acceleration drives
+    mode p, which moves the deck to the left (u_deck < 0)."""
+    bridge = studied_bridge(h_bar)
+    threshold = abs(impacts.onset_threshold(bridge, direction))
+    below = analyze(bridge, direction * half_sine(0.999 * threshold), DT)
+    assert math.isnan(below.t_onset) and below.n_impacts == 0
+    for name, values in below.histories.items():
+        assert np.all(values == 0.0), name
+    above = analyze(bridge, direction * half_sine(1.001 * threshold), DT)
+    assert above.events["mode"][0] == direction
+    first_motion = above.histories["u_deck"][np.flatnonzero(above.histories["mode"])[0]]
+    assert np.sign(first_motion) == -direction
+
+
+def test_onset_time_is_where_the_ground_crosses_the_threshold():
+    """The onset is located exactly on the piecewise-linear ground motion: a ramp a(t) = 1 m/s³·t
+    crosses ü_g,min at t = ü_g,min / (1 m/s³)."""
+    bridge = studied_bridge(1.25)
+    ramp = np.arange(0.0, 3.0, DT) * 1.0
+    response = analyze(bridge, ramp, DT)
+    assert response.t_onset == pytest.approx(impacts.onset_threshold(bridge, 1.0), abs=1e-12)
+
+
+def test_ground_sign_flip_mirrors_a_symmetric_bridge():
+    """A symmetric bridge under −ü_g does the mirror image of its response under ü_g."""
+    bridge, acc = studied_bridge(1.0), ground_motion(seed=5)
+    a = analyze(bridge, acc, DT, "reference")
+    b = analyze(bridge, -acc, DT, "reference")
+    np.testing.assert_allclose(a.events["time"], b.events["time"], rtol=0, atol=1e-9)
+    scale = np.max(np.abs(a.histories["theta1"]))
+    for name in ("theta1", "u_deck", "u_pier2"):
+        np.testing.assert_allclose(a.histories[name], -b.histories[name], rtol=0,
+                                   atol=1e-8 * scale * 30)  # fmt: skip
+    np.testing.assert_allclose(a.histories["v_deck"], b.histories["v_deck"], rtol=0, atol=1e-9)
+
+
+def test_mirrored_bridge_is_the_mirror_of_the_drawn_one():
+    """A bridge with its tall pier on the right, under ü_g, is the mirror image of the same bridge
+    drawn the other way under −ü_g (MODEL.md §1)."""
+    bridge, acc = studied_bridge(1.25), ground_motion(seed=5)
+    drawn = analyze(bridge, -acc, DT)
+    mirrored = analyze(bridge, acc, DT, mirrored=True)
+    for name in ("theta1", "theta2", "theta_deck", "u_deck"):
+        np.testing.assert_array_equal(mirrored.histories[name], -drawn.histories[name])
+    np.testing.assert_array_equal(mirrored.histories["v_deck"], drawn.histories["v_deck"])
+
+
+# ---------------------------------------------------------------- convergence
+
+
+def test_reference_is_converged():
+    """The yardstick: peaks change by less than 1e-8 between rtol 1e-11 and 1e-12."""
+    bridge, acc = studied_bridge(2.0), ground_motion(seed=1)
+    a = analyze(bridge, acc, DT, "reference")
+    b = analyze(bridge, acc, DT, "reference", rtol=1e-11, event_tol=1e-12)
+    assert a.n_impacts == b.n_impacts
+    assert relative_peak_difference(b, a) < 1e-8
+
+
+def test_default_converges_towards_reference():
+    """Tightening the default preset's tolerance brings its peaks to the reference's."""
+    bridge, acc = studied_bridge(1.25), ground_motion(seed=2)
+    reference = analyze(bridge, acc, DT, "reference")
+    errors = [relative_peak_difference(analyze(bridge, acc, DT, "default", rtol=rtol), reference)
+              for rtol in (1e-4, 1e-7, 1e-10)]  # fmt: skip
+    assert errors[2] < 1e-8
+    assert errors[2] <= errors[1] <= max(errors[0], 1e-12)
+
+
+def test_compiled_and_plain_python_kernels_agree():
+    """The compiled integrator and its plain-Python source give the same response."""
+    bridge = studied_bridge(1.25)
+    acc = ground_motion(duration=4.0, seed=9)
+    opts = fidelity.settings(fidelity.knobs("default"))
+    compiled = integrate(bridge, laws(bridge), EXACT, acc, DT, opts, 0.0, 0.0)
+    plain = integrate.py_func(bridge, laws(bridge), EXACT, acc, DT, opts, 0.0, 0.0)
+    for x, y in zip(compiled, plain, strict=True):
+        np.testing.assert_allclose(x, y, rtol=1e-12, atol=1e-15)
+
+
+# ---------------------------------------------------------------- extremes
+
+
+EXTREMES = {
+    "e=0": with_(studied_bridge(1.25), e=0.0),
+    "e=1": with_(studied_bridge(1.25), e=1.0),
+    "stiff backfill k=1e12": with_(studied_bridge(1.25), k=1e12),
+    "no gap u_jo=0": with_(studied_bridge(1.25), u_jo=0.0),
+    "no backfill k=c=0": with_(studied_bridge(1.25), k=0.0, c=0.0, u_ab=10.0),
+    "very asymmetric h=10": studied_bridge(10.0),
+    "slender alpha=0.01": make_bridge(0.5, 50.0, 40.0, 20.0, 60.0, 1.7, area=6.0),
+    "stocky alpha=0.5": make_bridge(5.46, 10.0, 8.0, 20.0, 30.0, 1.7, area=6.0),
+    "L1 -> 0": make_bridge(2.6, 26.0, 20.8, 1e-9, 60.0, 1.7, area=6.0),
+}
+
+
+@pytest.mark.parametrize("name", list(EXTREMES))
+@pytest.mark.parametrize("preset", ["default", "paper"])
+def test_extremes_finish_cleanly(name, preset):
+    """Each extreme bridge under a strong motion finishes without NaN before its end and
+    without an endless event loop."""
+    response = analyze(EXTREMES[name], ground_motion(pga=1.0 * G, seed=4), DT, preset)
+    assert response.status == "ok"
+    ended = response.time <= (response.failure_time if response.failure_mode != "none" else 1e9)
+    for key, values in response.histories.items():
+        assert np.all(np.isfinite(values[ended][:-1])), key
+    assert all(math.isfinite(v) for v, _ in response.peaks.values())
+
+
+def test_chattering_near_rest_ends_in_rest():
+    """A pulse just above the threshold makes the bridge rock a little and come to rest through
+    ever smaller impacts; the chatter guard (MODEL.md §7) ends them."""
+    bridge = studied_bridge(2.0)
+    threshold = impacts.onset_threshold(bridge, 1.0)
+    response = analyze(bridge, half_sine(1.05 * threshold, period=0.6, duration=20.0), DT)
+    kinds = list(response.events["kind"])
+    assert "rest" in kinds and response.n_impacts < 2000
+    assert response.histories["mode"][-1] == 0 and response.histories["theta1"][-1] == 0.0
+
+
+def test_strong_motion_fails_the_abutment_first():
+    """A motion far above the paper's: the abutment–backfill fails (|u_deck| = u_jo + u_ab) and
+    the analysis stops there (MODEL.md §7)."""
+    bridge = studied_bridge(1.25)
+    response = analyze(bridge, ground_motion(pga=3.0 * G, seed=8), DT)
+    assert response.failure_mode == "abutment"
+    assert response.peaks["u_deck"][0] == pytest.approx(bridge.u_jo + bridge.u_ab, rel=1e-6)
+    assert response.dcr == pytest.approx(1.0, rel=1e-6)
+    assert np.all(np.isnan(response.histories["u_deck"][response.time > response.failure_time]))
+
+
+def test_strong_pulse_overturns_a_frame():
+    """Without abutments a long strong pulse overturns the piers (|u_pier| = B)."""
+    frame = studied_bridge(1.25, abutments=False)
+    response = analyze(frame, half_sine(1.0 * G, period=4.0, duration=8.0), DT)
+    assert response.failure_mode.startswith("overturning")
+    assert response.dcr == pytest.approx(1.0, rel=1e-6)
+
+
+# ---------------------------------------------------------------- bad input
+
+
+@pytest.mark.parametrize(
+    ("acc", "dt", "reason"),
+    [
+        (np.array([0.0, np.nan, 0.0]), DT, "non-finite"),
+        (np.array([]), DT, "two samples"),
+        (np.zeros(10), 0.0, "time step"),
+        (np.zeros(10), -0.01, "time step"),
+    ],
+)
+def test_bad_ground_motions_are_refused(acc, dt, reason):
+    with pytest.raises(ValueError, match=reason):
+        analyze(studied_bridge(1.0), acc, dt)
