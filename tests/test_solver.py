@@ -102,7 +102,9 @@ def test_energy_is_conserved_between_impacts_and_across_them_with_the_mass_ratio
     )
     hits = events[events[:, 1] == 1]
     assert len(hits) >= 10 and status[4] == 0
-    before = 0.5 * np.array([mass[-m] for m in hits[:, 2]]) * hits[:, 3] ** 2  # mode before = −after
+    before = (
+        0.5 * np.array([mass[-m] for m in hits[:, 2]]) * hits[:, 3] ** 2
+    )  # mode before = −after
     after = 0.5 * np.array([mass[m] for m in hits[:, 2]]) * hits[:, 4] ** 2
     np.testing.assert_allclose(after, before, rtol=1e-12)  # across each impact
     np.testing.assert_allclose(before[1:], after[:-1], rtol=1e-8)  # between impacts
