@@ -1,0 +1,147 @@
+"""Speed/accuracy of the fidelity presets: time per analysis and error of each Fig. 9 peak.
+
+Runs every preset (and a few tolerances or steps around them) on the paper's three studied bridges
+× a record set (the bundled EC8 set if it is there, else synthetic records), and prints for each:
+the median and total wall time of the integration (`Response.solve_time_s`, no start-up), the
+median number of steps, and the maximum relative error of each Fig. 9 peak against ``reference``.
+With ``--plot FILE`` it also draws the work-precision diagram.
+
+    python benchmarks/bench_fidelity.py [--records DIR] [--plot docs/work-precision.png]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+from pathlib import Path
+
+import numpy as np
+
+from rockbridge_cli.config.bridge import load_bridge
+from rockbridge_cli.core.analysis import analyze
+
+REPO = Path(__file__).resolve().parents[1]
+BRIDGES = [REPO / "configs" / "bridges" / f"studied-hbar{h}.yaml" for h in ("1.00", "1.25", "2.00")]
+BUNDLED = REPO / "records" / "ec8-type1-C-ag0.6g"
+PEAKS = ("u_deck", "v_deck", "theta_deck", "theta1", "theta2")
+VARIANTS = [  # (label, preset, knob overrides)
+    ("reference", "reference", {}),
+    ("default rtol=1e-9", "default", {"rtol": 1e-9, "atol": 1e-12}),
+    ("default", "default", {}),
+    ("default rtol=1e-6", "default", {"rtol": 1e-6, "atol": 1e-9}),
+    ("fast", "fast", {}),
+    ("fast rtol=1e-4", "fast", {"rtol": 1e-4, "atol": 1e-7}),
+    ("paper dt=5e-4", "paper", {"step": 5e-4, "max_step": 5e-4}),
+    ("paper", "paper", {}),
+    ("paper dt=2e-3", "paper", {"step": 2e-3, "max_step": 2e-3}),
+    ("paper, exact kinematics", "paper", {"kinematics": "exact"}),
+]
+
+
+def synthetic_records(count: int = 10, duration: float = 30.0, dt: float = 0.01):
+    """Broadband sines under an envelope, PGA 0.69 g, when no bundled set exists."""
+    t = np.arange(0.0, duration + dt / 2, dt)
+    records = []
+    for seed in range(count):
+        rng = np.random.default_rng(seed)
+        acc = sum(
+            rng.uniform(0.5, 1) * np.sin(2 * np.pi * rng.uniform(0.3, 6) * t + rng.uniform(0, 6.3))
+            for _ in range(40)
+        )
+        acc = acc * np.minimum(1, t / 2) * np.exp(-np.maximum(0, t - 15) / 4)
+        records.append((f"synthetic{seed + 1:02d}", dt, 0.69 * 9.81 * acc / np.abs(acc).max()))
+    return records
+
+
+def load_records(folder: Path | None):
+    if folder is None and (BUNDLED / "manifest.json").exists():
+        folder = BUNDLED
+    if folder is None:
+        return "synthetic", synthetic_records()
+    from rockbridge_cli.records import read_record_set
+
+    return folder.name, [(r.name, r.time_step, r.acceleration) for r in read_record_set(folder)]
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--records", type=Path, help="record-set folder (default: bundled)")
+    parser.add_argument("--plot", type=Path, help="write the work-precision diagram here")
+    args = parser.parse_args()
+    set_name, records = load_records(args.records)
+    bridges = [load_bridge(path) for path in BRIDGES]
+    models = [(b.label(), b.to_model(), b.mirrored) for b in bridges]
+
+    # Warm up the compiled kernels (compilation is not part of any timing).
+    name, dt, acc = records[0]
+    for _, preset, overrides in VARIANTS:
+        analyze(models[0][1], acc[:500], dt, preset, **overrides)
+
+    results = {}
+    for label, preset, overrides in VARIANTS:
+        results[label] = [
+            analyze(model, acc, dt, preset, mirrored=mirrored, **overrides)
+            for _, model, mirrored in models
+            for _, dt, acc in records
+        ]
+    reference = results["reference"]
+
+    print(f"records: {set_name} ({len(records)}), bridges: {len(models)}, "
+          f"analyses per row: {len(reference)}")  # fmt: skip
+    header = f"{'variant':<26}{'median ms':>10}{'total s':>9}{'steps':>7}"
+    header += "".join(f"{'err ' + p:>15}" for p in PEAKS) + f"{'vs ref':>8}"
+    print(header)
+    ref_median = statistics.median(r.solve_time_s for r in reference)
+    rows = []
+    for label, responses in results.items():
+        median = statistics.median(r.solve_time_s for r in responses)
+        total = sum(r.solve_time_s for r in responses)
+        steps = statistics.median(r.steps for r in responses)
+        errors = [max_relative_error(responses, reference, peak) for peak in PEAKS]
+        rows.append((label, median, max(errors)))
+        line = f"{label:<26}{median * 1e3:>10.2f}{total:>9.3f}{steps:>7.0f}"
+        line += "".join(f"{e:>15.1e}" for e in errors) + f"{ref_median / median:>7.1f}x"
+        print(line)
+    if args.plot:
+        plot(rows, args.plot)
+
+
+def max_relative_error(responses, reference, peak: str) -> float:
+    """Largest |peak − reference| / |reference| over the analyses; the symmetric bridge's θ_deck
+    (identically zero) is skipped."""
+    errors = [
+        abs(r.peaks[peak][0] - ref.peaks[peak][0]) / abs(ref.peaks[peak][0])
+        for r, ref in zip(responses, reference, strict=True)
+        if abs(ref.peaks[peak][0]) > 1e-12
+    ]
+    return max(errors) if errors else 0.0
+
+
+def plot(rows, path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6, 4))
+    markers = {"reference": "*", "default": "o", "fast": "s", "paper": "^"}
+    for label, median, error in rows:
+        marker = markers[label.split()[0].rstrip(",")]
+        ax.loglog(median * 1e3, max(error, 1e-16), marker, color="k", markersize=8,
+                  markerfacecolor="white" if " " in label else "k")  # fmt: skip
+        ax.annotate(label, (median * 1e3, max(error, 1e-16)), textcoords="offset points",
+                    xytext=(6, 3), fontsize=7)  # fmt: skip
+    ax.axhline(1e-3, linestyle="--", color="0.5", linewidth=0.8)
+    ax.set_xlabel("median integration time per 30 s analysis [ms]")
+    ax.set_ylabel("max relative error of the Fig. 9 peaks [-]")
+    ax.set_title("Work–precision of the fidelity presets")
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=150)
+
+
+if __name__ == "__main__":
+    start = time.perf_counter()
+    main()
+    print(f"wall time {time.perf_counter() - start:.1f} s")
