@@ -27,33 +27,31 @@ def describe(bridge: Path, as_json: bool) -> None:
 
 
 def _rows(name: str, s: dict) -> list[tuple[str, str]]:
-    g = s["ug_min_p"] / s["ug_min_p_g"]
+    mirrored = "  (tall pier on the right: analysed mirrored)" if s["mirrored"] else ""
+    masses = ", ".join(_number(s[k], ".4g") for k in ("m_pier1", "m_pier2", "m_deck"))
+    ratios = ", ".join(_number(s[k], ".4g") for k in ("h_bar", "b_bar", "L_bar"))
     rows = [
         ("bridge", name),
-        (
-            "model",
-            s["model"] + ("  (tall pier on the right: analysed mirrored)" if s["mirrored"] else ""),
-        ),
-        (
-            "m_pier1, m_pier2, m_deck",
-            f"{s['m_pier1']:.4g}, {s['m_pier2']:.4g}, {s['m_deck']:.4g} kg",
-        ),
-        ("h_bar, b_bar, L_bar", f"{s['h_bar']:.4g}, {s['b_bar']:.4g}, {s['L_bar']:.4g}"),
-        ("gamma = m_deck/(m1 + m2)", f"{s['gamma']:.4f}"),
-        ("q", f"{s['q'] * 1e6:.4f} ·10⁻³ m/kN"),
-        (
-            "onset ug_min p / n",
-            f"{s['ug_min_p_g']:.4f} g / {s['ug_min_n_g']:.4f} g  (g = {g} m/s²)",
-        ),
+        ("model", s["model"] + mirrored),
+        ("m_pier1, m_pier2, m_deck", f"{masses} kg"),
+        ("h_bar, b_bar, L_bar", ratios),
+        ("gamma = m_deck/(m1 + m2)", _number(s["gamma"], ".4f")),
+        ("q", _number(s["q"], ".4f", 1e6, " ·10⁻³ m/kN")),
+        ("onset ug_min p / n", f"{s['ug_min_p_g']:.4f} g / {s['ug_min_n_g']:.4f} g"),
         ("eta bridge p→n / n→p", f"{s['eta_pn']:.4f} / {s['eta_np']:.4f}"),
         ("eta frame  p→n / n→p", f"{s['eta_frame_pn']:.4f} / {s['eta_frame_np']:.4f}"),
         ("pounding ratio", f"{s['pounding_ratio']:.4f}"),
     ]
     for limit, rotation in s["capacities"].items():
         text = ", ".join(
-            f"{mode} {'none' if math.isinf(v) else f'{abs(v) * 1e3:.2f} mrad'}"
+            f"{mode} {_number(abs(v) if math.isfinite(v) else None, '.2f', 1e3, ' mrad')}"
             for mode, v in rotation.items()
         )
         rows.append((f"capacity {limit} (theta1)", text))
     rows.append(("governing failure", s["governing_failure"]))
     return rows
+
+
+def _number(value: float | None, spec: str, scale: float = 1.0, unit: str = "") -> str:
+    """``value·scale`` formatted with its unit, or "n/a" for a quantity the model does not have."""
+    return "n/a" if value is None else f"{value * scale:{spec}}{unit}"

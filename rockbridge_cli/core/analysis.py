@@ -103,6 +103,11 @@ def laws(model: Model, restitution: float | None = None) -> Laws:
     eta = [
         restitution if restitution is not None else impacts.restitution(model, s) for s in (1, -1)
     ]
+    if min(eta) <= 0.0:
+        raise ValueError(
+            f"the impact law gives η = {min(eta):.4g} ≤ 0 for this bridge: the rocking would not "
+            "reverse smoothly (the paper's assumption); give a restitution explicitly"
+        )
     return Laws(
         onset_p=impacts.onset_threshold(model, 1.0),
         onset_n=impacts.onset_threshold(model, -1.0),

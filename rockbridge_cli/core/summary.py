@@ -24,7 +24,8 @@ def summarize(model: Model, mirrored: bool = False) -> dict[str, object]:
     accelerations ``ug_min_p``, ``ug_min_n`` [m/s², magnitudes] and in g (``*_g``), ``eta_pn``,
     ``eta_np`` (bridge), ``eta_frame_pn``, ``eta_frame_np`` (same bridge without seat impulses),
     ``pounding_ratio`` [-], ``capacities`` (tall-pier rotation at each failure limit [rad]) and
-    ``governing_failure``.
+    ``governing_failure``. Ratios that mean nothing for the model (q without abutments; h̄, b̄, L̄,
+    γ for a single block) are None.
     """
     modes = (-1.0, 1.0) if mirrored else (1.0, -1.0)  # the core's modes behind the user's p and n
     onset = [abs(impacts.onset_threshold(model, s)) for s in modes]
@@ -58,4 +59,8 @@ def summarize(model: Model, mirrored: bool = False) -> dict[str, object]:
         "capacities": caps,
         "governing_failure": impacts.governing_failure(model),
     }
+    if out["model"] == "single-block":  # ratios of a deck and spans the block does not have
+        out.update(h_bar=None, b_bar=None, L_bar=None, gamma=None)
+    if not model.has_abutments:
+        out["q"] = None
     return out
