@@ -1,1 +1,235 @@
-"""Placeholder: commands are added as the issues land."""
+"""Commands for studies: ``run``, ``peaks`` and the figures ``plot peaks|history|onset|q|
+restitution|spans``."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import click
+
+from ..core.fidelity import PRESETS
+from . import main, plot
+from .output import echo_json
+
+_DISPLAY = (
+    ("u_deck_max", "u_deck [mm]", 1e3),
+    ("v_deck_max", "v_deck [mm]", 1e3),
+    ("theta_deck_max", "θ_deck [mrad]", 1e3),
+    ("theta1_max", "θ1 [mrad]", 1e3),
+    ("theta2_max", "θ2 [mrad]", 1e3),
+)
+"""Peak columns shown in tables: column, header with the display unit, scale from SI."""
+
+
+@main.command()
+@click.argument("study", type=click.Path(path_type=Path))
+@click.option(
+    "--workers",
+    type=click.IntRange(min=1),
+    default=None,
+    help="Worker processes [default: the number of CPUs]. The results do not depend on it.",
+)
+@click.option(
+    "--fidelity",
+    type=click.Choice(list(PRESETS)),
+    default=None,
+    help="Fidelity preset, instead of the study's (its knob overrides still apply).",
+)
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(dir_okay=False, path_type=Path),
+    default=None,
+    help="Results file [default: the study's output.path, else results/<study stem>.h5].",
+)
+@click.option(
+    "--overwrite",
+    is_flag=True,
+    help="Start afresh: delete the results file (of any study, or damaged) and its journal, "
+    "and recompute everything.",
+)
+@click.option(
+    "--no-resume",
+    "resume",
+    flag_value=False,
+    default=True,
+    help="Recompute the analyses already in the results file.",
+)
+@click.pass_context
+def run(
+    ctx: click.Context,
+    study: Path,
+    workers: int | None,
+    fidelity: str | None,
+    output: Path | None,
+    overwrite: bool,
+    resume: bool,
+) -> None:
+    """Run every bridge × record analysis of STUDY (a YAML file) into one HDF5 results file.
+
+    Analyses already in the results file are skipped, so an interrupted run resumes where it
+    stopped.
+    """
+    from ..config.study import load_study
+    from ..runner import run_study
+    from .progress import ProgressDisplay
+
+    resolved = load_study(study, preset=fidelity, output=output)
+    display = ProgressDisplay()
+    try:
+        report = run_study(resolved, workers, resume, overwrite, progress=display)
+    except KeyboardInterrupt:
+        display.close()
+        click.echo(
+            f"interrupted: the analyses finished so far are in {resolved.output}; "
+            "run the same command again to resume",
+            err=True,
+        )
+        ctx.exit(130)
+    display.close()
+    table = report.peaks
+    counts = table["status"].value_counts()
+    click.echo(f"results: {report.output}")
+    click.echo(
+        f"analyses: {report.total} ({report.ran} run now, {report.resumed} already done): "
+        f"{counts.get('ok', 0)} ok, {counts.get('solver_error', 0)} solver errors, "
+        f"{counts.get('error', 0)} could not run; {_failures(table['failure_mode'])} with a "
+        "failure of the bridge"
+    )
+    click.echo(
+        f"time: {report.wall_time_s:.2f} s wall, {report.solve_time_s:.2f} s solving "
+        f"(summed over the {report.ran} analyses run now)"
+    )
+    click.echo("peaks, largest over the records:")
+    click.echo(_bridge_table(table))
+    problems = len(table) - counts.get("ok", 0)
+    if problems:
+        click.echo(
+            f"error: {problems} analyses did not end ok; their status and message are in the "
+            f"peak table (rockbridge peaks {report.output})",
+            err=True,
+        )
+        ctx.exit(1)
+
+
+@main.command()
+@click.argument("results", type=click.Path(path_type=Path))
+@click.option(
+    "--csv",
+    "csv_file",
+    type=click.Path(dir_okay=False, allow_dash=True),
+    default=None,
+    help="Write the whole table as CSV (SI units) to FILE, or - for the standard output.",
+)
+@click.option("--json", "as_json", is_flag=True, help="Print the units and the rows (SI) as JSON.")
+def peaks(results: Path, csv_file: str | None, as_json: bool) -> None:
+    """Print the peak table of RESULTS (an HDF5 file written by 'rockbridge run')."""
+    from ..results import read_peaks
+
+    frame = read_peaks(results)
+    if csv_file is not None:
+        frame.to_csv(sys.stdout if csv_file == "-" else csv_file, index=False)
+        if csv_file != "-":
+            click.echo(f"CSV: {csv_file}")
+        return
+    if as_json:
+        rows = frame.astype(object).where(frame.notna(), None).to_dict("records")
+        echo_json({"units": frame.attrs["units"], "rows": rows})
+        return
+    table = frame[["bridge", "record"]].copy()
+    for column, header, scale in _DISPLAY:
+        table[header] = frame[column] * scale
+    table["onset [s]"] = frame["t_onset"]
+    table["impacts"] = frame["n_impacts"]
+    table["poundings"] = frame["n_poundings"]
+    table["failure"] = frame["failure_mode"]
+    table["dcr"] = frame["dcr"]
+    table["status"] = frame["status"]
+    click.echo(table.to_string(index=False, float_format="{:.4g}".format, na_rep="-"))
+
+
+def _bridge_table(frame) -> str:
+    """Per bridge: analyses ok / all, the largest of each peak, the largest dcr, failures."""
+    groups = frame.groupby("bridge", sort=False)
+    table = groups["status"].agg(ok=lambda s: f"{(s == 'ok').sum()}/{len(s)}")
+    for column, header, scale in _DISPLAY:
+        table[header] = groups[column].max() * scale
+    table["dcr"] = groups["dcr"].max()
+    table["failures"] = groups["failure_mode"].agg(_failures)
+    return table.to_string(float_format="{:.4g}".format, na_rep="-")
+
+
+def _failures(modes) -> int:
+    """How many analyses ended with a failure of the bridge."""
+    return int((~modes.isin(("", "none"))).sum())
+
+
+def _output(default: str):
+    """The ``-o/--output`` option of a figure command."""
+    return click.option(
+        "-o", "--output", type=click.Path(dir_okay=False, path_type=Path), default=None,
+        help=f"Figure file, .png, .pdf or .svg [default: {default}].",
+    )  # fmt: skip
+
+
+@plot.command("peaks")
+@click.argument("results", type=click.Path(path_type=Path))
+@_output("<results stem>-peaks.png beside RESULTS")
+def plot_peaks(results: Path, output: Path | None) -> None:
+    """Peak responses per record, one marker per bridge (Figure 9 of the paper), from RESULTS."""
+    from ..plots.peaks import plot_peaks as draw
+
+    figure = draw(results, output or results.with_name(f"{results.stem}-peaks.png"))
+    click.echo(f"Figure: {figure}")
+
+
+@plot.command("history")
+@click.argument("results", type=click.Path(path_type=Path))
+@click.option("--record", required=True, help="Record id.")
+@click.option("--bridge", "bridges", multiple=True, help="Bridge id (repeat) [default: all].")
+@_output("<results stem>-history-<record>.png beside RESULTS")
+def plot_history(results: Path, record: str, bridges: tuple[str, ...], output: Path | None) -> None:
+    """Histories of u_deck, v_deck, θ_deck, θ1 and θ2 under one record (Figure 10)."""
+    from ..plots.history import plot_history as draw
+
+    default = results.with_name(f"{results.stem}-history-{record}.png")
+    click.echo(f"Figure: {draw(results, record, output or default, bridges)}")
+
+
+_PARAMETRIC = {
+    "onset": ("Onset acceleration of rocking in both directions vs h̄ = H1/H2 (Figure 3), "
+              "varying the short pier of BRIDGE (a YAML file).", True),
+    "q": ("Abutment parameter q vs the short pier's mass (Figure 4), varying the short pier "
+          "of BRIDGE (a YAML file).", True),
+    "restitution": ("Restitution η of BRIDGE and of the same frame without abutment seats vs "
+                    "h̄, both directions (Figure 7).", True),
+    "spans": ("Restitution η of BRIDGE vs the side span L1 and vs the central span L2, both "
+              "directions (Figure 8); deck mass and inertia are kept.", False),
+}  # fmt: skip
+"""The parametric figures of a bridge config: name → (help, takes --h-max)."""
+
+
+def _parametric(name: str, summary: str, varies_h_bar: bool) -> None:
+    """Add ``plot <name> BRIDGE``, which calls `plots.parametric.plot_<name>`."""
+
+    def callback(bridge: Path, output: Path | None, **options: float | None) -> None:
+        from ..plots import parametric
+
+        draw = getattr(parametric, f"plot_{name}")
+        click.echo(
+            f"Figure: {draw(bridge, output or Path(f'{bridge.stem}-{name}.png'), **options)}"
+        )
+
+    command = _output(f"<bridge stem>-{name}.png in the current folder")(callback)
+    if varies_h_bar:
+        command = click.option(
+            "--h-max", type=click.FloatRange(min=1.0, min_open=True), default=None,
+            help="Largest h̄ = H1/H2 [default: 5, or the bridge's own if larger].",
+        )(command)  # fmt: skip
+    command = click.argument("bridge", type=click.Path(path_type=Path))(command)
+    plot.command(name, help=summary)(command)
+
+
+for _name, (_summary, _varies) in _PARAMETRIC.items():
+    _parametric(_name, _summary, _varies)

@@ -1,0 +1,62 @@
+"""Progress of a study run on stderr: a bar with ETA on a terminal, a few plain lines otherwise."""
+
+from __future__ import annotations
+
+import sys
+import time
+
+import click
+
+from ..runner import Finished
+
+
+class ProgressDisplay:
+    """A `runner.Progress` callback.
+
+    On a terminal it redraws one line, ``[#####-----] 12/30  0:03 elapsed  0:05 left``; otherwise
+    (a log, CI) it prints a line at every tenth of the run. Analyses that did not end ``ok`` are
+    reported on a line of their own in both cases.
+    """
+
+    WIDTH = 30
+
+    def __init__(self, terminal: bool | None = None):
+        self.terminal = sys.stderr.isatty() if terminal is None else terminal
+        self.start = time.monotonic()
+        self.shown = 0  # tenths of the run reported (plain lines)
+        self.bar_open = False  # a bar drawn without its final newline (terminal)
+
+    def __call__(self, item: Finished, done: int, total: int) -> None:
+        if item.status != "ok":
+            self._line(f"{item.bridge} × {item.record}: {item.status}: {item.message}")
+        elapsed = time.monotonic() - self.start
+        left = elapsed / done * (total - done)
+        if self.terminal:
+            bar = "#" * (self.WIDTH * done // total)
+            self.bar_open = done < total
+            click.echo(
+                f"\r[{bar:-<{self.WIDTH}}] {done}/{total}  {_clock(elapsed)} elapsed  "
+                f"{_clock(left)} left",
+                err=True, nl=not self.bar_open,
+            )  # fmt: skip
+        elif 10 * done // total > self.shown:
+            self.shown = 10 * done // total
+            click.echo(
+                f"{done}/{total} analyses ({100 * done // total}%), {elapsed:.1f} s elapsed, "
+                f"about {left:.0f} s left",
+                err=True,
+            )
+
+    def close(self) -> None:
+        """End a bar that an interruption left unfinished."""
+        if self.bar_open:
+            click.echo("", err=True)
+            self.bar_open = False
+
+    def _line(self, text: str) -> None:
+        click.echo(("\r\033[K" if self.terminal else "") + text, err=True)
+
+
+def _clock(seconds: float) -> str:
+    minutes, rest = divmod(int(round(seconds)), 60)
+    return f"{minutes}:{rest:02d}"

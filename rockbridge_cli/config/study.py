@@ -1,0 +1,415 @@
+"""The study config: which bridges meet which records, at which fidelity, and where results go.
+
+A study file is validated in two stages. `StudyConfig` checks the file itself (keys, types, that
+the files and folders it names exist); `load_study` then resolves it into a `Study`: every bridge
+config loaded, every record read, the fidelity knobs settled and the output path chosen. Paths
+inside the study file are relative to the study file; the default output, ``results/<stem>.h5``,
+is relative to the current folder, like a path given on the command line.
+
+A record that cannot be read does not stop the study: the `StudyRecord` carries the reason and
+the runner records it as the status of that record's analyses.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import re
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Annotated, Any, Literal
+
+import numpy as np
+from pydantic import (
+    BeforeValidator,
+    Field,
+    NonNegativeFloat,
+    PositiveFloat,
+    PositiveInt,
+    ValidationInfo,
+    field_validator,
+    model_validator,
+)
+
+from ..core.analysis import HISTORY_UNITS
+from ..core.fidelity import PRESETS, SCHEME_NAMES, knobs
+from ..errors import InputError
+from ..records import Record, read_manifest, read_record
+from . import loading
+from .bridge import BridgeConfig, load_bridge
+from .loading import StrictModel
+
+ID_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9_.+-]*$"
+"""Bridge and record ids: they name HDF5 groups and files, so no slashes or spaces."""
+
+_SCHEMES = {name: code for code, name in SCHEME_NAMES.items()}
+
+
+def _path_or_mapping(value: Any) -> Any:
+    if not isinstance(value, (str, dict)):
+        raise ValueError("expected the path of a bridge file or a bridge mapping with an id")
+    return value
+
+
+BridgeEntry = Annotated[str | dict[str, Any], BeforeValidator(_path_or_mapping)]
+
+
+class InlineBridge(BridgeConfig):
+    """A bridge written inside the study file, with the id that names it in the results."""
+
+    id: str = Field(pattern=ID_PATTERN, description="Bridge id in the results [-]")
+
+
+class RecordFile(StrictModel):
+    """One record file."""
+
+    path: Path = Field(description="Record file, relative to the study file")
+    units: Literal["g", "m/s2"] | None = Field(
+        None, description="Units of a file that does not state them (g or m/s2)"
+    )
+    time_step: PositiveFloat | None = Field(
+        None, description="Sample interval, only for one-column files [s]"
+    )
+    id: str | None = Field(
+        None, pattern=ID_PATTERN, description="Record id in the results; default the file stem"
+    )
+
+    @field_validator("path")
+    @classmethod
+    def _exists(cls, path: Path, info: ValidationInfo) -> Path:
+        if not _resolve(path, info).is_file():
+            raise ValueError(f"record file not found: {path}")
+        return path
+
+
+class Records(StrictModel):
+    """The ground motions: a generated set, or a list of files. Give exactly one."""
+
+    record_set: Path | None = Field(
+        None, alias="set", description="Folder written by `rockbridge generate-records`"
+    )
+    files: list[RecordFile] | None = Field(None, min_length=1, description="Record files")
+
+    @field_validator("record_set")
+    @classmethod
+    def _is_set(cls, folder: Path | None, info: ValidationInfo) -> Path | None:
+        if folder is None:
+            return folder
+        resolved = _resolve(folder, info)
+        if not resolved.is_dir():
+            raise ValueError(f"record folder not found: {folder}")
+        try:
+            read_manifest(resolved)
+        except InputError as exc:
+            raise ValueError(f"not a record set: {exc}") from None
+        return folder
+
+    @model_validator(mode="after")
+    def _one_source(self) -> Records:
+        if (self.record_set is None) == (self.files is None):
+            raise ValueError("give exactly one of 'set' and 'files'")
+        return self
+
+
+class Fidelity(StrictModel):
+    """A fidelity preset and any knobs to change (`rockbridge_cli.core.fidelity`); a plain preset
+    name is short for ``{preset: <name>}``."""
+
+    preset: str = Field("default", description=f"One of {', '.join(PRESETS)}")
+    kinematics: Literal["exact", "simplified"] | None = Field(None, description="Kinematics")
+    scheme: Literal["rk4", "dopri5"] | None = Field(None, description="Integration scheme")
+    step: PositiveFloat | None = Field(None, description="Fixed (rk4) or first (dopri5) step [s]")
+    rtol: NonNegativeFloat | None = Field(None, description="Relative tolerance of dopri5 [-]")
+    atol: NonNegativeFloat | None = Field(
+        None, description="Absolute tolerance of dopri5 [rad, rad/s]"
+    )
+    max_step: PositiveFloat | None = Field(None, description="Largest step [s]")
+    event_tol: PositiveFloat | None = Field(None, description="Event times located to within [s]")
+    bisection: bool | None = Field(None, description="Locate events by bisection (the paper's)")
+    turning_points: bool | None = Field(None, description="Locate every θ̇1 = 0 exactly")
+    rest_velocity: PositiveFloat | None = Field(
+        None, description="Chatter guard: |θ̇1| below which an impact may end in rest [rad/s]"
+    )
+    max_events: PositiveInt | None = Field(None, description="Stop with a solver error beyond [-]")
+
+    @model_validator(mode="before")
+    @classmethod
+    def _shorthand(cls, data: Any) -> Any:
+        return {"preset": data} if isinstance(data, str) else data
+
+    @field_validator("preset")
+    @classmethod
+    def _known(cls, preset: str) -> str:
+        if preset not in PRESETS:
+            raise ValueError(f"unknown preset {preset!r}: choose one of {', '.join(PRESETS)}")
+        return preset
+
+    def overrides(self) -> dict[str, Any]:
+        """The knobs this config changes, in the core's terms."""
+        values = self.model_dump(exclude={"preset"}, exclude_none=True)
+        if "scheme" in values:
+            values["scheme"] = _SCHEMES[values["scheme"]]
+        return values
+
+
+class Output(StrictModel):
+    """Where the results go and what they keep."""
+
+    path: Path | None = Field(
+        None, description="HDF5 file, relative to the study file; default results/<stem>.h5"
+    )
+    output_step: PositiveFloat | None = Field(
+        None, description="Time step of the stored histories; default the preset's (0.01 s) [s]"
+    )
+    histories: str | list[str] = Field(
+        "all", description=f"Histories to keep: all, none, or a list of {', '.join(HISTORY_UNITS)}"
+    )
+
+    @field_validator("histories", mode="before")
+    @classmethod
+    def _known(cls, names: Any) -> Any:
+        choices = ", ".join(HISTORY_UNITS)
+        if names in ("all", "none"):
+            return names
+        if not isinstance(names, list) or not all(isinstance(name, str) for name in names):
+            raise ValueError(f"give all, none or a list of history names ({choices})")
+        unknown = [name for name in names if name not in HISTORY_UNITS]
+        if unknown:
+            raise ValueError(f"unknown histories {', '.join(unknown)}: choose from {choices}")
+        if len(set(names)) != len(names):
+            raise ValueError("a history is listed twice")
+        return names
+
+    def kept(self) -> tuple[str, ...]:
+        """Names of the histories to store, in `HISTORY_UNITS` order."""
+        if self.histories == "all":
+            return tuple(HISTORY_UNITS)
+        if self.histories == "none":
+            return ()
+        return tuple(name for name in HISTORY_UNITS if name in self.histories)
+
+
+class StudyConfig(StrictModel):
+    """A study, as a YAML file describes it."""
+
+    description: str | None = Field(None, description="Free text")
+    bridges: list[BridgeEntry] = Field(
+        min_length=1,
+        description="Bridge files (relative to the study file; id = file stem) or inline bridges "
+        "with an id",
+    )
+    records: Records = Field(description="The ground motions")
+    fidelity: Fidelity = Field(default_factory=Fidelity, description="Numerical fidelity")
+    output: Output = Field(default_factory=Output, description="The results file")
+
+
+@dataclass(frozen=True)
+class StudyBridge:
+    """One resolved bridge: its id in the results, its validated config and where it came from."""
+
+    id: str
+    config: BridgeConfig
+    source: str
+
+
+@dataclass(frozen=True)
+class StudyRecord:
+    """One resolved record: the `Record` (SI units), or why it could not be read.
+
+    Attributes
+    ----------
+    id : record id in the results
+    source : file as the study names it (relative to the study file)
+    record : the record, None if it could not be read
+    error : the reason, empty when ``record`` is there
+    digest : SHA-256 of the record's samples (or of the file's bytes if unreadable)
+    """
+
+    id: str
+    source: str
+    record: Record | None
+    error: str
+    digest: str
+
+
+@dataclass(frozen=True)
+class Study:
+    """A study ready to run: bridges × records, fidelity knobs and the output file.
+
+    Attributes
+    ----------
+    path : the study file
+    text : the study file as written
+    bridges, records : resolved, in the study's order (the order of the results)
+    preset : fidelity preset name
+    knobs : every fidelity knob, overrides applied (`rockbridge_cli.core.fidelity.knobs`)
+    overrides : the knobs the study changes (passed to `analyze`)
+    histories : names of the histories to store
+    output : the HDF5 file
+    """
+
+    path: Path
+    text: str
+    bridges: tuple[StudyBridge, ...]
+    records: tuple[StudyRecord, ...]
+    preset: str
+    knobs: dict[str, Any]
+    overrides: dict[str, Any]
+    histories: tuple[str, ...]
+    output: Path
+
+    def resolved(self) -> dict[str, Any]:
+        """Everything that determines the results, as JSON-ready data (stored in the file)."""
+        return {
+            "bridges": [
+                {"id": b.id, "source": b.source, "config": b.config.model_dump(mode="json")}
+                for b in self.bridges
+            ],
+            "records": [{"id": r.id, "source": r.source, "sha256": r.digest} for r in self.records],
+            "fidelity": {
+                "preset": self.preset,
+                "knobs": {**self.knobs, "scheme": SCHEME_NAMES[self.knobs["scheme"]]},
+            },
+            "histories": list(self.histories),
+        }
+
+    @property
+    def config_hash(self) -> str:
+        """SHA-256 of `resolved` without the sources: equal inputs give equal hashes wherever the
+        files live."""
+        data = self.resolved()
+        for item in data["bridges"] + data["records"]:
+            del item["source"]
+        text = json.dumps(data, sort_keys=True, separators=(",", ":"), allow_nan=True)
+        return hashlib.sha256(text.encode()).hexdigest()
+
+
+def load_study(
+    path: str | Path, preset: str | None = None, output: str | Path | None = None
+) -> Study:
+    """Read, validate and resolve a study file.
+
+    Parameters
+    ----------
+    path
+        The study YAML file.
+    preset
+        Replaces the study's fidelity preset (its knob overrides still apply).
+    output
+        Replaces the study's output file (relative to the current folder).
+
+    Raises
+    ------
+    InputError
+        The study file, a bridge file it names or a record set's manifest is missing or invalid;
+        the message names the file and the dotted field path.
+    """
+    path = Path(path)
+    data = loading.read_yaml(path)
+    if preset is not None:
+        fidelity = data.get("fidelity")
+        data["fidelity"] = {**(fidelity if isinstance(fidelity, dict) else {}), "preset": preset}
+    config = loading.validate(StudyConfig, data, path, base_dir=path.parent)
+    base = path.parent
+    bridges = _resolve_bridges(config.bridges, path)
+    records = _resolve_records(config.records, base)
+    problems = _check_ids("bridges", [b.id for b in bridges])
+    problems += _check_ids("records", [r.id for r in records])
+    if problems:
+        raise InputError(path, problems)
+    overrides = config.fidelity.overrides()
+    if config.output.output_step is not None:
+        overrides["output_step"] = config.output.output_step
+    if output is not None:
+        target = Path(output)
+    elif config.output.path is not None:
+        target = base / config.output.path
+    else:
+        target = Path("results") / f"{path.stem}.h5"
+    return Study(
+        path=path,
+        text=path.read_text(encoding="utf-8"),
+        bridges=tuple(bridges),
+        records=tuple(records),
+        preset=config.fidelity.preset,
+        knobs=knobs(config.fidelity.preset, **overrides),
+        overrides=overrides,
+        histories=config.output.kept(),
+        output=target,
+    )
+
+
+def _resolve(path: Path, info: ValidationInfo) -> Path:
+    base = (info.context or {}).get("base_dir")
+    return Path(base) / path if base is not None else path
+
+
+def _resolve_bridges(entries: list[str | dict[str, Any]], study: Path) -> list[StudyBridge]:
+    """Load bridge files and validate inline bridges; problems in the study file are collected."""
+    bridges, problems = [], []
+    for index, entry in enumerate(entries):
+        where = f"bridges.{index}"
+        if isinstance(entry, str):
+            file = study.parent / entry
+            if not file.is_file():
+                problems.append((where, f"bridge file not found: {entry}"))
+                continue
+            config = load_bridge(file)
+            bridges.append(StudyBridge(Path(entry).stem, config, entry))
+            continue
+        try:
+            inline = loading.validate(InlineBridge, entry, study)
+        except InputError as exc:
+            problems += [
+                (f"{where}.{field}" if field else where, why) for field, why in exc.problems
+            ]
+            continue
+        config = BridgeConfig.model_validate(inline.model_dump(exclude={"id"}))
+        bridges.append(StudyBridge(inline.id, config, "inline"))
+    if problems:
+        raise InputError(study, problems)
+    return bridges
+
+
+def _resolve_records(records: Records, base: Path) -> list[StudyRecord]:
+    if records.record_set is not None:
+        folder = records.record_set
+        manifest = read_manifest(base / folder)
+        files = [
+            (entry.get("name") or Path(entry["file"]).stem, folder / entry["file"], None, None)
+            for entry in manifest["records"]
+        ]
+    else:
+        assert records.files is not None
+        files = [(f.id or f.path.stem, f.path, f.units, f.time_step) for f in records.files]
+    return [_read(name, source, base, units, step) for name, source, units, step in files]
+
+
+def _read(
+    name: str, source: Path, base: Path, units: str | None, time_step: float | None
+) -> StudyRecord:
+    try:
+        record = read_record(base / source, units=units, time_step=time_step)
+    except InputError as exc:
+        return StudyRecord(name, source.as_posix(), None, str(exc), _file_digest(base / source))
+    digest = hashlib.sha256(np.float64(record.time_step).tobytes())
+    digest.update(record.acceleration.tobytes())
+    return StudyRecord(name, source.as_posix(), record, "", digest.hexdigest())
+
+
+def _file_digest(path: Path) -> str:
+    try:
+        return hashlib.sha256(path.read_bytes()).hexdigest()
+    except OSError:
+        return "unreadable"
+
+
+def _check_ids(field: str, ids: list[str]) -> list[tuple[str, str]]:
+    """Ids (given or taken from file names) must be unique and fit `ID_PATTERN`."""
+    problems = [
+        (f"{field}.{index}", f"id {i!r} must be letters, digits and _ . + - (no spaces or slashes)")
+        for index, i in enumerate(ids)
+        if not re.match(ID_PATTERN, i)
+    ]
+    twice = sorted({i for i in ids if ids.count(i) > 1})
+    return problems + [(field, f"id {i!r} is used twice: ids must be unique") for i in twice]

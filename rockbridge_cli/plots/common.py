@@ -1,0 +1,61 @@
+"""What the figures share: file formats, a print-friendly style per series, saving.
+
+Each series differs by marker, line style and shade, not by colour alone, so that the figures read
+in print and in greyscale. Dotted and dashed black lines are kept for limits (gap, failure).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
+from ..errors import InputError
+
+FORMATS = (".png", ".pdf", ".svg")
+
+_MARKERS = ("o", "s", "^", "D", "v", "P", "X", "*")
+_LINES = ("-", "--", "-.", (0, (5, 1, 1, 1)), (0, (1, 3)), (0, (8, 2)))
+_SHADES = ("black", "0.45", "0.7", "tab:blue", "tab:red", "tab:green")
+
+
+def check_format(output: str | Path) -> Path:
+    """The figure path, if its extension is a known format.
+
+    Raises
+    ------
+    InputError
+        The extension is not .png, .pdf or .svg.
+    """
+    output = Path(output)
+    if output.suffix.lower() not in FORMATS:
+        raise InputError(
+            output, [("", f"unknown figure format {output.suffix!r}: use {', '.join(FORMATS)}")]
+        )
+    return output
+
+
+def style(index: int, filled: bool = True) -> dict:
+    """Matplotlib keywords of series ``index``: colour, marker, line style and marker fill."""
+    colour = _SHADES[index % len(_SHADES)]
+    return {
+        "color": colour,
+        "marker": _MARKERS[index % len(_MARKERS)],
+        "linestyle": _LINES[index % len(_LINES)],
+        "markerfacecolor": colour if filled and index % 2 == 0 else "white",
+        "markeredgecolor": colour,
+    }
+
+
+def panel_label(axes, letter: str) -> None:
+    """The panel's letter (A, B, …) above its top-left corner, as the paper labels its figures."""
+    axes.set_title(f"({letter})", loc="left", fontweight="bold")
+
+
+def save(figure: Figure, output: Path) -> Path:
+    """Write the figure (format from the extension) and return its path."""
+    output.parent.mkdir(parents=True, exist_ok=True)
+    FigureCanvasAgg(figure)
+    figure.savefig(output, dpi=200)
+    return output

@@ -1,0 +1,173 @@
+"""The paper's parametric figures, computed for any two-pier bridge config.
+
+* Fig. 3 — onset of rocking ü_g,min (Eq. 8) in both directions vs h̄ = H1/H2, varying the short
+  pier's height (`plot_onset`);
+* Fig. 4 — the abutment parameter q vs the short pier's mass, same variation (`plot_q`);
+* Fig. 7 — the coefficient of restitution η of the bridge and of the same frame without abutment
+  seats vs h̄, both directions (`plot_restitution`);
+* Fig. 8 — η vs the side span L1 and vs the central span L2, deck mass and inertia constant as in
+  the paper (`plot_spans`).
+
+The short pier keeps the tall pier's section and material (its mass and inertia follow its height);
+the deck does not change. Directions are the user's: for a bridge whose tall pier stands on the
+right, the core's modes are swapped as in `core.summary.summarize`.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from ..config.bridge import BridgeConfig, load_bridge
+from ..core import impacts
+from ..core.geometry import Model, pier_inertia, pier_mass, ratios
+from ..errors import InputError
+from .common import check_format, panel_label, save, style
+
+POINTS = 60
+"""Points per curve [-]."""
+
+
+def with_short_pier(model: Model, h_bar: float) -> Model:
+    """The bridge with the short pier's height set by h̄ = H1/H2, same section and material."""
+    H2 = model.H1 / h_bar
+    density = model.m1 / pier_mass(1.0, model.B, model.H1)
+    m2 = pier_mass(density, model.B, H2)
+    return model._replace(H2=H2, m2=m2, I2=pier_inertia(m2, model.B, H2))
+
+
+def directions(config: BridgeConfig) -> tuple[float, float]:
+    """The core's modes behind the user's p and n (swapped when the tall pier is on the right)."""
+    return (-1.0, 1.0) if config.mirrored else (1.0, -1.0)
+
+
+def h_bar_range(model: Model, h_max: float | None = None) -> np.ndarray:
+    """h̄ from 1 to ``h_max``, by default the larger of 5 (Figs. 4, 7) and the bridge's own."""
+    top = h_max if h_max is not None else max(5.0, model.H1 / model.H2)
+    return np.linspace(1.0, top, POINTS)
+
+
+def onset_curves(config: BridgeConfig, h_bars: np.ndarray) -> dict[str, np.ndarray]:
+    """ü_g,min of modes p and n (magnitudes) at each h̄ [g] (Eq. 8; Fig. 3)."""
+    model = config.to_model()
+    variants = [with_short_pier(model, h) for h in h_bars]
+    return {
+        mode: np.array([abs(impacts.onset_threshold(m, s)) / m.g for m in variants])
+        for mode, s in zip(("p", "n"), directions(config), strict=True)
+    }
+
+
+def restitution_curves(
+    config: BridgeConfig, variants: list[Model], frame: bool = True
+) -> dict[str, np.ndarray]:
+    """η of the bridge (and of the frame without seats), p→n and n→p, for each model [-]."""
+    curves = {}
+    for seats, kind in ((True, "bridge"), (False, "frame"))[: 2 if frame else 1]:
+        for name, s in zip(("p→n", "n→p"), directions(config), strict=True):
+            curves[f"{kind} {name}"] = np.array(
+                [impacts.restitution(m, s, abutment_seats=seats) for m in variants]
+            )
+    return curves
+
+
+def plot_onset(bridge: str | Path, output: str | Path, h_max: float | None = None) -> Path:
+    """Draw Fig. 3 for a bridge config: ü_g,min in both directions vs h̄ [g]."""
+    output = check_format(output)
+    config, model = _two_piers(bridge)
+    h_bars = h_bar_range(model, h_max)
+    curves = onset_curves(config, h_bars)
+    own = onset_curves(config, np.array([model.H1 / model.H2]))
+    figure, axes = _figure()
+    for index, (mode, values) in enumerate(curves.items()):
+        axes.plot(h_bars, values, markevery=6, label=f"mode {mode}", **style(index))
+        axes.plot(model.H1 / model.H2, own[mode][0], linestyle="none", marker="*", color="black",
+                  markersize=11, label="this bridge" if index == 0 else None)  # fmt: skip
+    axes.set_xlabel(r"$\bar{h} = H_1/H_2$ [-]")
+    axes.set_ylabel(r"$\ddot{u}_{g,min}$ [g]")
+    axes.set_title(f"{config.label(Path(bridge).stem)}: onset of rocking (Eq. 8)")
+    axes.legend(frameon=False)
+    return save(figure, output)
+
+
+def plot_q(bridge: str | Path, output: str | Path, h_max: float | None = None) -> Path:
+    """Draw Fig. 4 for a bridge config: q vs the short pier's mass."""
+    output = check_format(output)
+    config, model = _two_piers(bridge)
+    variants = [with_short_pier(model, h) for h in h_bar_range(model, h_max)]
+    mass = np.array([m.m2 for m in variants]) / 1e4
+    q = np.array([ratios(m)["q"] for m in variants]) * 1e6
+    figure, axes = _figure()
+    axes.plot(mass, q, markevery=6, label="q", **style(0))
+    axes.plot(model.m2 / 1e4, ratios(model)["q"] * 1e6, linestyle="none", marker="*",
+              color="black", markersize=11, label="this bridge")  # fmt: skip
+    axes.set_xlabel(r"$m_{pier,2}$ [$10^4$ kg]")
+    axes.set_ylabel(r"$q$ [$10^{-3}$ m/kN]")
+    axes.set_title(f"{config.label(Path(bridge).stem)}: abutment parameter q")
+    axes.legend(frameon=False)
+    return save(figure, output)
+
+
+def plot_restitution(bridge: str | Path, output: str | Path, h_max: float | None = None) -> Path:
+    """Draw Fig. 7 for a bridge config: η of the bridge and of the frame vs h̄, both directions."""
+    output = check_format(output)
+    config, model = _two_piers(bridge)
+    h_bars = h_bar_range(model, h_max)
+    curves = restitution_curves(config, [with_short_pier(model, h) for h in h_bars])
+    figure, axes = _figure()
+    for index, (name, values) in enumerate(curves.items()):
+        axes.plot(h_bars, values, markevery=6, label=name, **style(index))
+    axes.set_xlabel(r"$\bar{h} = H_1/H_2$ [-]")
+    axes.set_ylabel(r"$\eta$ [-]")
+    axes.set_title(f"{config.label(Path(bridge).stem)}: restitution at the rocking interfaces")
+    axes.legend(frameon=False)
+    return save(figure, output)
+
+
+def plot_spans(bridge: str | Path, output: str | Path) -> Path:
+    """Draw Fig. 8 for a bridge config: η vs L1 (L2 fixed) and vs L2 (L1 fixed), both directions.
+
+    Each span runs from a third to twice its value in the config (a zero side span: the central
+    span's); the central span stays longer than the pier width. Deck mass and inertia are kept.
+    """
+    output = check_format(output)
+    config, model = _two_piers(bridge)
+    side = np.linspace(*_span_range(model.L1 or model.L2), POINTS)
+    low, high = _span_range(model.L2)
+    central = np.linspace(max(low, 1.05 * 2.0 * model.B), high, POINTS)
+    figure = Figure(figsize=(10.0, 4.5), layout="constrained")
+    panels = figure.subplots(1, 2, sharey=True)
+    for axes, spans, field, label, letter in (
+        (panels[0], side, "L1", r"side span $L_1$ [m]", "A"),
+        (panels[1], central, "L2", r"central span $L_2$ [m]", "B"),
+    ):
+        variants = [model._replace(**{field: length}) for length in spans]
+        curves = restitution_curves(config, variants, frame=False)
+        for index, (name, values) in enumerate(curves.items()):
+            axes.plot(spans, values, markevery=6, label=name, **style(index))
+        axes.set_xlabel(label)
+        axes.grid(True, color="0.9", linewidth=0.5)
+        panel_label(axes, letter)
+    panels[0].set_ylabel(r"$\eta$ [-]")
+    panels[0].legend(frameon=False)
+    figure.suptitle(f"{config.label(Path(bridge).stem)}: restitution vs span lengths")
+    return save(figure, output)
+
+
+def _two_piers(bridge: str | Path) -> tuple[BridgeConfig, Model]:
+    config = load_bridge(bridge)
+    if len(config.piers.heights) != 2:
+        raise InputError(bridge, [("piers.heights", "the figure varies a bridge with two piers")])
+    return config, config.to_model()
+
+
+def _span_range(length: float) -> tuple[float, float]:
+    return length / 3.0, 2.0 * length
+
+
+def _figure():
+    figure = Figure(figsize=(6.5, 4.5), layout="constrained")
+    axes = figure.add_subplot()
+    axes.grid(True, color="0.9", linewidth=0.5)
+    return figure, axes

@@ -1,0 +1,88 @@
+"""Small studies for the tests of the end-to-end job (config, runner, results, CLI, figures).
+
+The records are synthetic, short and strong enough to rock the studied bridges: a sine burst under
+a Gaussian envelope, 6 s at 0.01 s, peak 5.0 and 4.0 m/s² (0.51 g and 0.41 g), well above the
+onset thresholds of the studied bridges, 0.10–0.15 g (MODEL.md §10). They are written with
+`records.write_record`, so the files state their units and time step.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import h5py
+import numpy as np
+
+from rockbridge_cli.records import Record, write_record
+
+REPO = Path(__file__).resolve().parents[1]
+BRIDGES = REPO / "configs" / "bridges"
+STUDIED = ("studied-hbar1.00", "studied-hbar2.00")
+
+RECORDS = {"R1": (5.0, 1.0), "R2": (4.0, 0.7)}
+"""Record id → (peak acceleration [m/s²], period of the burst [s])."""
+
+TIME_STEP = 0.01  # [s]
+DURATION = 6.0  # [s]
+
+VOLATILE = {"created", "finished", "solve_time_s", "wall_time_s"}
+"""Attributes and peak columns that differ between two runs of the same study (timings)."""
+
+
+def burst(peak: float, period: float) -> np.ndarray:
+    """A sine burst under a Gaussian envelope centred at 2.5 s, scaled to ``peak`` [m/s²]."""
+    t = np.arange(0.0, DURATION, TIME_STEP)
+    signal = np.sin(2.0 * np.pi * t / period) * np.exp(-(((t - 2.5) / 1.5) ** 2))
+    return peak * signal / np.abs(signal).max()
+
+
+def write_records(folder: Path, names=tuple(RECORDS)) -> dict[str, Path]:
+    """Write the records into ``folder``; returns id → file."""
+    folder.mkdir(parents=True, exist_ok=True)
+    files = {}
+    for name in names:
+        files[name] = folder / f"{name}.txt"
+        write_record(files[name], Record(name, TIME_STEP, burst(*RECORDS[name])))
+    return files
+
+
+def write_study(
+    folder: Path,
+    bridges=STUDIED,
+    records=tuple(RECORDS),
+    extra: str = "",
+    name: str = "study.yaml",
+) -> Path:
+    """A study of the given bridge configs × records in ``folder``; ``extra`` is appended YAML."""
+    write_records(folder, records)
+    lines = ["bridges:"] + [f"  - {(BRIDGES / f'{b}.yaml').as_posix()}" for b in bridges]
+    lines += ["records:", "  files:"] + [f"    - path: {r}.txt" for r in records]
+    path = folder / name
+    path.write_text("\n".join(lines) + "\n" + extra, encoding="utf-8")
+    return path
+
+
+def contents(path: Path) -> dict[str, tuple]:
+    """Every group and dataset of an HDF5 file with its attributes and data, timings left out.
+
+    Values are compared as bytes, so NaN equals NaN and floats must match exactly.
+    """
+    found: dict[str, tuple] = {}
+
+    def canonical(value):
+        array = np.asarray(value)
+        if array.dtype.kind in "OSU":
+            return tuple(v.decode() if isinstance(v, bytes) else str(v) for v in array.ravel())
+        return (array.dtype.str, array.shape, array.tobytes())
+
+    def visit(name: str, node) -> None:
+        attrs = {k: canonical(v) for k, v in node.attrs.items() if k not in VOLATILE}
+        data = None
+        if isinstance(node, h5py.Dataset) and name.rsplit("/", 1)[-1] not in VOLATILE:
+            data = canonical(node[()])
+        found[name] = (attrs, data)
+
+    with h5py.File(path, "r") as file:
+        visit("/", file)
+        file.visititems(visit)
+    return found

@@ -1,0 +1,158 @@
+"""The study commands end to end with click's CliRunner: run → peaks → figures, and bad inputs."""
+
+from __future__ import annotations
+
+import io
+import json
+
+import pandas as pd
+import pytest
+from click.testing import CliRunner
+from studies import STUDIED, write_study
+
+from rockbridge_cli import runner
+from rockbridge_cli.cli import main
+from rockbridge_cli.cli.progress import ProgressDisplay
+from rockbridge_cli.core.analysis import analyze
+from rockbridge_cli.results import read_peaks
+from rockbridge_cli.runner import Finished
+
+
+@pytest.fixture(autouse=True)
+def _in_tmp(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # default outputs (results/<stem>.h5, figures) land in tmp_path
+
+
+def invoke(*args: str):
+    return CliRunner().invoke(main, [str(a) for a in args])
+
+
+def assert_user_error(result, *fragments: str) -> None:
+    """Exit status 2, one readable message naming the problem, no traceback."""
+    assert result.exit_code == 2, result.output
+    assert result.output.startswith("error: ") and "Traceback" not in result.output
+    for fragment in fragments:
+        assert fragment in result.output
+
+
+def test_run_peaks_and_figures(tmp_path):
+    study = write_study(tmp_path)
+    result = invoke("run", study, "--workers", "1")
+    assert result.exit_code == 0, result.output
+    output = tmp_path / "results" / "study.h5"
+    assert f"results: {output.relative_to(tmp_path)}" in result.output
+    assert "analyses: 4 (4 run now, 0 already done): 4 ok, 0 solver errors" in result.output
+    assert "wall" in result.output and "solving" in result.output
+    for bridge in STUDIED:
+        assert bridge in result.output  # the short table: one row per bridge
+
+    again = invoke("run", study)
+    assert again.exit_code == 0 and "(0 run now, 4 already done)" in again.output
+
+    table = invoke("peaks", output)
+    assert table.exit_code == 0 and "u_deck [mm]" in table.output
+    assert len(table.output.strip().splitlines()) == 5  # header + 4 analyses
+
+    csv = invoke("peaks", output, "--csv", "-")
+    frame = pd.read_csv(io.StringIO(csv.output), keep_default_na=False)
+    expected = read_peaks(output)
+    assert list(frame.columns) == list(expected.columns)
+    pd.testing.assert_series_equal(frame["u_deck_max"], expected["u_deck_max"])
+    assert invoke("peaks", output, "--csv", tmp_path / "p.csv").exit_code == 0
+    assert (tmp_path / "p.csv").read_text(encoding="utf-8") == csv.output
+
+    data = json.loads(invoke("peaks", output, "--json").output)
+    assert data["units"]["u_deck_max"] == "m"
+    assert [row["record"] for row in data["rows"]] == ["R1", "R2", "R1", "R2"]
+    assert data["rows"][0]["failure_time"] is None  # NaN → null
+
+    figure = invoke("plot", "peaks", output)
+    assert figure.exit_code == 0, figure.output
+    assert (tmp_path / "results" / "study-peaks.png").stat().st_size > 10_000
+    history = invoke("plot", "history", output, "--record", "R2", "--bridge", STUDIED[1],
+                     "-o", tmp_path / "h.pdf")  # fmt: skip
+    assert history.exit_code == 0 and (tmp_path / "h.pdf").read_bytes().startswith(b"%PDF")
+    assert_user_error(invoke("plot", "history", output, "--record", "R9"), "no analysis")
+    assert_user_error(invoke("plot", "peaks", output, "-o", "x.jpg"), "unknown figure format")
+
+
+def test_other_settings_from_the_command_line(tmp_path):
+    study = write_study(tmp_path)
+    result = invoke("run", study, "--workers", "2", "--fidelity", "fast", "-o", tmp_path / "f.h5")
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / "f.h5").exists()
+    refused = invoke("run", study, "-o", tmp_path / "f.h5")  # the default fidelity: another study
+    assert_user_error(refused, "f.h5: holds results of a different study", "--overwrite")
+    rerun = invoke("run", study, "-o", tmp_path / "f.h5", "--overwrite", "--workers", "1")
+    assert rerun.exit_code == 0 and "(4 run now, 0 already done)" in rerun.output
+    recomputed = invoke("run", study, "-o", tmp_path / "f.h5", "--no-resume")
+    assert "(4 run now, 0 already done)" in recomputed.output
+
+
+def test_bad_inputs(tmp_path):
+    study = write_study(tmp_path)
+    (tmp_path / "R2.txt").unlink()
+    assert_user_error(
+        invoke("run", study),
+        f"{study}: records.files.1.path: record file not found: R2.txt",
+    )
+    write_study(tmp_path)
+    text = study.read_text(encoding="utf-8").replace("records:", "  - nowhere.yaml\nrecords:")
+    (tmp_path / "b.yaml").write_text(text, encoding="utf-8")
+    assert_user_error(invoke("run", tmp_path / "b.yaml"), "bridges.2: bridge file not found")
+    (tmp_path / "file").write_text("", encoding="utf-8")
+    assert_user_error(
+        invoke("run", study, "-o", tmp_path / "file" / "x.h5"), "cannot write the results here"
+    )
+    damaged = tmp_path / "damaged.h5"
+    damaged.write_bytes(b"garbage" * 50)
+    assert_user_error(invoke("peaks", damaged), "not a readable HDF5 file")
+    assert_user_error(invoke("run", study, "-o", damaged), "not a readable HDF5", "--overwrite")
+    assert damaged.read_bytes() == b"garbage" * 50  # nothing earlier lost
+    assert_user_error(invoke("plot", "peaks", tmp_path / "none.h5"), "file not found")
+
+
+def test_analyses_that_cannot_run_exit_1_after_writing_the_rest(tmp_path):
+    study = write_study(tmp_path)
+    (tmp_path / "R1.txt").write_text("0 1\n0.01 2\n", encoding="utf-8")  # units not stated
+    result = invoke("run", study, "--workers", "1")
+    assert result.exit_code == 1
+    assert "studied-hbar1.00 × R1: error:" in result.output  # reported as it happens
+    assert "2 analyses did not end ok" in result.output and "Traceback" not in result.output
+    assert list(read_peaks(tmp_path / "results" / "study.h5")["status"]) == [
+        "error", "ok", "error", "ok",
+    ]  # fmt: skip
+
+
+def test_ctrl_c_keeps_what_finished(tmp_path, monkeypatch):
+    calls = []
+
+    def interrupted(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 3:
+            raise KeyboardInterrupt
+        return analyze(*args, **kwargs)
+
+    monkeypatch.setattr(runner, "analyze", interrupted)
+    result = invoke("run", write_study(tmp_path), "--workers", "1")
+    assert result.exit_code == 130 and "Traceback" not in result.output
+    assert "interrupted: the analyses finished so far are in results/study.h5" in result.output
+    assert len(read_peaks(tmp_path / "results" / "study.h5")) == 2
+    monkeypatch.setattr(runner, "analyze", analyze)
+    resumed = invoke("run", tmp_path / "study.yaml", "--workers", "1")
+    assert "(2 run now, 2 already done)" in resumed.output
+
+
+@pytest.mark.parametrize("terminal", [True, False])
+def test_progress_display(capsys, terminal):
+    display = ProgressDisplay(terminal=terminal)
+    for done in range(1, 31):
+        status = "error" if done == 7 else "ok"
+        display(Finished("b", f"AR{done:02d}", status, "boom" if done == 7 else "", 0.01), done, 30)
+    display.close()
+    err = capsys.readouterr().err
+    assert "b × AR07: error: boom" in err
+    if terminal:
+        assert "[" + "#" * 30 + "] 30/30" in err and err.endswith("left\n")
+    else:  # one line per tenth, plus the error
+        assert len(err.splitlines()) == 11 and "30/30 analyses (100%)" in err

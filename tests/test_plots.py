@@ -1,0 +1,150 @@
+"""The figures: the parametric curves against the paper's published values (MODEL.md §10), and
+every figure written in each format, with its labels and units."""
+
+from __future__ import annotations
+
+import matplotlib
+import numpy as np
+import pytest
+from studies import BRIDGES, STUDIED, write_study
+
+from rockbridge_cli.config.bridge import load_bridge
+from rockbridge_cli.config.study import load_study
+from rockbridge_cli.core.geometry import ratios
+from rockbridge_cli.errors import InputError
+from rockbridge_cli.plots import parametric
+from rockbridge_cli.plots.history import plot_history
+from rockbridge_cli.plots.peaks import plot_peaks
+from rockbridge_cli.runner import run_study
+
+MAGIC = {".png": b"\x89PNG", ".pdf": b"%PDF", ".svg": b"<?xml"}
+
+
+@pytest.fixture(scope="module")
+def done(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("figures")
+    study = load_study(write_study(folder, extra="output: {path: out.h5}\n"))
+    run_study(study, workers=1)
+    return study.output
+
+
+def svg_text(path) -> str:
+    return path.read_text(encoding="utf-8")
+
+
+# --- the curves against the paper (MODEL.md §10, "from the corrected equations") ----------
+
+
+def test_onset_fig3():
+    """Fig. 3: 0.10 g at h̄ = 1 in both directions; 0.336 g (p) and 0.361 g (n) at h̄ = 6.4."""
+    config = load_bridge(BRIDGES / "fig3-hbar6.4.yaml")
+    curves = parametric.onset_curves(config, np.array([1.0, 6.4]))
+    np.testing.assert_allclose(curves["p"], [0.1000, 0.336], atol=6e-4)
+    np.testing.assert_allclose(curves["n"], [0.1000, 0.361], atol=6e-4)
+
+
+def test_onset_of_the_studied_bridges():
+    """Studied bridges: 0.1118 / 0.1128 g at h̄ = 1.25, 0.1456 / 0.1497 g at h̄ = 2."""
+    config = load_bridge(BRIDGES / "studied-hbar1.00.yaml")
+    curves = parametric.onset_curves(config, np.array([1.25, 2.0]))
+    np.testing.assert_allclose(curves["p"], [0.1118, 0.1456], atol=6e-5)
+    np.testing.assert_allclose(curves["n"], [0.1128, 0.1497], atol=6e-5)
+
+
+def test_short_pier_variation_reproduces_table1():
+    """Table 1: m_pier,2 = 35.15·10⁴ and 21.97·10⁴ kg; q = 0.7708 and 0.7858·10⁻³ m/kN."""
+    model = load_bridge(BRIDGES / "studied-hbar1.00.yaml").to_model()
+    for h_bar, mass, q in ((1.25, 35.15e4, 0.7708e-6), (2.0, 21.97e4, 0.7858e-6)):
+        variant = parametric.with_short_pier(model, h_bar)
+        assert variant.m2 == pytest.approx(mass, rel=2e-4)
+        assert ratios(variant)["q"] == pytest.approx(q, rel=2e-4)
+        built = load_bridge(BRIDGES / f"studied-hbar{h_bar:.2f}.yaml").to_model()
+        assert variant.I2 == pytest.approx(built.I2, rel=1e-12)
+
+
+def test_q_fig4():
+    """Fig. 4: q(h̄ = 5)/q(h̄ = 1) − 1 = 5.3 % (the paper's "4 %" is not reproducible)."""
+    model = load_bridge(BRIDGES / "studied-hbar1.00.yaml").to_model()
+    change = ratios(parametric.with_short_pier(model, 5.0))["q"] / ratios(model)["q"] - 1
+    assert change == pytest.approx(0.053, abs=5e-4)
+
+
+def test_restitution_fig7():
+    """Fig. 7: (η_bridge − η_frame)/η_bridge = 0.41 % at h̄ = 1 and 12.7 % at h̄ = 5 (p→n)."""
+    config = load_bridge(BRIDGES / "fig8-hbar1.5.yaml")
+    model = config.to_model()
+    variants = [parametric.with_short_pier(model, h) for h in (1.0, 5.0)]
+    curves = parametric.restitution_curves(config, variants)
+    gain = (curves["bridge p→n"] - curves["frame p→n"]) / curves["bridge p→n"]
+    np.testing.assert_allclose(gain, [0.0041, 0.127], atol=5e-4)
+    assert np.all(curves["bridge n→p"] > curves["frame n→p"])
+
+
+def test_restitution_vs_spans_fig8():
+    """Fig. 8A (L2 = 45): L1 = 15 m 0.9829 / 0.9798, 90 m 0.9879 / 0.9847; Fig. 8B (L1 = 45):
+    L2 = 15 m p→n 0.9890, 90 m 0.9843."""
+    config = load_bridge(BRIDGES / "fig8-hbar1.5.yaml")
+    model = config.to_model()
+    side = parametric.restitution_curves(
+        config, [model._replace(L1=15.0), model._replace(L1=90.0)], frame=False
+    )
+    np.testing.assert_allclose(side["bridge p→n"], [0.9829, 0.9879], atol=6e-5)
+    np.testing.assert_allclose(side["bridge n→p"], [0.9798, 0.9847], atol=6e-5)
+    central = parametric.restitution_curves(
+        config, [model._replace(L2=15.0), model._replace(L2=90.0)], frame=False
+    )
+    np.testing.assert_allclose(central["bridge p→n"], [0.9890, 0.9843], atol=6e-5)
+
+
+def test_directions_follow_the_tall_pier(tmp_path):
+    """A bridge drawn with its tall pier on the right is the mirror image (MODEL.md §1): its
+    p and n curves are those of the original swapped."""
+    text = (BRIDGES / "studied-hbar2.00.yaml").read_text(encoding="utf-8")
+    mirrored = tmp_path / "mirrored.yaml"
+    mirrored.write_text(text.replace("[26.0, 13.0]", "[13.0, 26.0]"), encoding="utf-8")
+    h_bars = np.array([1.5, 3.0])
+    left = parametric.onset_curves(load_bridge(BRIDGES / "studied-hbar2.00.yaml"), h_bars)
+    right = parametric.onset_curves(load_bridge(mirrored), h_bars)
+    np.testing.assert_array_equal(right["p"], left["n"])
+    np.testing.assert_array_equal(right["n"], left["p"])
+
+
+# --- the figure files --------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("suffix", [".png", ".pdf", ".svg"])
+def test_parametric_figures(tmp_path, suffix):
+    for name in ("onset", "q", "restitution", "spans"):
+        draw = getattr(parametric, f"plot_{name}")
+        path = draw(BRIDGES / "fig8-hbar1.5.yaml", tmp_path / f"{name}{suffix}")
+        assert path.read_bytes().startswith(MAGIC[suffix]), name
+
+
+def test_parametric_needs_two_piers(tmp_path):
+    block = tmp_path / "block.yaml"
+    block.write_text("piers: {width: 2.0, heights: [10.0]}\n", encoding="utf-8")
+    with pytest.raises(InputError, match="piers.heights: the figure varies a bridge with two"):
+        parametric.plot_onset(block, tmp_path / "x.png")
+
+
+def test_peaks_figure(done, tmp_path):
+    with matplotlib.rc_context({"svg.fonttype": "none"}):  # keep the text searchable
+        path = plot_peaks(done, tmp_path / "peaks.svg")
+    text = svg_text(path)
+    for label in ("symmetric (h̄ = 1)", "highly asymmetric (h̄ = 2)", "[mm]", "[mrad]", "R1", "R2"):
+        assert label in text, label
+    assert "= 120 mm" in text and "= 220 mm" in text  # u_jo and u_jo + u_ab (Fig. 9A)
+    for letter in "ABCDE":
+        assert f"({letter})" in text
+
+
+def test_history_figure(done, tmp_path):
+    with matplotlib.rc_context({"svg.fonttype": "none"}):
+        path = plot_history(done, "R1", tmp_path / "history.svg", bridges=[STUDIED[1]])
+    text = svg_text(path)
+    assert "highly asymmetric (h̄ = 2)" in text and "symmetric (h̄ = 1)" not in text
+    assert "time t [s]" in text and "record R1" in text
+    with pytest.raises(InputError, match="no bridge nope"):
+        plot_history(done, "R1", tmp_path / "x.png", bridges=["nope"])
+    with pytest.raises(InputError, match="unknown figure format '.gif'"):
+        plot_history(done, "R1", tmp_path / "x.gif")

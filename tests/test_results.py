@@ -1,0 +1,167 @@
+"""The results file: self-describing for plain h5py, and read back by the library's readers."""
+
+from __future__ import annotations
+
+import json
+
+import h5py
+import numpy as np
+import pandas as pd
+import pytest
+from studies import RECORDS, STUDIED, burst, write_study
+
+from rockbridge_cli import __version__
+from rockbridge_cli.config.study import load_study
+from rockbridge_cli.core.analysis import HISTORY_UNITS, PEAK_UNITS
+from rockbridge_cli.errors import InputError
+from rockbridge_cli.results import (
+    EVENT_COLUMNS,
+    FORMAT,
+    PEAK_COLUMNS,
+    read_bridges,
+    read_config_hash,
+    read_events,
+    read_history,
+    read_peaks,
+)
+from rockbridge_cli.runner import run_study
+
+
+@pytest.fixture(scope="module")
+def done(tmp_path_factory):
+    """A study of the two studied bridges × two records, run once: (study, results file)."""
+    folder = tmp_path_factory.mktemp("results")
+    study = load_study(write_study(folder, extra="output: {path: out.h5}\n"))
+    run_study(study, workers=1)
+    return study, study.output
+
+
+def test_plain_h5py_reads_it(done):
+    study, path = done
+    with h5py.File(path, "r") as file:
+        root = file.attrs
+        assert root["format"] == FORMAT and root["rockbridge_version"] == __version__
+        for name in ("numpy_version", "scipy_version", "h5py_version", "created", "finished"):
+            assert root[name]
+        assert root["complete"] and root["n_analyses"] == root["n_complete"] == 4
+        assert root["config_hash"] == study.config_hash
+        config = json.loads(root["config"])
+        assert [b["id"] for b in config["bridges"]] == list(STUDIED)
+        assert config["fidelity"]["preset"] == "default" == root["fidelity"]
+        assert json.loads(root["knobs"])["scheme"] == "dopri5"
+        assert root["study_yaml"] == study.path.read_text(encoding="utf-8")
+        assert json.loads(root["units"])["output_step"] == "s"
+
+        record = file["records/R1"]
+        acceleration = record["acceleration"]
+        assert acceleration.attrs["units"] == "m/s2" and acceleration.compression == "gzip"
+        np.testing.assert_allclose(acceleration[()], burst(*RECORDS["R1"]), rtol=1e-9)
+        assert record.attrs["time_step"] == 0.01 and record.attrs["source"] == "R1.txt"
+        assert record.attrs["pga"] == pytest.approx(RECORDS["R1"][0], rel=1e-9)
+        assert json.loads(record.attrs["units"]) == {
+            "time_step": "s", "n_samples": "-", "duration": "s", "pga": "m/s2",
+        }  # fmt: skip
+
+        # Table 1 of the paper, h̄ = 2: m_deck = ρ·A·L_tot = 2500·6·136 kg; m_pier,2 = 21.97·10⁴ kg,
+        # γ = 3.095, q = 0.7858·10⁻³ m/kN (MODEL.md §10)
+        bridge = file["bridges/studied-hbar2.00"].attrs
+        assert bridge["m_deck"] == pytest.approx(2500 * 6 * 136)
+        assert bridge["m_pier2"] == pytest.approx(21.97e4, rel=1e-3)
+        assert bridge["gamma"] == pytest.approx(3.095, rel=1e-3)
+        assert bridge["q"] == pytest.approx(0.7858e-6, rel=1e-3)
+        assert bridge["model_u_jo"] == 0.12 and bridge["model"] == "asymmetric-bridge"
+        units = json.loads(bridge["units"])
+        assert units["q"] == "m/N" and units["model_u_jo"] == "m" and units["ug_min_p"] == "m/s2"
+        assert json.loads(bridge["config"])["piers"]["heights"] == [26.0, 13.0]
+
+        analysis = file["analyses/studied-hbar2.00/R2"]
+        assert analysis.attrs["status"] == "ok" and analysis.attrs["record"] == "R2"
+        assert json.loads(analysis.attrs["units"])["u_deck_max"] == "m"
+        for name, unit in HISTORY_UNITS.items():
+            dataset = analysis["histories"][name]
+            assert dataset.attrs["units"] == unit and dataset.attrs["description"]
+            assert dataset.compression == "gzip" and dataset.chunks is not None
+        time = analysis["histories/time"][()]
+        np.testing.assert_allclose(np.diff(time), study.knobs["output_step"])
+        for name, (unit, _) in EVENT_COLUMNS.items():
+            assert analysis["events"][name].attrs["units"] == unit
+        assert analysis["events/kind"].asstr()[0] == "onset"
+
+        peaks = file["peaks"]
+        assert json.loads(peaks.attrs["columns"]) == list(PEAK_COLUMNS)
+        for name, unit in PEAK_UNITS.items():
+            assert peaks[f"{name}_max"].attrs["units"] == unit
+            assert peaks[f"{name}_time"].attrs["units"] == "s"
+        assert [b.decode() for b in peaks["bridge"][()]] == [b for b in STUDIED for _ in "12"]
+
+
+def test_readers(done):
+    study, path = done
+    peaks = read_peaks(path)
+    assert list(peaks.columns) == list(PEAK_COLUMNS)
+    assert peaks.attrs["units"]["theta2_max"] == "rad"
+    assert peaks["n_impacts"].dtype == "Int64"
+    with h5py.File(path, "r") as file:
+        node = file["analyses/studied-hbar1.00/R2"]
+        assert peaks.loc[1, "u_deck_max"] == node.attrs["u_deck_max"]
+        history = read_history(path, "studied-hbar1.00", "R2")
+        np.testing.assert_array_equal(history["theta1"], node["histories/theta1"][()])
+        events = read_events(path, "studied-hbar1.00", "R2")
+        assert len(events) == node["events/time"].size
+    assert list(history.columns) == list(HISTORY_UNITS)
+    assert history.index.name == "time" and history.attrs["units"]["u_deck"] == "m"
+    assert events.attrs["units"]["rate_after"] == "rad/s"
+    bridges = read_bridges(path)
+    assert list(bridges.index) == list(STUDIED)
+    assert bridges.loc["studied-hbar1.00", "name"] == "symmetric (h̄ = 1)"
+    assert read_config_hash(path) == study.config_hash
+
+
+def test_unknown_analysis(done):
+    _, path = done
+    with pytest.raises(InputError, match="no analysis studied-hbar1.00/R9; the file has"):
+        read_history(path, "studied-hbar1.00", "R9")
+
+
+def test_histories_kept_as_asked(tmp_path):
+    some = load_study(write_study(tmp_path, extra="output: {path: a.h5, histories: [v_deck]}\n"))
+    run_study(some, workers=1)
+    history = read_history(some.output, "studied-hbar1.00", "R1")
+    assert list(history.columns) == ["v_deck"]
+    none = load_study(write_study(tmp_path, extra="output: {path: b.h5, histories: none}\n"))
+    run_study(none, workers=1)
+    with pytest.raises(InputError, match="no histories: the study kept no histories"):
+        read_history(none.output, "studied-hbar1.00", "R1")
+    assert len(read_events(none.output, "studied-hbar1.00", "R1")) > 0  # events are kept
+    pd.testing.assert_series_equal(
+        read_peaks(none.output)["u_deck_max"], read_peaks(some.output)["u_deck_max"]
+    )
+
+
+def test_not_a_results_file(tmp_path):
+    missing = tmp_path / "missing.h5"
+    with pytest.raises(InputError, match="file not found"):
+        read_peaks(missing)
+    damaged = tmp_path / "damaged.h5"
+    damaged.write_bytes(b"\x89HDF\r\n\x1a\n" + bytes(200))
+    with pytest.raises(InputError, match="not a readable HDF5 file, or damaged"):
+        read_peaks(damaged)
+    foreign = tmp_path / "foreign.h5"
+    with h5py.File(foreign, "w") as file:
+        file["x"] = [1, 2, 3]
+    with pytest.raises(InputError, match="not a rockbridge results file"):
+        read_peaks(foreign)
+    newer = tmp_path / "newer.h5"
+    with h5py.File(newer, "w") as file:
+        file.attrs.update({"format": FORMAT, "format_version": 99})
+    with pytest.raises(InputError, match="newer rockbridge"):
+        read_peaks(newer)
+
+
+def test_truncated_file_is_an_input_error(done, tmp_path):
+    _, path = done
+    cut = tmp_path / "cut.h5"
+    cut.write_bytes(path.read_bytes()[: path.stat().st_size // 2])
+    with pytest.raises(InputError) as excinfo:
+        read_peaks(cut)
+    assert excinfo.value.source == str(cut)

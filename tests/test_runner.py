@@ -1,0 +1,252 @@
+"""The runner: results equal the integrator's, whatever the worker count; failures are isolated;
+interrupted runs resume without recomputing and end with the file an uninterrupted run writes."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+
+import numpy as np
+import pandas as pd
+import pytest
+from studies import VOLATILE, contents, write_study
+
+from rockbridge_cli import results, runner
+from rockbridge_cli.config.study import load_study
+from rockbridge_cli.core.analysis import analyze
+from rockbridge_cli.errors import InputError
+from rockbridge_cli.results import AnalysisResult, read_history, read_peaks
+from rockbridge_cli.runner import run_study
+from rockbridge_cli.storage import Journal
+
+
+@pytest.fixture(autouse=True)
+def _in_tmp(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # default outputs (results/<stem>.h5) land in tmp_path
+
+
+PAIRS = [(b, r) for b in ("studied-hbar1.00", "studied-hbar2.00") for r in ("R1", "R2")]
+
+
+def _reference(tmp_path):
+    """A study in tmp_path, the contents of its uninterrupted run; the output is removed again."""
+    path = write_study(tmp_path, extra=f"output: {{path: {tmp_path / 'out.h5'}}}\n")
+    study = load_study(path)
+    run_study(study, workers=1)
+    expected = contents(study.output)
+    study.output.unlink()
+    return study, expected
+
+
+class Recorder:
+    """A progress callback that remembers what ran and can interrupt the run after ``stop``."""
+
+    def __init__(self, stop: int | None = None):
+        self.stop = stop
+        self.pairs: list[tuple[str, str]] = []
+
+    def __call__(self, item, done, total):
+        self.pairs.append((item.bridge, item.record))
+        if done == self.stop:
+            raise KeyboardInterrupt
+
+
+def test_peaks_and_histories_are_the_integrators(tmp_path):
+    study = load_study(write_study(tmp_path, extra=f"output: {{path: {tmp_path / 'o.h5'}}}\n"))
+    report = run_study(study, workers=1)
+    assert (report.total, report.ran, report.resumed) == (4, 4, 0)
+    peaks = read_peaks(study.output)
+    assert list(zip(peaks["bridge"], peaks["record"], strict=True)) == PAIRS  # the study's order
+    for bridge, item in ((b, r) for b in study.bridges for r in study.records):
+        expected = analyze(
+            bridge.config.to_model(), item.record.acceleration, item.record.time_step, "default",
+            mirrored=bridge.config.mirrored,
+        )  # fmt: skip
+        row = peaks[(peaks["bridge"] == bridge.id) & (peaks["record"] == item.id)].iloc[0]
+        for name, value in expected.summary().items():
+            if name in row.index and name not in VOLATILE:
+                assert row[name] == value or (pd.isna(row[name]) and pd.isna(value)), name
+        history = read_history(study.output, bridge.id, item.id)
+        np.testing.assert_array_equal(history.index, expected.time)
+        for name, values in expected.histories.items():
+            np.testing.assert_array_equal(history[name], values, err_msg=name)
+    assert set(peaks["status"]) == {"ok"}
+    assert report.peaks.equals(peaks)
+
+
+def test_worker_count_does_not_change_the_results(tmp_path):
+    study, expected = _reference(tmp_path)
+    report = run_study(study, workers=2)
+    assert report.ran == 4
+    assert contents(study.output) == expected
+
+
+def test_a_failing_analysis_does_not_stop_the_others(tmp_path, monkeypatch):
+    study, expected = _reference(tmp_path)
+
+    def flaky(model, acceleration, *args, **kwargs):
+        if np.abs(acceleration).max() < 4.5:  # R2 (peak 4 m/s²)
+            raise RuntimeError("boom")
+        return analyze(model, acceleration, *args, **kwargs)
+
+    monkeypatch.setattr(runner, "analyze", flaky)
+    report = run_study(study, workers=1)
+    peaks = report.peaks.set_index(["bridge", "record"])
+    assert list(peaks["status"]) == ["ok", "error", "ok", "error"]
+    assert list(peaks["message"]) == ["", "RuntimeError: boom", "", "RuntimeError: boom"]
+    assert peaks["n_impacts"].isna().tolist() == [False, True, False, True]
+    assert np.isnan(peaks.loc[("studied-hbar1.00", "R2"), "u_deck_max"])
+    monkeypatch.setattr(runner, "analyze", analyze)
+    again = Recorder()
+    assert run_study(study, workers=1, progress=again).ran == 2  # only the failed ones
+    assert again.pairs == [("studied-hbar1.00", "R2"), ("studied-hbar2.00", "R2")]
+    assert contents(study.output) == expected
+
+
+def test_an_unreadable_record_fails_only_its_analyses(tmp_path):
+    path = write_study(tmp_path)
+    (tmp_path / "R1.txt").write_text("0.0 1.0\n0.01 2.0\n", encoding="utf-8")  # no units
+    report = run_study(load_study(path), workers=1)
+    peaks = report.peaks
+    assert list(peaks["status"]) == ["error", "ok", "error", "ok"]
+    assert "R1.txt: units: the file does not state its units" in peaks["message"][0]
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_interrupted_run_resumes(tmp_path, workers):
+    study, expected = _reference(tmp_path)
+    first = Recorder(stop=2)  # with workers, the second comes from the pool
+    with pytest.raises(KeyboardInterrupt):
+        run_study(study, workers=workers, progress=first)
+    partial = read_peaks(study.output)  # the file is written with what finished
+    saved = set(zip(partial["bridge"], partial["record"], strict=True))
+    assert set(first.pairs) <= saved
+    if workers == 1:
+        assert saved == set(PAIRS[:2])
+    assert not Journal(study.output).folder.exists()
+    second = Recorder()
+    report = run_study(study, workers=workers, progress=second)
+    assert report.resumed == len(saved) and report.ran == 4 - len(saved)
+    assert not saved & set(second.pairs)  # nothing finished before is run again
+    assert contents(study.output) == expected
+
+
+_KILLED_RUN = """
+import os, signal, sys
+from rockbridge_cli import results
+from rockbridge_cli.config.study import load_study
+from rockbridge_cli.runner import run_study
+
+def kill_after_two(item, done, total):
+    if done == 2:
+        os.kill(os.getpid(), signal.SIGKILL)
+
+def kill_while_writing(file, *args):
+    file.create_group("records")
+    file.flush()
+    os.kill(os.getpid(), signal.SIGKILL)
+
+if sys.argv[2] == "analyses":
+    run_study(load_study(sys.argv[1]), workers=1, progress=kill_after_two)
+else:
+    results.write_results = kill_while_writing
+    run_study(load_study(sys.argv[1]), workers=1, resume=False)
+"""
+
+
+def _killed(study, when: str) -> None:
+    done = subprocess.run(
+        [sys.executable, "-c", _KILLED_RUN, str(study.path), when], capture_output=True, timeout=120
+    )
+    assert done.returncode == -signal.SIGKILL, done.stderr.decode()
+
+
+def test_sigkill_loses_only_what_was_in_flight(tmp_path):
+    study, expected = _reference(tmp_path)
+    _killed(study, "analyses")
+    assert not study.output.exists()
+    journalled = Journal(study.output).entries(study.config_hash)
+    assert sorted(journalled) == PAIRS[:2]
+    resumed = Recorder()
+    report = run_study(study, workers=1, progress=resumed)
+    assert resumed.pairs == PAIRS[2:] and report.resumed == 2
+    assert contents(study.output) == expected
+    assert not Journal(study.output).folder.exists()
+
+
+def test_sigkill_while_writing_leaves_the_previous_file(tmp_path):
+    study, expected = _reference(tmp_path)
+    run_study(study, workers=1)
+    _killed(study, "assembly")
+    assert contents(study.output) == expected  # untouched and readable
+    stale = list(tmp_path.glob(".out.h5.*.tmp"))
+    assert len(stale) == 1
+    report = run_study(study, workers=1)  # the journal holds the four new analyses
+    assert report.ran == 0 and report.resumed == 4
+    assert contents(study.output) == expected
+    assert not list(tmp_path.glob(".out.h5.*")) and not Journal(study.output).folder.exists()
+
+
+def test_nothing_to_do_leaves_the_file_alone(tmp_path):
+    study, _ = _reference(tmp_path)
+    run_study(study, workers=1)
+    stamp = study.output.stat().st_mtime_ns
+    report = run_study(study, workers=1)
+    assert (report.ran, report.resumed) == (0, 4)
+    assert study.output.stat().st_mtime_ns == stamp
+    assert run_study(study, workers=1, resume=False).ran == 4
+
+
+def test_results_of_another_study_are_refused(tmp_path):
+    study, _ = _reference(tmp_path)
+    run_study(study, workers=1)
+    before = study.output.read_bytes()
+    other = load_study(study.path, preset="fast")
+    with pytest.raises(InputError, match="different study or different inputs.*--overwrite"):
+        run_study(other, workers=1)
+    with pytest.raises(InputError, match="different study"):
+        run_study(other, workers=1, resume=False)
+    assert study.output.read_bytes() == before
+    assert run_study(other, workers=1, overwrite=True).ran == 4
+    assert results.read_config_hash(study.output) == other.config_hash
+
+
+def test_a_journal_of_another_study_is_refused(tmp_path):
+    study = load_study(write_study(tmp_path))
+    Journal(study.output).write(AnalysisResult.failed("studied-hbar1.00", "R1", "x"), "another")
+    with pytest.raises(InputError, match="journal: holds analyses of a different study"):
+        run_study(study, workers=1)
+    assert run_study(study, workers=1, overwrite=True).ran == 4
+
+
+def test_a_damaged_output_is_refused(tmp_path):
+    study = load_study(write_study(tmp_path))
+    study.output.parent.mkdir(parents=True)
+    study.output.write_bytes(b"not HDF5 at all" * 100)
+    with pytest.raises(InputError, match="not a readable HDF5 file.*--overwrite"):
+        run_study(study, workers=1)
+    assert study.output.read_bytes() == b"not HDF5 at all" * 100
+    assert run_study(study, workers=1, overwrite=True).ran == 4
+
+
+def test_an_output_that_cannot_be_written_is_refused_before_any_work(tmp_path, monkeypatch):
+    (tmp_path / "file").write_text("", encoding="utf-8")
+    study = load_study(write_study(tmp_path), output=tmp_path / "file" / "out.h5")
+    monkeypatch.setattr(runner, "analyze", None)  # would fail if anything ran
+    with pytest.raises(InputError, match="cannot write the results here"):
+        run_study(study, workers=1)
+
+
+@pytest.mark.skipif(os.name != "posix" or os.geteuid() == 0, reason="root writes anywhere")
+def test_a_read_only_folder_is_refused(tmp_path):
+    folder = tmp_path / "locked"
+    folder.mkdir()
+    folder.chmod(0o555)
+    study = load_study(write_study(tmp_path), output=folder / "out.h5")
+    try:
+        with pytest.raises(InputError, match="Permission denied"):
+            run_study(study, workers=1)
+    finally:
+        folder.chmod(0o755)
