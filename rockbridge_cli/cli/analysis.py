@@ -27,6 +27,12 @@ from .output import echo_json, echo_table
 @click.option("--time-step", type=float, help="Sample interval of a one-column record [s].")
 @click.option("--fidelity", type=click.Choice(list(PRESETS)), default="default", show_default=True)
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object with SI values.")
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(dir_okay=False, path_type=Path),
+    help="Also write the histories and events to this HDF5 results file (the layout of `run`).",
+)
 def analyze(
     bridge: Path,
     record: Path,
@@ -34,37 +40,48 @@ def analyze(
     time_step: float | None,
     fidelity: str,
     as_json: bool,
+    output: Path | None,
 ) -> None:
     """Analyse BRIDGE (a YAML file) under the ground motion in RECORD."""
     config = load_bridge(bridge)
-    motion = read_record(record, units=units, time_step=time_step, gravity=config.gravity)
-    response = run_analysis(
-        config.to_model(), motion.acceleration, motion.time_step, fidelity, mirrored=config.mirrored
-    )
-    summary = response.summary()
+    motion = read_record(record, units=units, time_step=time_step)
+    if output is None:
+        response = run_analysis(
+            config.to_model(), motion.acceleration, motion.time_step, fidelity, config.mirrored
+        )
+        summary = response.summary()
+    else:  # the same analysis, through the study runner, so that the file has run's layout
+        from ..config.study import single_analysis
+        from ..runner import run_study
+
+        study = single_analysis(bridge, record, units, time_step, fidelity, output)
+        report = run_study(study, workers=1, resume=False, overwrite=True)
+        summary = report.peaks.iloc[0].to_dict()
+        summary.update(fidelity=fidelity, output=str(report.output))
     if as_json:
         echo_json({"bridge": config.label(bridge.stem), "record": motion.name, **summary})
         return
+    echo_table(_rows(config.label(bridge.stem), f"{motion.name} ({motion.duration:g} s)", summary))
+
+
+def _rows(bridge: str, record: str, s: dict) -> list[tuple[str, str]]:
+    onset = s["t_onset"]
+    failure = s["failure_mode"]
     rows = [
-        ("bridge", config.label(bridge.stem)),
-        ("record", f"{motion.name} ({motion.duration:g} s)"),
+        ("bridge", bridge),
+        ("record", record),
+        ("model / fidelity", f"{s['model']} / {s['fidelity']}"),
+        ("onset of rocking", "never (at rest)" if math.isnan(onset) else f"{onset:.3f} s"),
     ]
-    rows += [("model / fidelity", f"{response.model} / {fidelity}")]
-    onset = (
-        "never (the bridge stays at rest)"
-        if math.isnan(response.t_onset)
-        else f"{response.t_onset:.3f} s"
-    )
-    rows += [("onset of rocking", onset)]
     for name, unit in PEAK_UNITS.items():
-        value, when = response.peaks[name]
-        rows.append((f"max {name}", f"{value:.5g} {unit} at {when:.3f} s"))
+        rows.append((f"max {name}", f"{s[name + '_max']:.5g} {unit} at {s[name + '_time']:.3f} s"))
     rows += [
-        ("impacts / poundings", f"{response.n_impacts} / {response.n_poundings}"),
-        ("failure", response.failure_mode
-         + ("" if response.failure_mode == "none" else f" at {response.failure_time:.3f} s")),
-        ("demand/capacity", f"{response.dcr:.3f} ({response.dcr_mode})"),
-        ("status", response.status),
-        ("solve time", f"{response.solve_time_s * 1e3:.1f} ms ({response.steps} steps)"),
-    ]  # fmt: skip
-    echo_table(rows)
+        ("impacts / poundings", f"{s['n_impacts']} / {s['n_poundings']}"),
+        ("failure", failure + ("" if failure == "none" else f" at {s['failure_time']:.3f} s")),
+        ("demand/capacity", f"{s['dcr']:.3f} ({s['dcr_mode']})"),
+        ("status", s["status"]),
+        ("solve time", f"{s['solve_time_s'] * 1e3:.1f} ms ({s['steps']} steps)"),
+    ]
+    if "output" in s:
+        rows.append(("results", s["output"]))
+    return rows

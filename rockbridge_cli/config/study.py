@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Annotated, Any, Literal
 
 import numpy as np
+import yaml
 from pydantic import (
     BeforeValidator,
     Field,
@@ -305,7 +306,53 @@ def load_study(
         the message names the file and the dotted field path.
     """
     path = Path(path)
-    data = loading.read_yaml(path)
+    return study_from_data(
+        loading.read_yaml(path), path, path.read_text(encoding="utf-8"), preset, output
+    )
+
+
+def single_analysis(
+    bridge: Path,
+    record: Path,
+    units: str | None,
+    time_step: float | None,
+    preset: str,
+    output: Path,
+) -> Study:
+    """The study of one bridge under one record (``rockbridge analyze -o``), written to ``output``.
+
+    Parameters
+    ----------
+    bridge, record
+        The bridge YAML file and the record file.
+    units, time_step
+        As for a study's ``records.files`` entry (None: what the file says).
+    preset
+        Fidelity preset.
+    output
+        The HDF5 results file.
+    """
+    entry: dict[str, Any] = {"path": str(Path(record).resolve())}
+    entry.update({k: v for k, v in (("units", units), ("time_step", time_step)) if v is not None})
+    data = {
+        "description": f"rockbridge analyze {bridge} {record}",
+        "bridges": [str(Path(bridge).resolve())],
+        "records": {"files": [entry]},
+        "fidelity": preset,
+    }
+    source = Path(output).with_suffix(".study.yaml")
+    return study_from_data(data, source, yaml.safe_dump(data, sort_keys=False), None, output)
+
+
+def study_from_data(
+    data: dict[str, Any],
+    path: Path,
+    text: str,
+    preset: str | None = None,
+    output: str | Path | None = None,
+) -> Study:
+    """Validate and resolve a study given as data; ``path`` names it in messages and anchors its
+    relative paths, ``text`` is stored in the results. Other parameters as for `load_study`."""
     if preset is not None:
         fidelity = data.get("fidelity")
         data["fidelity"] = {**(fidelity if isinstance(fidelity, dict) else {}), "preset": preset}
@@ -328,7 +375,7 @@ def load_study(
         target = Path("results") / f"{path.stem}.h5"
     return Study(
         path=path,
-        text=path.read_text(encoding="utf-8"),
+        text=text,
         bridges=tuple(bridges),
         records=tuple(records),
         preset=config.fidelity.preset,

@@ -1,0 +1,77 @@
+"""``rockbridge analyze``: one analysis from the command line, its JSON, its file and bad input."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from rockbridge_cli.cli import main
+from rockbridge_cli.config.bridge import load_bridge
+from rockbridge_cli.core.analysis import analyze
+from rockbridge_cli.records import read_record
+
+REPO = Path(__file__).resolve().parents[1]
+BRIDGE = REPO / "configs" / "bridges" / "studied-hbar1.25.yaml"
+RECORD = REPO / "records" / "ec8-type1-C-ag0.6g" / "AR07.txt"
+KEYS = ("u_deck_max", "v_deck_max", "theta_deck_max", "theta1_max", "theta2_max", "t_onset",
+        "n_impacts", "n_poundings", "failure_mode", "fidelity", "solve_time_s")  # fmt: skip
+
+
+def invoke(*args: str):
+    return CliRunner().invoke(main, [str(a) for a in args])
+
+
+def test_json_has_the_keys_and_the_library_values():
+    """The issue's keys, with the values the library call gives for the same inputs."""
+    result = invoke("analyze", BRIDGE, RECORD, "--json")
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.output)
+    assert set(KEYS) <= set(data)
+    record = read_record(RECORD)
+    config = load_bridge(BRIDGE)
+    response = analyze(config.to_model(), record.acceleration, record.time_step)
+    for name in ("u_deck", "v_deck", "theta_deck", "theta1", "theta2"):
+        assert data[f"{name}_max"] == pytest.approx(response.peaks[name][0], rel=1e-12)
+    assert data["n_impacts"] == response.n_impacts and data["fidelity"] == "default"
+
+
+def test_output_file_holds_the_same_analysis(tmp_path):
+    out = tmp_path / "one.h5"
+    text = invoke("analyze", BRIDGE, RECORD, "--fidelity", "fast", "-o", out)
+    assert text.exit_code == 0, text.output
+    printed = json.loads(invoke("analyze", BRIDGE, RECORD, "--fidelity", "fast", "--json").output)
+    with h5py.File(out, "r") as file:
+        group = file["analyses/studied-hbar1.25/AR07"]
+        assert group["histories/u_deck"].attrs["units"] == "m"
+        assert np.max(np.abs(group["histories/u_deck"][()])) <= printed["u_deck_max"] * (1 + 1e-12)
+        assert file["peaks/u_deck_max"][0] == pytest.approx(printed["u_deck_max"], rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("text", "reason"),
+    [
+        ("0.0 0.0\n0.01 nan\n0.02 0.0\n", "nan"),
+        ("0.0 0.0\n0.01 0.1\n0.03 0.0\n", "step"),
+        ("0.0 0.0\n0.01\n0.02 0.0\n", "line 2"),
+        ("", "empty"),
+    ],
+)
+def test_bad_record_exits_2_with_one_message(tmp_path, text, reason):
+    path = tmp_path / "bad.txt"
+    path.write_text(text)
+    result = invoke("analyze", BRIDGE, path, "--units", "g")
+    assert result.exit_code == 2
+    assert "Traceback" not in result.output and "bad.txt" in result.output
+    assert reason in result.output.lower()
+
+
+def test_plain_file_without_units_is_refused(tmp_path):
+    path = tmp_path / "plain.txt"
+    path.write_text("0.0 0.0\n0.01 0.1\n0.02 0.0\n")
+    result = invoke("analyze", BRIDGE, path)
+    assert result.exit_code == 2 and "units" in result.output
