@@ -33,7 +33,7 @@ from . import __version__
 from .config.study import Study
 from .core.analysis import HISTORY_UNITS, PEAK_UNITS, Response
 from .core.geometry import Model
-from .core.summary import summarize
+from .core.summary import SUMMARY_UNITS, summarize
 from .errors import InputError
 
 FORMAT = "rockbridge-results"
@@ -104,14 +104,6 @@ _MODEL_UNITS = {
     "m1": "kg", "m2": "kg", "md": "kg", "I1": "kg m2", "I2": "kg m2", "Id": "kg m2",
     "g": "m/s2", "has_abutments": "-", "u_jo": "m", "k": "N/m", "c": "N s/m", "u_ab": "m",
     "e": "-", "m_abut": "kg",
-}  # fmt: skip
-_SUMMARY_UNITS = {
-    "m_pier1": "kg", "m_pier2": "kg", "m_deck": "kg", "m_abut": "kg",
-    "I_pier1": "kg m2", "I_pier2": "kg m2", "I_deck": "kg m2", "R1": "m", "R2": "m",
-    "alpha1": "rad", "alpha2": "rad", "h_bar": "-", "b_bar": "-", "L_bar": "-", "gamma": "-",
-    "q": "m/N", "ug_min_p": "m/s2", "ug_min_n": "m/s2", "ug_min_p_g": "g", "ug_min_n_g": "g",
-    "eta_pn": "-", "eta_np": "-", "eta_frame_pn": "-", "eta_frame_np": "-",
-    "pounding_ratio": "-",
 }  # fmt: skip
 
 _COMPRESSION = {"compression": "gzip", "compression_opts": 4, "shuffle": True}
@@ -318,8 +310,8 @@ def _write_bridges(group: h5py.Group, study: Study) -> None:
 
 def _flat_summary(summary: dict[str, Any], node: h5py.Group) -> Iterator[tuple[str, str]]:
     """Store the numbers of `summarize` (capacities as capacity_<limit>_<p|n>), yield units."""
-    for name, unit in _SUMMARY_UNITS.items():
-        node.attrs[name] = summary[name]
+    for name, unit in SUMMARY_UNITS.items():
+        node.attrs[name] = np.nan if summary[name] is None else summary[name]
         yield name, unit
     for limit, rotations in summary["capacities"].items():
         for mode, value in rotations.items():

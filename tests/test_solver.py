@@ -315,3 +315,13 @@ def test_strong_pulse_overturns_a_frame():
 def test_bad_ground_motions_are_refused(acc, dt, reason):
     with pytest.raises(ValueError, match=reason):
         analyze(studied_bridge(1.0), acc, dt)
+
+
+def test_block_overturns_as_pier1_only():
+    """A single block has one pier: a long strong pulse overturns it (|u_pier1| = B); its massless
+    twin (`geometry.single_block`) never reports a failure of its own. Regression: the two
+    simultaneous overturning events used to be relocated in turn forever."""
+    block = single_block(B=1.3, H=13.0, density=2500.0, g=G)
+    response = analyze(block, half_sine(0.5 * G, period=4.0, duration=8.0), DT)
+    assert response.failure_mode == "overturning_pier1"
+    assert response.peaks["u_pier1"][0] == pytest.approx(block.B, rel=1e-6)

@@ -37,7 +37,8 @@ class Response:
     histories : name → array at ``time``; units in `HISTORY_UNITS`
     events : dict of arrays: ``time`` [s], ``kind`` (name), ``mode`` after (+1, −1, 0 at rest),
         ``rate_before``, ``rate_after`` (θ̇1 [rad/s])
-    peaks : name → (peak value, time [s]); units in `PEAK_UNITS`
+    peaks : name → (peak value, time [s]); units in `PEAK_UNITS`; NaN for the parts a model
+        does not have (a single block has no deck and no pier 2)
     t_onset : time of the first onset of rocking, NaN if the bridge never rocks [s]
     n_impacts, n_poundings : counts of impacts at the rocking interfaces and on the backwall [-]
     failure_mode : ``none``, ``abutment``, ``overturning_pier1`` or ``overturning_pier2``
@@ -188,6 +189,10 @@ def analyze(
         "u_pier1": sign * track[:, 0], "v_pier1": track[:, 1],
         "u_pier2": sign * track[:, 2], "v_pier2": track[:, 3],
     }  # fmt: skip
+    if kind(model) == "single-block":  # the block's massless twin and deck are not results
+        peaks[[0, 1, 2, 4, 6]] = np.nan
+        for name in ("theta2", "theta_deck", "u_deck", "v_deck", "u_pier2", "v_pier2"):
+            histories[name] = np.full_like(theta1, np.nan)
     kinds = events[:, 1].astype(int)
     failure = int(status[1])
     demands = {"abutment": (peaks[0, 0], model.u_jo + model.u_ab)} if model.has_abutments else {}

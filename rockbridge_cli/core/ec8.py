@@ -19,7 +19,7 @@ import numpy as np
 #: Upper end of the period range of Eqs. (3.2)–(3.5); beyond it EN 1998-1 refers to Annex A [s].
 MAX_PERIOD = 4.0
 
-#: EN 1998-1 Table 3.2 (Type 1) and Table 3.3 (Type 2): ground type -> (S [-], TB [s], TC [s], TD [s]).
+#: EN 1998-1 Tables 3.2 (Type 1) and 3.3 (Type 2): ground type -> (S [-], TB, TC, TD [s]).
 SPECTRUM_PARAMETERS: dict[int, dict[str, tuple[float, float, float, float]]] = {
     1: {
         "A": (1.0, 0.15, 0.4, 2.0),
@@ -99,6 +99,7 @@ def compute_elastic_spectrum(
     design_acceleration: float | None = None,
     surface_pga: float | None = None,
     damping: float = 0.05,
+    extrapolate: bool = False,
 ) -> np.ndarray:
     """Horizontal elastic response spectrum Se(T) of EN 1998-1 §3.2.2.2, Eqs. (3.2)–(3.5).
 
@@ -118,6 +119,9 @@ def compute_elastic_spectrum(
         peak ground acceleration at the surface of the site, a_g·S [m/s²].
     damping
         viscous damping ratio ξ (0.05 for 5%) [-].
+    extrapolate
+        continue Eq. (3.5) beyond 4 s instead of refusing such periods. EN 1998-1 has no basis
+        for it (Annex A takes over); it only gives spectral matching a margin past the band.
 
     Returns
     -------
@@ -125,7 +129,8 @@ def compute_elastic_spectrum(
         Se(T), same shape as ``periods`` [m/s²].
     """
     periods = np.asarray(periods, dtype=float)
-    if np.any(~np.isfinite(periods)) or np.any(periods < 0.0) or np.any(periods > MAX_PERIOD):
+    beyond = False if extrapolate else np.any(periods > MAX_PERIOD)
+    if np.any(~np.isfinite(periods)) or np.any(periods < 0.0) or beyond:
         raise ValueError(
             f"EN 1998-1 Eqs. (3.2)-(3.5) hold for 0 <= T <= {MAX_PERIOD:g} s (beyond, Annex A); "
             f"got periods in [{periods.min():g}, {periods.max():g}] s"

@@ -184,7 +184,7 @@ def _watch(model, s, contact, y, w, fits):
         -gap if contact else gap,
         abs(disp[4]) - (model.u_jo + model.u_ab),
         abs(disp[0]) - model.B,
-        abs(disp[2]) - model.B,
+        abs(disp[2]) - model.B if model.m2 > 0.0 else -1.0,  # a single block has no pier 2
         -s * w,
     )
     return functions, disp
@@ -375,17 +375,24 @@ def integrate(
         g1, disp1 = _watch(model, s, contact, y1, w1, fits)
         tau = h_step
         kind = _fired(g0, g1, count, -1)
+        previous = -1
         while kind >= 0:
-            # Locate it; if another event fired earlier inside the shortened step, locate that one.
-            tau, y1, w1 = _locate(
+            # Locate it; if another event fired earlier inside the shortened step, locate that one;
+            # two events within the event tolerance of each other are simultaneous: the first in
+            # the order of `_watch` is taken.
+            located, y1, w1 = _locate(
                 model, fits, s, contact, acc, dt, k, t, y, w, tau, kind, g0[kind], g1[kind],
                 y1, w1, opts,
             )  # fmt: skip
             g1, disp1 = _watch(model, s, contact, y1, w1, fits)
+            if previous >= 0 and tau - located <= opts.event_tol:
+                tau, kind = located, min(kind, previous)
+                break
+            tau = located
             earlier = _fired(g0, g1, count, kind)
             if earlier < 0:
                 break
-            kind = earlier
+            previous, kind = kind, earlier
 
         # Accept the step: histories (cubic Hermite between the step's ends) and peaks.
         t_new = boundary if (kind < 0 and tau == boundary - t) else t + tau

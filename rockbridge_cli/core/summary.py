@@ -5,6 +5,16 @@ from __future__ import annotations
 from . import impacts
 from .geometry import Model, kind, pounding_ratio, ratios
 
+SUMMARY_UNITS = {
+    "m_pier1": "kg", "m_pier2": "kg", "m_deck": "kg", "m_abut": "kg",
+    "I_pier1": "kg m2", "I_pier2": "kg m2", "I_deck": "kg m2", "R1": "m", "R2": "m",
+    "alpha1": "rad", "alpha2": "rad", "h_bar": "-", "b_bar": "-", "L_bar": "-", "gamma": "-",
+    "q": "m/N", "ug_min_p": "m/s2", "ug_min_n": "m/s2", "ug_min_p_g": "g", "ug_min_n_g": "g",
+    "eta_pn": "-", "eta_np": "-", "eta_frame_pn": "-", "eta_frame_np": "-",
+    "pounding_ratio": "-",
+}  # fmt: skip
+"""Units of the numeric entries of `summarize` (its ``capacities`` are rotations [rad])."""
+
 
 def summarize(model: Model, mirrored: bool = False) -> dict[str, object]:
     """Derived constants, onset, restitution and failure capacities of a bridge.

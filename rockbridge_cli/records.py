@@ -1,0 +1,860 @@
+"""Accelerograms: reading and writing record files, and generating matched record sets.
+
+Inside the package a record is a `Record` in SI units (m/s², s). Files may be in g or m/s², but
+the units must be stated — by the file (PEER ``.AT2`` and rockbridge files do) or by the caller —
+never guessed. Formats read by `read_record`:
+
+- PEER NGA ``.AT2``: four header lines (units on line 3, ``NPTS=…, DT=…`` on line 4), then the
+  accelerations, several per line;
+- rockbridge's own text format (written by `write_record`): ``# key: value`` header lines with at
+  least ``units`` and ``time_step``, then two columns, time [s] and acceleration;
+- plain two-column text, time [s] and acceleration (``#`` lines are comments);
+- plain one-column text of accelerations, with the time step given by the caller.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from . import __version__
+from .config.records import RecordSetConfig
+from .core import ec8, matching, spectra
+from .errors import InputError
+
+#: Accepted spellings of the two units, mapped to their canonical names.
+UNIT_NAMES = {"g": "g", "m/s2": "m/s2", "m/s^2": "m/s2", "m/s**2": "m/s2", "m/s²": "m/s2"}
+
+#: Name of the file that describes a generated record set.
+MANIFEST = "manifest.json"
+
+#: Tolerance on the spacing of a time column, relative to the time step [-].
+TIME_STEP_TOLERANCE = 1e-3
+
+FORMAT_TAG = "rockbridge-record 1"
+
+#: How line 3 of a PEER AT2 file states units of g.
+AT2_UNITS_OF_G = re.compile(r"UNITS\s+OF\s+G\b", re.IGNORECASE)
+
+
+@dataclass(frozen=True, eq=False)
+class Record:
+    """A ground-motion record at a uniform time step, in SI units.
+
+    Attributes
+    ----------
+    name
+        short name, e.g. ``AR01``.
+    time_step
+        time step [s].
+    acceleration
+        ground acceleration from t = 0, read-only [m/s²].
+    source
+        where the record came from (usually its file).
+    metadata
+        anything else the file said (header keys, format, original units).
+    """
+
+    name: str
+    time_step: float
+    acceleration: np.ndarray
+    source: str = ""
+    metadata: dict[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        values = np.array(self.acceleration, dtype=float)
+        if values.ndim != 1 or values.size < 2:
+            raise ValueError("a record needs a 1-D array of at least two accelerations")
+        if not np.all(np.isfinite(values)):
+            raise ValueError("a record's accelerations must be finite")
+        if not (math.isfinite(self.time_step) and self.time_step > 0.0):
+            raise ValueError(f"the time step must be positive, got {self.time_step!r}")
+        values.setflags(write=False)
+        object.__setattr__(self, "acceleration", values)
+
+    @property
+    def duration(self) -> float:
+        """Time of the last sample [s]."""
+        return (self.acceleration.size - 1) * self.time_step
+
+    @property
+    def peak_acceleration(self) -> float:
+        """Peak ground acceleration max|a| [m/s²]."""
+        return float(np.max(np.abs(self.acceleration)))
+
+
+# ---------------------------------------------------------------------------------------------
+# Reading
+
+
+def read_record(
+    path: str | Path,
+    units: str | None = None,
+    time_step: float | None = None,
+    gravity: float = 9.81,
+) -> Record:
+    """Read a record file (PEER ``.AT2``, rockbridge, two-column or one-column text).
+
+    Parameters
+    ----------
+    path
+        the file.
+    units
+        ``"g"`` or ``"m/s2"``: the units of a file that does not state them; must agree with the
+        file when it does.
+    time_step
+        time step of a one-column file [s]; must agree with the file when it states one.
+    gravity
+        acceleration of gravity, to convert g to m/s² [m/s²].
+
+    Raises
+    ------
+    InputError
+        The file is missing, unreadable or malformed, or its units or time step are unknown or
+        contradict the arguments; the message names the line.
+    """
+    path = Path(path)
+    lines = _read_lines(path)
+    if path.suffix.lower() == ".at2":
+        values, header, step, file_units = _parse_at2(path, lines)
+        name, file_format = path.stem, "PEER NGA AT2"
+    else:
+        values, header, step, file_units = _parse_text(path, lines)
+        name = str(header.pop("name", path.stem))
+        file_format = "rockbridge" if header.get("format") == FORMAT_TAG else "text"
+    resolved_units = _resolve_units(path, file_units, units)
+    resolved_step = _resolve_time_step(path, step, time_step)
+    scale = gravity if resolved_units == "g" else 1.0
+    metadata = {**header, "format": file_format, "file_units": resolved_units}
+    return Record(name, resolved_step, values * scale, str(path), metadata)
+
+
+def read_stated_units(path: str | Path) -> str | None:
+    """The units a record file states (an AT2 header, a ``# units:`` line), or None.
+
+    Raises
+    ------
+    InputError
+        The file is missing, unreadable or empty.
+    """
+    path = Path(path)
+    lines = _read_lines(path)
+    if path.suffix.lower() == ".at2":
+        return "g" if len(lines) > 2 and AT2_UNITS_OF_G.search(lines[2]) else None
+    for raw in lines:
+        line = raw.strip()
+        if line and not line.startswith("#"):
+            break
+        if ":" in line:
+            key, value = line[1:].split(":", 1)
+            if key.strip() == "units":
+                return value.strip()
+    return None
+
+
+def _read_lines(path: Path) -> list[str]:
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise InputError(path, [("", "file not found")]) from None
+    except IsADirectoryError:
+        raise InputError(path, [("", "is a folder, not a record file")]) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(path, [("", f"cannot read the file ({exc})")]) from None
+    if not text.strip():
+        raise InputError(path, [("", "the file is empty")])
+    return text.splitlines()
+
+
+def _parse_at2(path: Path, lines: list[str]):
+    """PEER NGA AT2: returns values, header, time step [s] and units (or None)."""
+    if len(lines) < 4:
+        raise InputError(path, [(f"line {len(lines)}", "an AT2 file needs four header lines")])
+    points, step = _parse_at2_counts(path, lines[3])
+    units = "g" if AT2_UNITS_OF_G.search(lines[2]) else None
+    values: list[float] = []
+    for number, line in enumerate(lines[4:], start=5):
+        values.extend(_parse_numbers(path, number, line.split()))
+    if len(values) < points:
+        raise InputError(
+            path,
+            [
+                (
+                    f"line {len(lines)}",
+                    f"truncated: NPTS = {points} but the file ends after {len(values)} values",
+                )
+            ],
+        )
+    if len(values) > points:
+        raise InputError(
+            path, [("line 4", f"NPTS = {points} but the file has {len(values)} values")]
+        )
+    header = {"description": lines[1].strip(), "npts": points}
+    return np.array(values), header, step, units
+
+
+def _parse_at2_counts(path: Path, line: str) -> tuple[int, float]:
+    points = re.search(r"NPTS\s*=\s*(\d+)", line, re.IGNORECASE)
+    step = re.search(r"DT\s*=\s*([0-9.Ee+-]+)", line, re.IGNORECASE)
+    if points is None or step is None:  # the older layout: "5590  0.0050  NPTS, DT"
+        old = re.match(r"\s*(\d+)\s+([0-9.Ee+-]+)\s+NPTS\s*,\s*DT", line, re.IGNORECASE)
+        if old is None:
+            raise InputError(
+                path, [("line 4", f"expected 'NPTS= ..., DT= ...', got {line.strip()!r}")]
+            )
+        numbers = old.groups()
+    else:
+        numbers = (points.group(1), step.group(1))
+    try:
+        count, dt = int(numbers[0]), float(numbers[1])
+    except ValueError:
+        raise InputError(
+            path, [("line 4", f"cannot read NPTS and DT from {line.strip()!r}")]
+        ) from None
+    if count < 2:
+        raise InputError(path, [("line 4", f"NPTS = {count}: a record needs at least two points")])
+    if not (math.isfinite(dt) and dt > 0.0):
+        raise InputError(path, [("line 4", f"DT = {numbers[1]} is not a positive time step")])
+    return count, dt
+
+
+def _parse_text(path: Path, lines: list[str]):
+    """Our format or plain columns: returns values, header, time step [s] or None, units or None."""
+    header, table = _read_table(path, lines)
+    points = header.pop("points", None)
+    if points is not None and points != table.shape[0]:
+        raise InputError(
+            path,
+            [
+                (
+                    f"line {len(lines)}",
+                    f"truncated: the header says {points} points but the file has {table.shape[0]}",
+                )
+            ],
+        )
+    step = _read_header_time_step(path, header)
+    if table.shape[1] == 2:
+        column_step = _check_time_column(path, table[:, 0], lines)
+        if step is not None and not _agree(step, column_step):
+            raise InputError(
+                path,
+                [
+                    (
+                        "",
+                        f"the header says time_step {step:g} s but the time column steps by "
+                        f"{column_step:g} s",
+                    )
+                ],
+            )
+        step = column_step if step is None else step
+    units = header.pop("units", None)
+    return table[:, -1], header, step, None if units is None else str(units)
+
+
+def _read_table(path: Path, lines: list[str]) -> tuple[dict[str, Any], np.ndarray]:
+    """``# key: value`` lines before the data, and the rows of one or two numbers."""
+    header: dict[str, Any] = {}
+    rows: list[list[float]] = []
+    first = 0
+    for number, raw in enumerate(lines, start=1):
+        line = raw.strip()
+        if line.startswith("#"):
+            if not rows and ":" in line:
+                key, value = line[1:].split(":", 1)
+                header[key.strip()] = _parse_header_value(value.strip())
+            continue
+        if not line:
+            continue
+        row = _parse_numbers(path, number, line.replace(",", " ").split())
+        if not rows:
+            first = number
+        if not rows and len(row) not in (1, 2):
+            raise InputError(
+                path, [(f"line {number}", f"expected 1 or 2 columns, found {len(row)}")]
+            )
+        if rows and len(row) != len(rows[0]):
+            raise InputError(
+                path,
+                [(f"line {number}", f"{len(row)} columns where line {first} has {len(rows[0])}")],
+            )
+        rows.append(row)
+    if not rows:
+        raise InputError(path, [("", "no data: the file has no samples")])
+    if len(rows) < 2:
+        raise InputError(path, [(f"line {first}", "only one sample: a record needs two or more")])
+    return header, np.array(rows)
+
+
+def _parse_header_value(text: str) -> Any:
+    for kind in (int, float):
+        try:
+            return kind(text)
+        except ValueError:
+            pass
+    return text
+
+
+def _read_header_time_step(path: Path, header: dict[str, Any]) -> float | None:
+    if "time_step" not in header:
+        return None
+    step = header.pop("time_step")
+    if not isinstance(step, (int, float)) or not (math.isfinite(step) and step > 0.0):
+        raise InputError(path, [("header", f"time_step {step!r} is not a positive number")])
+    return float(step)
+
+
+def _parse_numbers(path: Path, number: int, tokens: list[str]) -> list[float]:
+    values = []
+    for token in tokens:
+        try:
+            value = float(token)
+        except ValueError:
+            raise InputError(path, [(f"line {number}", f"{token!r} is not a number")]) from None
+        if not math.isfinite(value):
+            raise InputError(path, [(f"line {number}", f"{token!r} is not a finite number")])
+        values.append(value)
+    return values
+
+
+def _check_time_column(path: Path, times: np.ndarray, lines: list[str]) -> float:
+    """The uniform time step of a time column [s]; InputError naming the first bad line."""
+    data_lines = [
+        number
+        for number, raw in enumerate(lines, start=1)
+        if raw.strip() and not raw.strip().startswith("#")
+    ]
+    steps = np.diff(times)
+    backwards = np.flatnonzero(steps <= 0.0)
+    if backwards.size:
+        k = int(backwards[0]) + 1
+        raise InputError(
+            path,
+            [
+                (
+                    f"line {data_lines[k]}",
+                    f"time {times[k]:g} s does not increase (previous {times[k - 1]:g} s)",
+                )
+            ],
+        )
+    typical = float(np.median(steps))
+    uneven = np.flatnonzero(np.abs(steps - typical) > TIME_STEP_TOLERANCE * typical)
+    if uneven.size:
+        k = int(uneven[0]) + 1
+        raise InputError(
+            path,
+            [
+                (
+                    f"line {data_lines[k]}",
+                    f"time step {steps[k - 1]:g} s differs from the record's "
+                    f"{typical:g} s: the time column must be uniform",
+                )
+            ],
+        )
+    return float((times[-1] - times[0]) / (times.size - 1))
+
+
+def _agree(first: float, second: float) -> bool:
+    return abs(first - second) <= TIME_STEP_TOLERANCE * max(first, second)
+
+
+def _resolve_units(path: Path, in_file: str | None, given: str | None) -> str:
+    file_units = None if in_file is None else _canonical_units(path, in_file, "the file's")
+    given_units = None if given is None else _canonical_units(path, given, "the given")
+    if file_units and given_units and file_units != given_units:
+        raise InputError(
+            path, [("units", f"the file says {file_units} but {given_units} was given")]
+        )
+    resolved = file_units or given_units
+    if resolved is None:
+        raise InputError(
+            path,
+            [
+                (
+                    "units",
+                    "the file does not state its units: pass them (units='g' or 'm/s2'; "
+                    "--units on the command line)",
+                )
+            ],
+        )
+    return resolved
+
+
+def _canonical_units(path: Path, text: str, whose: str) -> str:
+    name = UNIT_NAMES.get(text.strip().lower().replace(" ", ""))
+    if name is None:
+        raise InputError(path, [("units", f"{whose} units {text!r} are unknown: use g or m/s2")])
+    return name
+
+
+def _resolve_time_step(path: Path, in_file: float | None, given: float | None) -> float:
+    if given is not None and not (math.isfinite(given) and given > 0.0):
+        raise InputError(path, [("time_step", f"the given time step {given!r} is not positive")])
+    if in_file is not None and given is not None and not _agree(in_file, given):
+        raise InputError(
+            path, [("time_step", f"the file says {in_file:g} s but {given:g} s was given")]
+        )
+    resolved = in_file if in_file is not None else given
+    if resolved is None:
+        raise InputError(
+            path,
+            [
+                (
+                    "time_step",
+                    "one column of accelerations needs its time step: pass time_step "
+                    "(--time-step on the command line)",
+                )
+            ],
+        )
+    return float(resolved)
+
+
+# ---------------------------------------------------------------------------------------------
+# Writing
+
+
+def write_record(path: str | Path, record: Record, header: dict[str, Any] | None = None) -> None:
+    """Write a record in rockbridge's text format, byte for byte reproducibly.
+
+    Header lines are ``# key: value``: the format tag, ``name``, ``units`` (m/s2),
+    ``time_step`` and ``points``, then the items of ``header`` in order; then two columns, time
+    [s] (fixed decimals) and acceleration [m/s²] (10 significant digits).
+
+    Parameters
+    ----------
+    path
+        the file to write.
+    record
+        the record.
+    header
+        extra header items (e.g. seed, pga); keys are words, values single-line.
+    """
+    items: dict[str, Any] = {
+        "format": FORMAT_TAG,
+        "name": record.name,
+        "units": "m/s2",
+        "time_step": record.time_step,
+        "points": record.acceleration.size,
+    }
+    for key, value in (header or {}).items():
+        if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", key) or key in items:
+            raise ValueError(f"header key {key!r} must be a new word (letters, digits, _)")
+        if "\n" in str(value):
+            raise ValueError(f"header value of {key!r} must fit on one line")
+        items[key] = value
+    lines = [f"# {key}: {_format_header_value(value)}" for key, value in items.items()]
+    lines.append("# columns: time [s], acceleration [m/s2]")
+    decimals = max(6, math.ceil(-math.log10(record.time_step)) + 4)
+    times = np.arange(record.acceleration.size) * record.time_step
+    lines += [f"{t:.{decimals}f} {a:.9e}" for t, a in zip(times, record.acceleration, strict=True)]
+    Path(path).write_text("\n".join(lines) + "\n", encoding="utf-8")
+
+
+def _format_header_value(value: Any) -> str:
+    if isinstance(value, float):
+        return format(value, ".10g")
+    return str(value)
+
+
+# ---------------------------------------------------------------------------------------------
+# Record sets
+
+
+def read_manifest(folder: str | Path) -> dict[str, Any]:
+    """The manifest of a record set written by `generate_record_set`.
+
+    Raises
+    ------
+    InputError
+        The manifest is missing, not JSON, or lacks its list of records.
+    """
+    path = Path(folder) / MANIFEST
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise InputError(
+            path, [("", "file not found: is this a folder written by generate-records?")]
+        ) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(path, [("", f"cannot read the file ({exc})")]) from None
+    try:
+        manifest = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise InputError(
+            path, [(f"line {exc.lineno}, column {exc.colno}", f"invalid JSON: {exc.msg}")]
+        ) from None
+    if not isinstance(manifest, dict) or not isinstance(manifest.get("records"), list):
+        raise InputError(path, [("records", "missing: the manifest must list its records")])
+    for index, entry in enumerate(manifest["records"]):
+        if not isinstance(entry, dict) or not isinstance(entry.get("file"), str):
+            raise InputError(path, [(f"records[{index}].file", "missing or not a file name")])
+    return manifest
+
+
+def read_record_set(folder: str | Path) -> list[Record]:
+    """Read every record of a set written by `generate_record_set`, in manifest order.
+
+    Raises
+    ------
+    InputError
+        The manifest is missing or corrupt, or names a file that is missing or malformed.
+    """
+    folder = Path(folder)
+    manifest = read_manifest(folder)
+    records = []
+    for index, entry in enumerate(manifest["records"]):
+        path = folder / entry["file"]
+        if not path.is_file():
+            raise InputError(
+                folder / MANIFEST, [(f"records[{index}].file", f"{entry['file']} not found")]
+            )
+        records.append(read_record(path))
+    return records
+
+
+@dataclass(frozen=True)
+class RecordSummary:
+    """How one generated record turned out.
+
+    Attributes
+    ----------
+    name, file
+        record name and file name in the set's folder.
+    peak_acceleration
+        PGA [m/s²].
+    min_ratio, max_ratio
+        min and max over the check periods of computed / target spectrum [-].
+    final_velocity, final_displacement
+        ground velocity [m/s] and displacement [m] at the end of the record.
+    significant_duration
+        D5–95 [s].
+    attempts, iterations
+        phase sets tried and matching iterations of the kept one [-].
+    """
+
+    name: str
+    file: str
+    peak_acceleration: float
+    min_ratio: float
+    max_ratio: float
+    final_velocity: float
+    final_displacement: float
+    significant_duration: float
+    attempts: int
+    iterations: int
+
+
+@dataclass(frozen=True)
+class RecordSetReport:
+    """The outcome of `generate_record_set`.
+
+    Attributes
+    ----------
+    folder
+        where the set was written.
+    records
+        one summary per record.
+    compliance
+        the EN 1998-1 §3.2.3.1.2 check over the band.
+    band
+        the checked periods' range [s].
+    check_periods
+        number of checked periods [-].
+    wall_time
+        time taken to generate and write the set [s].
+    """
+
+    folder: Path
+    records: tuple[RecordSummary, ...]
+    compliance: ec8.ComplianceReport
+    band: tuple[float, float]
+    check_periods: int
+    wall_time: float
+
+
+@dataclass(frozen=True)
+class TargetDefinition:
+    """The resolved target of a record set, in SI units.
+
+    Attributes
+    ----------
+    spectrum_type, ground_type, damping
+        as in the config.
+    design_acceleration
+        a_g [m/s²].
+    surface_pga
+        a_g·S, the records' PGA [m/s²].
+    """
+
+    spectrum_type: int
+    ground_type: str
+    damping: float
+    design_acceleration: float
+    surface_pga: float
+
+    def evaluate(self, periods: np.ndarray, extrapolate: bool = False) -> np.ndarray:
+        """Se at the given periods [m/s²]."""
+        return ec8.compute_elastic_spectrum(
+            periods,
+            self.spectrum_type,
+            self.ground_type,
+            design_acceleration=self.design_acceleration,
+            damping=self.damping,
+            extrapolate=extrapolate,
+        )
+
+
+def resolve_target(config: RecordSetConfig) -> TargetDefinition:
+    """a_g and a_g·S of a config in m/s², whichever of ``ag_g`` and ``pga_g`` it gives."""
+    target = config.target
+    soil = ec8.get_spectrum_shape(target.spectrum_type, target.ground_type).soil_factor
+    if target.ag_g is not None:
+        design = target.ag_g * config.gravity
+    else:
+        design = target.pga_g * config.gravity / soil
+    return TargetDefinition(
+        target.spectrum_type, target.ground_type, target.damping, design, design * soil
+    )
+
+
+def generate_record_set(
+    config: RecordSetConfig, folder: str | Path, config_name: str = ""
+) -> RecordSetReport:
+    """Generate a matched record set and write it: one rockbridge file per record + manifest.
+
+    Record i uses ``numpy.random.default_rng`` seeded with child i of
+    ``numpy.random.SeedSequence(config.seed)``, so the same config gives the same bytes.
+
+    Parameters
+    ----------
+    config
+        the record-set config.
+    folder
+        output folder (created if needed; files of the same names are replaced).
+    config_name
+        name of the config (e.g. its file stem), stored in the manifest.
+    """
+    started = time.perf_counter()
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    target = resolve_target(config)
+    periods = matching.compute_matching_periods(config.band, config.check_periods, config.time_step)
+    settings = matching.MatchSettings(
+        tolerance=config.tolerance,
+        max_iterations=config.max_iterations,
+        max_attempts=config.attempts,
+        damping=target.damping,
+    )
+    envelope = matching.Envelope(
+        config.envelope.rise,
+        config.envelope.stationary,
+        config.envelope.decay,
+        config.envelope.end_level,
+    )
+    goal = target.evaluate(periods, extrapolate=True)
+    width = max(2, len(str(config.count)))
+    children = np.random.SeedSequence(config.seed).spawn(config.count)
+    records, matches = [], []
+    for index, child in enumerate(children):
+        matched = matching.generate_matched_record(
+            periods,
+            goal,
+            target.surface_pga,
+            config.time_step,
+            envelope,
+            np.random.default_rng(child),
+            settings,
+            band=tuple(config.band),
+        )
+        name = f"{config.name_prefix}{index + 1:0{width}d}"
+        records.append(Record(name, config.time_step, matched.acceleration, "generate-records"))
+        matches.append(matched)
+    check = np.geomspace(*config.band, config.check_periods)
+    summaries, compliance = _summarise(records, matches, check, target, config.envelope.stationary)
+    for index, record in enumerate(records):
+        write_record(folder / f"{record.name}.txt", record, _record_header(config, target, index))
+    manifest = _round_floats(_build_manifest(config, config_name, target, summaries, compliance))
+    (folder / MANIFEST).write_text(json.dumps(manifest, indent=2) + "\n", encoding="utf-8")
+    return RecordSetReport(
+        folder,
+        tuple(summaries),
+        compliance,
+        tuple(config.band),
+        config.check_periods,
+        time.perf_counter() - started,
+    )
+
+
+def _summarise(records, matches, check, target, stationary):
+    """Per-record statistics and the EN 1998-1 check, at the check periods."""
+    goal = target.evaluate(check)
+    computed = np.array(
+        [spectra.compute_psa(r.acceleration, r.time_step, check, target.damping) for r in records]
+    )
+    compliance = ec8.check_compliance(
+        computed,
+        goal,
+        np.array([r.peak_acceleration for r in records]),
+        target.surface_pga,
+        stationary,
+    )
+    summaries = []
+    for record, matched, low, high in zip(
+        records, matches, compliance.record_min_ratio, compliance.record_max_ratio, strict=True
+    ):
+        velocity, displacement = matching.compute_final_motion(
+            record.acceleration, record.time_step
+        )
+        summaries.append(
+            RecordSummary(
+                record.name,
+                f"{record.name}.txt",
+                record.peak_acceleration,
+                low,
+                high,
+                velocity,
+                displacement,
+                matching.compute_significant_duration(record.acceleration, record.time_step),
+                matched.attempts,
+                matched.iterations,
+            )
+        )
+    return summaries, compliance
+
+
+def _record_header(config: RecordSetConfig, target: TargetDefinition, index: int) -> dict:
+    return {
+        "pga": target.surface_pga,
+        "pga_g": target.surface_pga / config.gravity,
+        "seed": config.seed,
+        "record_index": index,
+        "target": f"{config.target.code} type {target.spectrum_type} ground {target.ground_type}"
+        f" a_g={target.design_acceleration / config.gravity:g}g"
+        f" damping={target.damping:g}",
+        "generator": f"rockbridge {__version__}",
+    }
+
+
+def _build_manifest(config, config_name, target, summaries, compliance) -> dict[str, Any]:
+    shape = ec8.get_spectrum_shape(target.spectrum_type, target.ground_type)
+    return {
+        "format": "rockbridge-record-set 1",
+        "generator": f"rockbridge {__version__}",
+        "config_name": config_name,
+        "config": config.model_dump(mode="json"),
+        "target": {
+            "code": config.target.code,
+            "spectrum_type": target.spectrum_type,
+            "ground_type": target.ground_type,
+            "damping": target.damping,
+            "soil_factor": shape.soil_factor,
+            "corner_periods_s": [shape.corner_b, shape.corner_c, shape.corner_d],
+            "design_acceleration_m_s2": target.design_acceleration,
+            "surface_pga_m_s2": target.surface_pga,
+            "gravity_m_s2": config.gravity,
+        },
+        "check": {"band_s": list(config.band), "periods": config.check_periods},
+        "seed": config.seed,
+        "records": [
+            {
+                "name": s.name,
+                "file": s.file,
+                "record_index": index,
+                "pga_m_s2": s.peak_acceleration,
+                "pga_g": s.peak_acceleration / config.gravity,
+                "min_ratio": s.min_ratio,
+                "max_ratio": s.max_ratio,
+                "final_velocity_m_s": s.final_velocity,
+                "final_displacement_m": s.final_displacement,
+                "d5_95_s": s.significant_duration,
+                "stationary_duration_s": config.envelope.stationary,
+                "attempts": s.attempts,
+                "iterations": s.iterations,
+            }
+            for index, s in enumerate(summaries)
+        ],
+        "mean": {"min_ratio": compliance.mean_min_ratio, "max_ratio": compliance.mean_max_ratio},
+        "compliance": {
+            "count": compliance.count,
+            "count_ok": compliance.count_ok,
+            "mean_zero_period_m_s2": compliance.mean_zero_period,
+            "zero_period_ok": compliance.zero_period_ok,
+            "mean_ok": compliance.mean_ok,
+            "stationary_ok": compliance.stationary_ok,
+            "compliant": compliance.compliant,
+        },
+    }
+
+
+def _round_floats(value: Any) -> Any:
+    """Floats to 10 significant digits, recursively: a readable, stable manifest."""
+    if isinstance(value, float):
+        return float(f"{value:.10g}")
+    if isinstance(value, dict):
+        return {key: _round_floats(item) for key, item in value.items()}
+    if isinstance(value, list):
+        return [_round_floats(item) for item in value]
+    return value
+
+
+def read_set_target(folder: str | Path) -> TargetDefinition:
+    """The target spectrum stored in a record set's manifest (SI units).
+
+    Raises
+    ------
+    InputError
+        The manifest is missing or corrupt, or lacks the target.
+    """
+    manifest = read_manifest(folder)
+    target = manifest.get("target")
+    keys = (
+        "spectrum_type",
+        "ground_type",
+        "damping",
+        "design_acceleration_m_s2",
+        "surface_pga_m_s2",
+    )
+    if not isinstance(target, dict) or any(key not in target for key in keys):
+        raise InputError(Path(folder) / MANIFEST, [("target", "missing or incomplete")])
+    return TargetDefinition(*(target[key] for key in keys))
+
+
+def format_report(report: RecordSetReport) -> str:
+    """The EN 1998-1 §3.2.3.1.2 compliance report of a generated set, as text."""
+    c = report.compliance
+    low, high = report.band
+    lines = [
+        f"Wrote {len(report.records)} records and {MANIFEST} to {report.folder}",
+        f"Spectra at {report.check_periods} periods over {low:g}-{high:g} s, computed/target:",
+        "  record   PGA/(ag*S)   min    max   v_end[cm/s]  d_end[cm]  D5-95[s]  iterations",
+    ]
+    for s in report.records:
+        lines.append(
+            f"  {s.name:<8} {s.peak_acceleration / c.surface_pga:9.5f} {s.min_ratio:6.3f} "
+            f"{s.max_ratio:6.3f} {s.final_velocity * 100:+11.1e} "
+            f"{s.final_displacement * 100:+10.1e} {s.significant_duration:8.1f}  "
+            f"{s.iterations:4d} ({s.attempts} attempts)"
+        )
+    lines += [
+        f"  {'mean':<8} {'':9} {c.mean_min_ratio:6.3f} {c.mean_max_ratio:6.3f}",
+        "EN 1998-1 §3.2.3.1.2:",
+        f"  (4)a at least 3 records: {c.count} -> {_verdict(c.count_ok)}",
+        f"  (4)b mean zero-period value {c.mean_zero_period:.4g} m/s2 >= a_g*S "
+        f"{c.surface_pga:.4g} m/s2 -> {_verdict(c.zero_period_ok)}",
+        f"  (4)c mean >= 90% of target over {low:g}-{high:g} s (min {c.mean_min_ratio:.3f}) -> "
+        f"{_verdict(c.mean_ok)}",
+        f"  (3) stationary part {c.stationary_duration:g} s >= 10 s -> {_verdict(c.stationary_ok)}",
+        f"  overall: {'compliant' if c.compliant else 'NOT compliant'}",
+        f"Wall time: {report.wall_time:.1f} s",
+    ]
+    return "\n".join(lines)
+
+
+def _verdict(ok: bool | None) -> str:
+    return "unknown" if ok is None else ("yes" if ok else "NO")
