@@ -126,12 +126,12 @@ def plot(rows, path: Path) -> None:
 
     fig, ax = plt.subplots(figsize=(6, 4))
     markers = {"reference": "*", "default": "o", "fast": "s", "paper": "^"}
-    for label, median, error in rows:
+    for index, (label, median, error) in enumerate(rows):
         marker = markers[label.split()[0].rstrip(",")]
         ax.loglog(median * 1e3, max(error, 1e-16), marker, color="k", markersize=8,
                   markerfacecolor="white" if " " in label else "k")  # fmt: skip
         ax.annotate(label, (median * 1e3, max(error, 1e-16)), textcoords="offset points",
-                    xytext=(6, 3), fontsize=7)  # fmt: skip
+                    xytext=(6, 8 if index % 2 else -12), fontsize=7)  # fmt: skip
     ax.axhline(1e-3, linestyle="--", color="0.5", linewidth=0.8)
     ax.set_xlabel("median integration time per 30 s analysis [ms]")
     ax.set_ylabel("max relative error of the Fig. 9 peaks [-]")
