@@ -17,7 +17,7 @@ from scipy.integrate import solve_ivp
 
 from rockbridge_cli.core import fidelity, impacts
 from rockbridge_cli.core.analysis import analyze, laws
-from rockbridge_cli.core.dynamics import coefficients
+from rockbridge_cli.core.dynamics import acceleration, coefficients
 from rockbridge_cli.core.geometry import single_block
 from rockbridge_cli.core.kinematics import EXACT
 from rockbridge_cli.core.solver import Laws, integrate
@@ -325,3 +325,37 @@ def test_block_overturns_as_pier1_only():
     response = analyze(block, half_sine(0.5 * G, period=4.0, duration=8.0), DT)
     assert response.failure_mode == "overturning_pier1"
     assert response.peaks["u_pier1"][0] == pytest.approx(block.B, rel=1e-6)
+
+
+def test_asymmetric_frame_half_cycle_against_scipy():
+    """An independent integrator and event locator: scipy's DOP853 on the same equation of motion,
+    from the onset to the first impact of an asymmetric frame under a triangular pulse (exactly
+    piecewise linear, so both integrate the same ground motion; scipy is restarted at its kinks).
+    The onset time is the ramp's crossing of Eq. 8's threshold, t0 = ü_g,min/slope."""
+    frame = studied_bridge(2.0, abutments=False)
+    onset = impacts.onset_threshold(frame, 1.0)
+    t = np.arange(0.0, 6.0 + DT / 2, DT)
+    slope = 2.0 * onset  # peak 2·ü_g,min at t = 1 s, back to zero at t = 2 s
+    acc = np.interp(t, [0.0, 1.0, 2.0, 6.0], [0.0, slope, 0.0, 0.0])
+    response = analyze(frame, acc, DT, "reference")
+    first_impact = response.events["time"][response.events["kind"] == "impact"][0]
+
+    def rhs(time, y):
+        ground = np.interp(time, t, acc)
+        return (y[1], acceleration(frame, 1.0, y[0], y[1], ground, False, EXACT))
+
+    def hit(time, y):
+        return y[0]
+
+    hit.terminal, hit.direction = True, -1
+    state, peak = np.array([0.0, 0.0]), 0.0
+    for start, end in ((onset / slope, 1.0), (1.0, 2.0), (2.0, 6.0)):
+        part = solve_ivp(rhs, (start, end), state, method="DOP853", rtol=1e-13, atol=1e-16,
+                         events=hit, dense_output=True)  # fmt: skip
+        peak = max(peak, np.max(part.sol(np.linspace(start, part.t[-1], 20001))[0]))
+        state = part.y[:, -1]
+        if part.t_events[0].size:
+            break
+    assert response.t_onset == pytest.approx(onset / slope, abs=1e-12)
+    assert first_impact == pytest.approx(part.t_events[0][0], abs=1e-8)
+    assert response.peaks["theta1"][0] == pytest.approx(peak, rel=1e-8)
