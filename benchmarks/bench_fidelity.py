@@ -30,6 +30,8 @@ VARIANTS = [  # (label, preset, knob overrides)
     ("default rtol=1e-9", "default", {"rtol": 1e-9, "atol": 1e-12}),
     ("default", "default", {}),
     ("default rtol=1e-6", "default", {"rtol": 1e-6, "atol": 1e-9}),
+    ("default event_tol=1e-9", "default", {"event_tol": 1e-9}),
+    ("default, peaks at steps", "default", {"turning_points": False}),
     ("fast", "fast", {}),
     ("fast rtol=1e-4", "fast", {"rtol": 1e-4, "atol": 1e-7}),
     ("paper dt=5e-4", "paper", {"step": 5e-4, "max_step": 5e-4}),
