@@ -106,13 +106,16 @@ def _ground(acc: np.ndarray, dt: float, k: int, t: float) -> float:
 
 
 @jit
-def _step(model, fits, s, contact, acc, dt, k, t, y, w, h, scheme):
-    """One step of length h from (θ1, θ̇1) = (y, w) at time t.
+def _step(model, fits, s, contact, acc, dt, k, t, y, w, f0, h, scheme):
+    """One step of length h from (θ1, θ̇1) = (y, w) at time t, where θ̈1 = f0 (NaN: unknown).
 
-    Returns the new (θ1, θ̇1) and, for DOPRI5, the local error estimates of both (zero for RK4).
+    Returns the new (θ1, θ̇1), for DOPRI5 the local error estimates of both (zero for RK4), and
+    θ̈1 at the new state (DOPRI5's last stage, which the next step reuses; NaN for RK4).
     """
+    if not np.isfinite(f0):
+        f0 = acceleration(model, s, y, w, _ground(acc, dt, k, t), contact, fits)
     if scheme == RK4:
-        f1 = acceleration(model, s, y, w, _ground(acc, dt, k, t), contact, fits)
+        f1 = f0
         y2, w2 = y + 0.5 * h * w, w + 0.5 * h * f1
         f2 = acceleration(model, s, y2, w2, _ground(acc, dt, k, t + 0.5 * h), contact, fits)
         y3, w3 = y + 0.5 * h * w2, w + 0.5 * h * f2
@@ -124,9 +127,10 @@ def _step(model, fits, s, contact, acc, dt, k, t, y, w, h, scheme):
             w + h / 6.0 * (f1 + 2.0 * f2 + 2.0 * f3 + f4),
             0.0,
             0.0,
+            np.nan,
         )
     # Dormand–Prince 5(4): the stages of θ1 are the θ̇1 values, those of θ̇1 the accelerations.
-    a1 = acceleration(model, s, y, w, _ground(acc, dt, k, t), contact, fits)
+    a1 = f0
     v1 = w
     y2 = y + h * (v1 / 5.0)
     v2 = w + h * (a1 / 5.0)
@@ -167,7 +171,7 @@ def _step(model, fits, s, contact, acc, dt, k, t, y, w, h, scheme):
     e5, e6, e7 = -17253.0 / 339200.0, 22.0 / 525.0, -1.0 / 40.0
     err_y = h * (e1 * v1 + e3 * v3 + e4 * v4 + e5 * v5 + e6 * v6 + e7 * w_new)
     err_w = h * (e1 * a1 + e3 * a3 + e4 * a4 + e5 * a5 + e6 * a6 + e7 * a7)
-    return y_new, w_new, err_y, err_w
+    return y_new, w_new, err_y, err_w, a7
 
 
 @jit
@@ -206,26 +210,30 @@ def _fired(before, after, count, skip):
 
 
 @jit
-def _locate(model, fits, s, contact, acc, dt, k, t, y, w, h, kind, glo, ghi, y1, w1, opts):
-    """Length τ ≤ h of the step that ends just past event ``kind``, and the state there.
+def _locate(model, fits, s, contact, acc, dt, k, t, y, w, f0, h, kind, glo, ghi, y1, w1, f1, opts):
+    """Length τ ≤ h of the step that ends just past event ``kind``, and the state there
+    (θ1, θ̇1, θ̈1).
 
-    The event function is ``glo`` ≤ 0 at the step's start and ``ghi`` > 0 after the full step
-    (state ``y1, w1``). Each trial re-steps from t. When the function starts at exactly zero (right
-    after another event) a point where it is negative is searched first by halving; if none is
-    found above the event tolerance, the event happens at once (τ = 0).
+    The event function is ``glo`` ≤ 0 at the step's start (state ``y, w``, θ̈1 = ``f0``) and
+    ``ghi`` > 0 after the full step (state ``y1, w1, f1``). Each trial re-steps from t. When the
+    function starts at exactly zero (right after another event) a point where it is negative is
+    searched first by halving; if none is found above the event tolerance, the event happens at
+    once (τ = 0).
     """
     lo, hi = 0.0, h
     if glo == 0.0:
         while hi > opts.event_tol:
             probe = 0.5 * hi
-            yp, wp, _, _ = _step(model, fits, s, contact, acc, dt, k, t, y, w, probe, opts.scheme)
+            yp, wp, _, _, fp = _step(
+                model, fits, s, contact, acc, dt, k, t, y, w, f0, probe, opts.scheme
+            )
             gp = _watch(model, s, contact, yp, wp, fits)[0][kind]
             if gp < 0.0:
                 lo, glo = probe, gp
                 break
-            hi, ghi, y1, w1 = probe, gp, yp, wp
+            hi, ghi, y1, w1, f1 = probe, gp, yp, wp, fp
         if glo == 0.0:
-            return 0.0, y, w
+            return 0.0, y, w, f0
     side = 0
     while hi - lo > opts.event_tol:
         if opts.bisection:
@@ -233,10 +241,10 @@ def _locate(model, fits, s, contact, acc, dt, k, t, y, w, h, kind, glo, ghi, y1,
         else:
             mid = hi - ghi * (hi - lo) / (ghi - glo)
             mid = min(max(mid, lo + 0.01 * (hi - lo)), hi - 0.01 * (hi - lo))
-        ym, wm, _, _ = _step(model, fits, s, contact, acc, dt, k, t, y, w, mid, opts.scheme)
+        ym, wm, _, _, fm = _step(model, fits, s, contact, acc, dt, k, t, y, w, f0, mid, opts.scheme)
         gm = _watch(model, s, contact, ym, wm, fits)[0][kind]
         if gm > 0.0:
-            hi, ghi, y1, w1 = mid, gm, ym, wm
+            hi, ghi, y1, w1, f1 = mid, gm, ym, wm, fm
             if side == 1:
                 glo *= 0.5  # Illinois: halve the value at the end that stayed
             side = 1
@@ -245,7 +253,7 @@ def _locate(model, fits, s, contact, acc, dt, k, t, y, w, h, kind, glo, ghi, y1,
             if side == -1:
                 ghi *= 0.5
             side = -1
-    return hi, y1, w1
+    return hi, y1, w1, f1
 
 
 @jit
@@ -311,6 +319,9 @@ def integrate(
     failure = -1
     count = 6 if opts.turning_points else 5
     t, k, y, w, h = 0.0, 0, theta0, omega0, opts.step
+    # θ̈1 and the event functions at the current state, carried from one step to the next
+    # (known = False after anything that changes the state other than a step).
+    f0, g0, known = np.nan, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0), False
     s = np.sign(theta0) if theta0 != 0.0 else np.sign(omega0)
     contact = model.u_jo <= 0.0 or abs(displacements(model, s, y, fits)[4]) > model.u_jo
     theta1[0], omega[0], mode[0] = y, w, np.int8(s)
@@ -335,7 +346,7 @@ def integrate(
                 k += 1
             if s == 0.0:
                 break
-            y, w, h = 0.0, 0.0, opts.step
+            y, w, h, known = 0.0, 0.0, opts.step, False
             contact = model.u_jo <= 0.0
             n_events = _log(events, n_events, t, ONSET, s, 0.0, 0.0)
             while next_out < n_out and next_out * opts.output_step <= t:
@@ -346,10 +357,14 @@ def integrate(
 
         # Rocking: one step, never past the end of the current sample interval. h is the step the
         # scheme asks for (fixed for RK4), h_step the one taken.
+        if not known:
+            f0 = acceleration(model, s, y, w, _ground(acc, dt, k, t), contact, fits)
+            g0 = _watch(model, s, contact, y, w, fits)[0]
+            known = True
         boundary = (k + 1) * dt
         h_step = min(h, opts.max_step, boundary - t)
-        y1, w1, err_y, err_w = _step(
-            model, fits, s, contact, acc, dt, k, t, y, w, h_step, opts.scheme
+        y1, w1, err_y, err_w, f1 = _step(
+            model, fits, s, contact, acc, dt, k, t, y, w, f0, h_step, opts.scheme
         )
         steps += 1
         if not (np.isfinite(y1) and np.isfinite(w1)):
@@ -371,7 +386,6 @@ def integrate(
                 continue
             grown = h_step * (min(5.0, 0.9 * scale**-0.2) if scale > 0.0 else 5.0)
             h = grown if h_step == h else max(h, grown)
-        g0 = _watch(model, s, contact, y, w, fits)[0]
         g1, disp1 = _watch(model, s, contact, y1, w1, fits)
         tau = h_step
         kind = _fired(g0, g1, count, -1)
@@ -380,9 +394,9 @@ def integrate(
             # Locate it; if another event fired earlier inside the shortened step, locate that one;
             # two events within the event tolerance of each other are simultaneous: the first in
             # the order of `_watch` is taken.
-            located, y1, w1 = _locate(
-                model, fits, s, contact, acc, dt, k, t, y, w, tau, kind, g0[kind], g1[kind],
-                y1, w1, opts,
+            located, y1, w1, f1 = _locate(
+                model, fits, s, contact, acc, dt, k, t, y, w, f0, tau, kind, g0[kind], g1[kind],
+                y1, w1, f1, opts,
             )  # fmt: skip
             g1, disp1 = _watch(model, s, contact, y1, w1, fits)
             if previous >= 0 and tau - located <= opts.event_tol:
@@ -418,13 +432,14 @@ def integrate(
         for i in range(7):
             if values[i] > peaks[i, 0]:
                 peaks[i, 0], peaks[i, 1] = values[i], t_new
-        t, y, w = t_new, y1, w1
+        t, y, w, f0, g0 = t_new, y1, w1, f1, g1
         if t >= boundary:
             k += 1
         if kind < 0 or kind == 5:  # no event, or a turning point: nothing changes but the peaks
             continue
 
-        # Apply the event.
+        # Apply the event: the state changes.
+        known = False
         if n_events >= opts.max_events - 2:
             solver_error = 2
             break
