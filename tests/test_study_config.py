@@ -12,7 +12,6 @@ from rockbridge_cli.config.bridge import load_bridge
 from rockbridge_cli.config.study import Fidelity, load_study
 from rockbridge_cli.core.analysis import HISTORY_UNITS
 from rockbridge_cli.core.fidelity import knobs
-from rockbridge_cli.core.solver import RK4
 from rockbridge_cli.errors import InputError
 from rockbridge_cli.records import Record, write_record
 
@@ -63,11 +62,11 @@ output:
 """
     study = load_study(write_study(tmp_path, extra=extra))
     assert study.preset == "fast"
-    assert study.knobs == knobs("fast", scheme=RK4, step=0.0005, output_step=0.02)
+    assert study.knobs == knobs("fast", scheme="rk4", step=0.0005, output_step=0.02)
     assert study.histories == ("theta1", "u_deck")  # in HISTORY_UNITS order
     assert study.output == tmp_path / "out" / "x.h5"  # relative to the study file
     replaced = load_study(tmp_path / "study.yaml", preset="paper", output=tmp_path / "y.h5")
-    assert replaced.preset == "paper" and replaced.knobs["scheme"] == RK4
+    assert replaced.preset == "paper" and replaced.knobs["scheme"] == "rk4"
     assert replaced.knobs["step"] == 0.0005  # the study's knob overrides still apply
     assert replaced.output == tmp_path / "y.h5"
 

@@ -8,10 +8,7 @@ from pathlib import Path
 import click
 
 from ..config.bridge import load_bridge
-from ..core.analysis import PEAK_UNITS
-from ..core.analysis import analyze as run_analysis
 from ..core.fidelity import PRESETS
-from ..records import read_record
 from . import main
 from .output import echo_json, echo_table
 
@@ -43,6 +40,9 @@ def analyze(
     output: Path | None,
 ) -> None:
     """Analyse BRIDGE (a YAML file) under the ground motion in RECORD."""
+    from ..core.analysis import analyze as run_analysis  # the compiled core: loaded on use
+    from ..records import read_record
+
     config = load_bridge(bridge)
     motion = read_record(record, units=units, time_step=time_step)
     if output is None:
@@ -65,6 +65,8 @@ def analyze(
 
 
 def _rows(bridge: str, record: str, s: dict) -> list[tuple[str, str]]:
+    from ..core.analysis import PEAK_UNITS
+
     onset = s["t_onset"]
     failure = s["failure_mode"]
     rows = [

@@ -8,7 +8,6 @@ from pathlib import Path
 import click
 
 from ..config.bridge import load_bridge
-from ..core.summary import summarize
 from . import main
 from .output import echo_json, echo_table
 
@@ -18,6 +17,8 @@ from .output import echo_json, echo_table
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object with SI values.")
 def describe(bridge: Path, as_json: bool) -> None:
     """Print the model used and the quantities a designer checks first for BRIDGE (a YAML file)."""
+    from ..core.summary import summarize  # the compiled core: loaded on use
+
     config = load_bridge(bridge)
     summary = summarize(config.to_model(), mirrored=config.mirrored)
     if as_json:

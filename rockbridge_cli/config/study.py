@@ -33,7 +33,7 @@ from pydantic import (
 )
 
 from ..core.analysis import HISTORY_UNITS
-from ..core.fidelity import PRESETS, SCHEME_NAMES, knobs
+from ..core.fidelity import PRESETS, knobs
 from ..errors import InputError
 from ..records import Record, read_manifest, read_record
 from . import loading
@@ -42,8 +42,6 @@ from .loading import StrictModel
 
 ID_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9_.+-]*$"
 """Bridge and record ids: they name HDF5 groups and files, so no slashes or spaces."""
-
-_SCHEMES = {name: code for code, name in SCHEME_NAMES.items()}
 
 
 def _path_or_mapping(value: Any) -> Any:
@@ -147,10 +145,7 @@ class Fidelity(StrictModel):
 
     def overrides(self) -> dict[str, Any]:
         """The knobs this config changes, in the core's terms."""
-        values = self.model_dump(exclude={"preset"}, exclude_none=True)
-        if "scheme" in values:
-            values["scheme"] = _SCHEMES[values["scheme"]]
-        return values
+        return self.model_dump(exclude={"preset"}, exclude_none=True)
 
 
 class Output(StrictModel):
@@ -269,7 +264,7 @@ class Study:
             "records": [{"id": r.id, "source": r.source, "sha256": r.digest} for r in self.records],
             "fidelity": {
                 "preset": self.preset,
-                "knobs": {**self.knobs, "scheme": SCHEME_NAMES[self.knobs["scheme"]]},
+                "knobs": self.knobs,
             },
             "histories": list(self.histories),
         }

@@ -13,30 +13,29 @@ from __future__ import annotations
 
 from typing import Any
 
-from .solver import DOPRI5, RK4, Settings
-
 _COMMON = {"rest_velocity": 1e-5, "output_step": 0.01, "max_events": 200_000}
 
 PRESETS: dict[str, dict[str, Any]] = {
     "reference": {
-        "kinematics": "exact", "scheme": DOPRI5, "step": 1e-4, "rtol": 1e-12, "atol": 1e-15,
+        "kinematics": "exact", "scheme": "dopri5", "step": 1e-4, "rtol": 1e-12, "atol": 1e-15,
         "max_step": 0.01, "event_tol": 1e-13, "bisection": False, "turning_points": True,
     },
     "default": {
-        "kinematics": "exact", "scheme": DOPRI5, "step": 1e-3, "rtol": 1e-7, "atol": 1e-10,
+        "kinematics": "exact", "scheme": "dopri5", "step": 1e-3, "rtol": 1e-7, "atol": 1e-10,
         "max_step": 0.01, "event_tol": 1e-11, "bisection": False, "turning_points": True,
     },
     "fast": {
-        "kinematics": "exact", "scheme": DOPRI5, "step": 1e-3, "rtol": 1e-5, "atol": 1e-8,
+        "kinematics": "exact", "scheme": "dopri5", "step": 1e-3, "rtol": 1e-5, "atol": 1e-8,
         "max_step": 0.01, "event_tol": 1e-7, "bisection": False, "turning_points": True,
     },
     "paper": {
-        "kinematics": "simplified", "scheme": RK4, "step": 1e-3, "rtol": 0.0, "atol": 0.0,
+        "kinematics": "simplified", "scheme": "rk4", "step": 1e-3, "rtol": 0.0, "atol": 0.0,
         "max_step": 1e-3, "event_tol": 5e-6, "bisection": True, "turning_points": False,
     },
 }  # fmt: skip
 
-SCHEME_NAMES = {RK4: "rk4", DOPRI5: "dopri5"}
+SCHEMES = ("rk4", "dopri5")
+"""Names of the integration schemes, in the order of the solver's codes (`solver.RK4`, `DOPRI5`)."""
 
 
 def knobs(preset: str, **overrides: Any) -> dict[str, Any]:
@@ -64,6 +63,13 @@ def knobs(preset: str, **overrides: Any) -> dict[str, Any]:
     return values
 
 
-def settings(values: dict[str, Any]) -> Settings:
-    """The solver's `Settings` from a knob dictionary (``kinematics`` is not a solver knob)."""
-    return Settings(**{name: values[name] for name in Settings._fields})
+def settings(values: dict[str, Any]):
+    """The solver's `Settings` from a knob dictionary (``kinematics`` is not a solver knob).
+
+    The solver (and with it the compiler) is imported here, not with this module, so that listing
+    the presets stays cheap.
+    """
+    from .solver import Settings
+
+    solver_values = {**values, "scheme": SCHEMES.index(values["scheme"])}
+    return Settings(**{name: solver_values[name] for name in Settings._fields})
