@@ -134,12 +134,16 @@ def run_study(
         output.unlink(missing_ok=True)
     earlier = storage.stored_in_output(output, study)
     journalled = journal.entries(study.config_hash)
-    if not resume:
+    if not resume:  # recompute everything; what is stored stays until it is replaced
         journal.clear()
-        earlier, journalled = {}, {}
+        journalled = {}
     stored = earlier | journalled
     pairs = results.study_pairs(study)
-    pending = [pair for pair in pairs if pair not in stored or stored[pair].status == "error"]
+    pending = [
+        pair
+        for pair in pairs
+        if not resume or pair not in stored or stored[pair].status == "error"
+    ]
     solve_time, done = 0.0, 0
     try:
         tasks = _tasks(study, pending)

@@ -189,6 +189,17 @@ def test_sigkill_while_writing_leaves_the_previous_file(tmp_path):
     assert not list(tmp_path.glob(".out.h5.*")) and not Journal(study.output).folder.exists()
 
 
+def test_interrupted_recomputation_keeps_the_earlier_results(tmp_path):
+    """--no-resume recomputes; a Ctrl-C halfway keeps every earlier analysis in the file."""
+    study, expected = _reference(tmp_path)
+    run_study(study, workers=1)
+    with pytest.raises(KeyboardInterrupt):
+        run_study(study, workers=1, resume=False, progress=Recorder(stop=1))
+    partial = read_peaks(study.output)
+    assert set(zip(partial["bridge"], partial["record"], strict=True)) == set(PAIRS)
+    assert contents(study.output) == expected
+
+
 def test_nothing_to_do_leaves_the_file_alone(tmp_path):
     study, _ = _reference(tmp_path)
     run_study(study, workers=1)
