@@ -41,6 +41,7 @@ class Task:
     record: str
     model: Model
     mirrored: bool
+    restitution: float | None
     acceleration: np.ndarray
     time_step: float
     preset: str
@@ -140,9 +141,7 @@ def run_study(
     stored = earlier | journalled
     pairs = results.study_pairs(study)
     pending = [
-        pair
-        for pair in pairs
-        if not resume or pair not in stored or stored[pair].status == "error"
+        pair for pair in pairs if not resume or pair not in stored or stored[pair].status == "error"
     ]
     solve_time, done = 0.0, 0
     try:
@@ -184,8 +183,8 @@ def _tasks(study: Study, pending: Sequence[Pair]) -> list[Task | AnalysisResult]
         tasks.append(
             Task(
                 bridge_id, record_id, bridge.config.to_model(), bridge.config.mirrored,
-                item.record.acceleration, item.record.time_step, study.preset, study.overrides,
-                study.histories,
+                bridge.config.rocking_restitution, item.record.acceleration,
+                item.record.time_step, study.preset, study.overrides, study.histories,
             )
         )  # fmt: skip
     return tasks
@@ -242,7 +241,7 @@ def _analyze(task: Task) -> AnalysisResult:
     try:
         response = analyze(
             task.model, task.acceleration, task.time_step, task.preset, mirrored=task.mirrored,
-            **task.overrides,
+            restitution=task.restitution, **task.overrides,
         )  # fmt: skip
     except Exception as exc:  # one failed analysis must not stop the others
         return AnalysisResult.failed(

@@ -78,7 +78,7 @@ class Journal:
                     raise InputError(
                         self.folder,
                         [("", "holds analyses of a different study or different inputs (an "
-                          "interrupted run); pass overwrite=True (--overwrite) to discard them")],
+                          "interrupted run); rerun with --overwrite to discard them")],
                     )  # fmt: skip
                 found.update(_stored(entry, file))
         return found
@@ -127,17 +127,17 @@ def stored_in_output(output: Path, study: Study) -> dict[Pair, Stored]:
     """
     if not output.exists():
         return {}
-    hint = "pass overwrite=True (--overwrite) to replace it, or choose another output"
+    hint = "rerun with --overwrite to replace it, or choose another output"
     try:
         with results.open_results(output) as file:
-            if file.attrs.get("config_hash") != study.config_hash:
-                raise InputError(
-                    output,
-                    [("", f"holds results of a different study or different inputs; {hint}")],
-                )
-            return _stored(output, file)
-    except InputError as exc:
+            same = file.attrs.get("config_hash") == study.config_hash
+            stored = _stored(output, file) if same else {}
+    except InputError as exc:  # unreadable or not a results file
         raise InputError(output, [("", f"{exc.problems[0][1]}; {hint}")]) from None
+    if not same:
+        reason = f"holds results of a different study or different inputs; {hint}"
+        raise InputError(output, [("", reason)])
+    return stored
 
 
 def _stored(path: Path, file: h5py.File) -> dict[Pair, Stored]:

@@ -75,3 +75,20 @@ def test_plain_file_without_units_is_refused(tmp_path):
     path.write_text("0.0 0.0\n0.01 0.1\n0.02 0.0\n")
     result = invoke("analyze", BRIDGE, path)
     assert result.exit_code == 2 and "units" in result.output
+
+
+def test_rocking_restitution_from_the_config_is_used(tmp_path):
+    """A bridge config may give η (for example a measured one): every impact then scales θ̇1 by
+    exactly that value, in both directions."""
+    bridge = tmp_path / "bridge.yaml"
+    bridge.write_text(BRIDGE.read_text() + "rocking_restitution: 0.9\n")
+    out = tmp_path / "one.h5"
+    assert invoke("analyze", bridge, RECORD, "-o", out).exit_code == 0
+    with h5py.File(out, "r") as file:
+        events = file["analyses/bridge/AR07/events"]
+        impact = events["kind"][()].astype(str) == "impact"
+        ratio = events["rate_after"][()][impact] / events["rate_before"][()][impact]
+    assert impact.sum() > 5
+    np.testing.assert_allclose(ratio, 0.9, rtol=1e-12)
+    described = json.loads(invoke("describe", bridge, "--json").output)
+    assert described["rocking_restitution"] == 0.9

@@ -30,6 +30,7 @@ from .output import echo_json, echo_table
     type=click.Path(dir_okay=False, path_type=Path),
     help="Also write the histories and events to this HDF5 results file (the layout of `run`).",
 )
+@click.option("--overwrite", is_flag=True, help="Replace an OUTPUT that holds other results.")
 def analyze(
     bridge: Path,
     record: Path,
@@ -38,6 +39,7 @@ def analyze(
     fidelity: str,
     as_json: bool,
     output: Path | None,
+    overwrite: bool,
 ) -> None:
     """Analyse BRIDGE (a YAML file) under the ground motion in RECORD."""
     from ..core.analysis import analyze as run_analysis  # the compiled core: loaded on use
@@ -47,19 +49,22 @@ def analyze(
     motion = read_record(record, units=units, time_step=time_step)
     if output is None:
         response = run_analysis(
-            config.to_model(), motion.acceleration, motion.time_step, fidelity, config.mirrored
-        )
+            config.to_model(), motion.acceleration, motion.time_step, fidelity, config.mirrored,
+            restitution=config.rocking_restitution,
+        )  # fmt: skip
         summary = response.summary()
     else:  # the same analysis, through the study runner, so that the file has run's layout
         from ..config.study import single_analysis
         from ..runner import run_study
 
         study = single_analysis(bridge, record, units, time_step, fidelity, output)
-        report = run_study(study, workers=1, resume=False, overwrite=True)
+        report = run_study(study, workers=1, overwrite=overwrite)
         summary = report.peaks.iloc[0].to_dict()
+        if summary["status"] == "error":
+            raise click.ClickException(f"the analysis could not run: {summary['message']}")
         summary.update(fidelity=fidelity, output=str(report.output))
     if as_json:
-        echo_json({"bridge": config.label(bridge.stem), "record": motion.name, **summary})
+        echo_json({**summary, "bridge": config.label(bridge.stem), "record": motion.name})
         return
     echo_table(_rows(config.label(bridge.stem), f"{motion.name} ({motion.duration:g} s)", summary))
 

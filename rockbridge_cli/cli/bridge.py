@@ -21,6 +21,7 @@ def describe(bridge: Path, as_json: bool) -> None:
 
     config = load_bridge(bridge)
     summary = summarize(config.to_model(), mirrored=config.mirrored)
+    summary["rocking_restitution"] = config.rocking_restitution
     if as_json:
         echo_json({"name": config.label(bridge.stem), **summary})
         return
@@ -43,6 +44,10 @@ def _rows(name: str, s: dict) -> list[tuple[str, str]]:
         ("eta frame  p→n / n→p", f"{s['eta_frame_pn']:.4f} / {s['eta_frame_np']:.4f}"),
         ("pounding ratio", f"{s['pounding_ratio']:.4f}"),
     ]
+    if s["rocking_restitution"] is not None:
+        rows.append(("eta used (config)", f"{s['rocking_restitution']:.4f} in both directions"))
+    elif min(s["eta_pn"], s["eta_np"]) <= 0.0:
+        rows.append(("warning", "eta ≤ 0: set rocking_restitution to analyse this bridge"))
     for limit, rotation in s["capacities"].items():
         text = ", ".join(
             f"{mode} {_number(abs(v) if math.isfinite(v) else None, '.2f', 1e3, ' mrad')}"

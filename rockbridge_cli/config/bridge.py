@@ -115,6 +115,13 @@ class BridgeConfig(StrictModel):
     abutments: Abutments | None = Field(None, description="Absent: a rocking frame")
     density: PositiveFloat = Field(2500.0, description="Density of piers and deck ρ [kg/m³]")
     gravity: PositiveFloat = Field(9.81, description="Acceleration of gravity g [m/s²]")
+    rocking_restitution: float | None = Field(
+        None,
+        gt=0.0,
+        le=1.0,
+        description="Coefficient of restitution η of the rocking interfaces in both directions, "
+        "for example a measured one; default: from the impulse balance (Eqs. 21–30) [-]",
+    )
 
     @field_validator("deck", "spans", "abutments")
     @classmethod

@@ -327,7 +327,8 @@ def single_analysis(
     output
         The HDF5 results file.
     """
-    entry: dict[str, Any] = {"path": str(Path(record).resolve())}
+    record_id = re.sub(r"[^A-Za-z0-9_.+-]", "_", Path(record).stem)
+    entry: dict[str, Any] = {"path": str(Path(record).resolve()), "id": record_id}
     entry.update({k: v for k, v in (("units", units), ("time_step", time_step)) if v is not None})
     data = {
         "description": f"rockbridge analyze {bridge} {record}",

@@ -107,7 +107,8 @@ def laws(model: Model, restitution: float | None = None) -> Laws:
     if min(eta) <= 0.0:
         raise ValueError(
             f"the impact law gives η = {min(eta):.4g} ≤ 0 for this bridge: the rocking would not "
-            "reverse smoothly (the paper's assumption); give a restitution explicitly"
+            "reverse smoothly (the paper's assumption); set rocking_restitution in the bridge "
+            "config"
         )
     return Laws(
         onset_p=impacts.onset_threshold(model, 1.0),
