@@ -28,6 +28,7 @@ from . import __version__
 from .config.records import RecordSetConfig
 from .core import ec8, matching, spectra
 from .errors import InputError
+from .paths import writable
 
 #: Accepted spellings of the two units, mapped to their canonical names.
 UNIT_NAMES = {"g": "g", "m/s2": "m/s2", "m/s^2": "m/s2", "m/s**2": "m/s2", "m/s²": "m/s2"}
@@ -641,8 +642,7 @@ def generate_record_set(
         name of the config (e.g. its file stem), stored in the manifest.
     """
     started = time.perf_counter()
-    folder = Path(folder)
-    folder.mkdir(parents=True, exist_ok=True)
+    folder = writable(folder, folder=True)
     target = resolve_target(config)
     periods = matching.compute_matching_periods(config.band, config.check_periods, config.time_step)
     settings = matching.MatchSettings(

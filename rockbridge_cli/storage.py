@@ -22,6 +22,7 @@ import h5py
 from . import results
 from .config.study import Study
 from .errors import InputError
+from .paths import writable
 from .results import AnalysisResult
 
 Pair = tuple[str, str]
@@ -101,17 +102,7 @@ class Journal:
 
 def prepare(output: Path, journal: Journal) -> None:
     """Check that the output can be written before any work; remove stale temporary files."""
-    try:
-        output.parent.mkdir(parents=True, exist_ok=True)
-        probe = output.with_name(f".{output.name}.probe")
-        probe.write_bytes(b"")
-        probe.unlink()
-    except OSError as exc:
-        raise InputError(
-            output, [("", f"cannot write the results here ({exc.strerror})")]
-        ) from None
-    if output.is_dir():
-        raise InputError(output, [("", "is a folder: give the path of an .h5 file")])
+    writable(output)
     for stale in output.parent.glob(f".{output.name}.*.tmp"):
         stale.unlink()
     journal.remove_temporary()

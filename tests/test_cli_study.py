@@ -8,7 +8,7 @@ import json
 import pandas as pd
 import pytest
 from click.testing import CliRunner
-from studies import STUDIED, write_study
+from studies import REPO, STUDIED, write_study
 
 from rockbridge_cli import runner
 from rockbridge_cli.cli import main
@@ -101,9 +101,7 @@ def test_bad_inputs(tmp_path):
     (tmp_path / "b.yaml").write_text(text, encoding="utf-8")
     assert_user_error(invoke("run", tmp_path / "b.yaml"), "bridges.2: bridge file not found")
     (tmp_path / "file").write_text("", encoding="utf-8")
-    assert_user_error(
-        invoke("run", study, "-o", tmp_path / "file" / "x.h5"), "cannot write the results here"
-    )
+    assert_user_error(invoke("run", study, "-o", tmp_path / "file" / "x.h5"), "cannot write here")
     damaged = tmp_path / "damaged.h5"
     damaged.write_bytes(b"garbage" * 50)
     assert_user_error(invoke("peaks", damaged), "not a readable HDF5 file")
@@ -156,3 +154,18 @@ def test_progress_display(capsys, terminal):
         assert "[" + "#" * 30 + "] 30/30" in err and err.endswith("left\n")
     else:  # one line per tenth, plus the error
         assert len(err.splitlines()) == 11 and "30/30 analyses (100%)" in err
+
+
+def test_outputs_that_cannot_be_written_exit_2_before_any_work(tmp_path):
+    """A figure, a CSV export or a record folder under a path that is a file: one message, 2."""
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    bridge = REPO / "configs" / "bridges" / "studied-hbar1.25.yaml"
+    for args in (
+        ("plot", "onset", bridge, "-o", blocker / "fig.png"),
+        ("generate-records", REPO / "configs" / "records" / "ec8-type1-C-ag0.6g.yaml",
+         "--out", blocker / "set"),
+    ):  # fmt: skip
+        result = invoke(*args)
+        assert result.exit_code == 2 and "cannot write here" in result.output, result.output
+        assert "Traceback" not in result.output

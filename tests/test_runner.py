@@ -246,7 +246,7 @@ def test_an_output_that_cannot_be_written_is_refused_before_any_work(tmp_path, m
     (tmp_path / "file").write_text("", encoding="utf-8")
     study = load_study(write_study(tmp_path), output=tmp_path / "file" / "out.h5")
     monkeypatch.setattr(runner, "analyze", None)  # would fail if anything ran
-    with pytest.raises(InputError, match="cannot write the results here"):
+    with pytest.raises(InputError, match="cannot write here"):
         run_study(study, workers=1)
 
 

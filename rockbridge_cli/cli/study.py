@@ -129,7 +129,9 @@ def peaks(results: Path, csv_file: str | None, as_json: bool) -> None:
 
     frame = read_peaks(results)
     if csv_file is not None:
-        frame.to_csv(sys.stdout if csv_file == "-" else csv_file, index=False)
+        from ..paths import writable
+
+        frame.to_csv(sys.stdout if csv_file == "-" else writable(csv_file), index=False)
         if csv_file != "-":
             click.echo(f"CSV: {csv_file}")
         return

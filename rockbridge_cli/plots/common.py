@@ -12,6 +12,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from ..errors import InputError
+from ..paths import writable
 
 FORMATS = (".png", ".pdf", ".svg")
 
@@ -21,19 +22,19 @@ _SHADES = ("black", "0.45", "0.7", "tab:blue", "tab:red", "tab:green")
 
 
 def check_format(output: str | Path) -> Path:
-    """The figure path, if its extension is a known format.
+    """The figure path, if its extension is a known format and it can be written.
 
     Raises
     ------
     InputError
-        The extension is not .png, .pdf or .svg.
+        The extension is not .png, .pdf or .svg, or the folder cannot be written.
     """
     output = Path(output)
     if output.suffix.lower() not in FORMATS:
         raise InputError(
             output, [("", f"unknown figure format {output.suffix!r}: use {', '.join(FORMATS)}")]
         )
-    return output
+    return writable(output)
 
 
 def style(index: int, filled: bool = True) -> dict:
