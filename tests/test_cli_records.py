@@ -40,6 +40,7 @@ def assert_user_error(result, *words):
         assert word in result.output
 
 
+@pytest.mark.slow
 def test_regenerating_the_paper_set_reproduces_the_bundled_files(tmp_path):
     result = run("generate-records", PAPER, "--out", tmp_path / "set")
     assert result.exit_code == 0, result.output

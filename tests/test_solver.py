@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import G, make_bridge, studied_bridge, with_
+from conftest import G, RefLinkage, make_bridge, ref_onset, studied_bridge, with_
 from scipy.integrate import solve_ivp
 
 from rockbridge_cli.core import fidelity, impacts
@@ -197,15 +197,21 @@ def test_ground_sign_flip_mirrors_a_symmetric_bridge():
     np.testing.assert_allclose(a.histories["v_deck"], b.histories["v_deck"], rtol=0, atol=1e-9)
 
 
-def test_mirrored_bridge_is_the_mirror_of_the_drawn_one():
-    """A bridge with its tall pier on the right, under ü_g, is the mirror image of the same bridge
-    drawn the other way under −ü_g (MODEL.md §1)."""
-    bridge, acc = studied_bridge(1.25), ground_motion(seed=5)
-    drawn = analyze(bridge, -acc, DT)
-    mirrored = analyze(bridge, acc, DT, mirrored=True)
-    for name in ("theta1", "theta2", "theta_deck", "u_deck"):
-        np.testing.assert_array_equal(mirrored.histories[name], -drawn.histories[name])
-    np.testing.assert_array_equal(mirrored.histories["v_deck"], drawn.histories["v_deck"])
+@pytest.mark.parametrize("direction", [1.0, -1.0])
+def test_bridge_with_its_tall_pier_on_the_right(direction):
+    """The user's drawing, short pier on the left, against the independent reference kinematics
+    of tests/conftest.py (which solves that drawing directly): a pulse 0.1 % below the drawing's
+    onset threshold of a direction leaves the bridge at rest, 0.1 % above it rocks in that
+    direction (mode p: counter-clockwise, deck to the left)."""
+    model = studied_bridge(1.25)  # tall pier first: the config's mirrored bridge runs on it
+    drawing = RefLinkage(model.B, model.H2, model.H1, model.L2, model.h)
+    threshold = abs(ref_onset(drawing, (model.m2, model.m1, model.md), G, direction))
+    below = analyze(model, direction * half_sine(0.999 * threshold), DT, mirrored=True)
+    assert math.isnan(below.t_onset)
+    above = analyze(model, direction * half_sine(1.001 * threshold), DT, mirrored=True)
+    assert above.events["mode"][0] == direction
+    first_motion = above.histories["u_deck"][np.flatnonzero(above.histories["mode"])[0]]
+    assert np.sign(first_motion) == -direction
 
 
 # ---------------------------------------------------------------- convergence

@@ -358,6 +358,7 @@ def study_from_data(
     records = _resolve_records(config.records, base)
     problems = _check_ids("bridges", [b.id for b in bridges])
     problems += _check_ids("records", [r.id for r in records])
+    problems += [("records", "holds no records to analyse")] if not records else []
     if problems:
         raise InputError(path, problems)
     overrides = config.fidelity.overrides()

@@ -20,8 +20,7 @@ HISTORY_UNITS = {
 }  # fmt: skip
 """Every history a `Response` carries, with its unit. Pier 1 is the tall pier (paper's notation)."""
 
-PEAK_UNITS = {"u_deck": "m", "v_deck": "m", "theta_deck": "rad", "theta1": "rad", "theta2": "rad",
-              "u_pier1": "m", "u_pier2": "m"}  # fmt: skip
+PEAK_UNITS = {name: HISTORY_UNITS[name] for name in PEAK_NAMES}
 """Peak quantities: maxima of the absolute values, except v_deck (largest uplift)."""
 
 

@@ -169,9 +169,12 @@ def capacities(model: Model) -> dict[str, dict[str, float]]:
     }
 
 
-def governing_failure(model: Model) -> str:
-    """The failure limit reached at the smallest rotation of the tall pier, over both modes."""
-    caps = capacities(model)
+def governing_failure(model: Model, caps: dict[str, dict[str, float]] | None = None) -> str:
+    """The failure limit reached at the smallest rotation of the tall pier, over both modes.
+
+    ``caps`` are the model's `capacities`, when already computed.
+    """
+    caps = caps if caps is not None else capacities(model)
     return min(caps, key=lambda name: min(abs(v) for v in caps[name].values()))
 
 

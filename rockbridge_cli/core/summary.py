@@ -40,6 +40,7 @@ def summarize(model: Model, mirrored: bool = False) -> dict[str, object]:
     modes = (-1.0, 1.0) if mirrored else (1.0, -1.0)  # the core's modes behind the user's p and n
     onset = [abs(impacts.onset_threshold(model, s)) for s in modes]
     caps = impacts.capacities(model)
+    governing = impacts.governing_failure(model, caps)
     if mirrored:
         caps = {name: {"p": -v["n"], "n": -v["p"]} for name, v in caps.items()}
     out: dict[str, object] = {
@@ -67,7 +68,7 @@ def summarize(model: Model, mirrored: bool = False) -> dict[str, object]:
         "eta_frame_np": impacts.restitution(model, modes[1], abutment_seats=False),
         "pounding_ratio": pounding_ratio(model),
         "capacities": caps,
-        "governing_failure": impacts.governing_failure(model),
+        "governing_failure": governing,
     }
     if out["model"] == "single-block":  # ratios of a deck and spans the block does not have
         out.update(h_bar=None, b_bar=None, L_bar=None, gamma=None)
