@@ -12,7 +12,16 @@ from . import fidelity, impacts
 from ._jit import jit
 from .geometry import Model, kind, pounding_ratio
 from .kinematics import EXACT, displacements, simplified_fits
-from .solver import EVENT_NAMES, PEAK_NAMES, Laws, integrate
+from .solver import (
+    ABUTMENT_FAILURE,
+    EVENT_NAMES,
+    IMPACT,
+    ONSET,
+    PEAK_NAMES,
+    POUNDING,
+    Laws,
+    integrate,
+)
 
 HISTORY_UNITS = {
     "theta1": "rad", "theta1_rate": "rad/s", "mode": "-", "theta2": "rad", "theta_deck": "rad",
@@ -89,7 +98,9 @@ _SOLVER_ERRORS = {
     2: "too many events (chattering that the rest guard did not stop)",
     3: "the state became non-finite",
 }
-_FAILURES = {5: "abutment", 6: "overturning_pier1", 7: "overturning_pier2"}
+_FAILURE_MODES = ("abutment", "overturning_pier1", "overturning_pier2")
+"""Failure modes, in the order of the solver's failure events (from `ABUTMENT_FAILURE` on)."""
+_ABSENT_IN_A_BLOCK = ("u_deck", "v_deck", "theta_deck", "theta2", "u_pier2")
 
 
 def laws(model: Model, restitution: float | None = None) -> Laws:
@@ -190,15 +201,16 @@ def analyze(
         "u_pier2": sign * track[:, 2], "v_pier2": track[:, 3],
     }  # fmt: skip
     if kind(model) == "single-block":  # the block's massless twin and deck are not results
-        peaks[[0, 1, 2, 4, 6]] = np.nan
+        peaks[[PEAK_NAMES.index(name) for name in _ABSENT_IN_A_BLOCK]] = np.nan
         for name in ("theta2", "theta_deck", "u_deck", "v_deck", "u_pier2", "v_pier2"):
             histories[name] = np.full_like(theta1, np.nan)
     kinds = events[:, 1].astype(int)
     failure = int(status[1])
-    demands = {"abutment": (peaks[0, 0], model.u_jo + model.u_ab)} if model.has_abutments else {}
-    demands["overturning"] = (max(peaks[5, 0], peaks[6, 0] if model.m2 else 0.0), model.B)
+    peak = {name: peaks[i, 0] for i, name in enumerate(PEAK_NAMES)}
+    demands = {"abutment": (peak["u_deck"], model.u_jo + model.u_ab)} if model.has_abutments else {}
+    demands["overturning"] = (max(peak["u_pier1"], peak["u_pier2"] if model.m2 else 0.0), model.B)
     dcr_mode = max(demands, key=lambda name: demands[name][0] / demands[name][1])
-    onsets = events[kinds == 0, 0]
+    onsets = events[kinds == ONSET, 0]
     return Response(
         model=kind(model),
         fidelity=preset,
@@ -214,9 +226,9 @@ def analyze(
         },
         peaks={name: (float(peaks[i, 0]), float(peaks[i, 1])) for i, name in enumerate(PEAK_NAMES)},
         t_onset=float(onsets[0]) if onsets.size else float("nan"),
-        n_impacts=int(np.sum(kinds == 1)),
-        n_poundings=int(np.sum(kinds == 2)),
-        failure_mode=_FAILURES.get(failure, "none"),
+        n_impacts=int(np.sum(kinds == IMPACT)),
+        n_poundings=int(np.sum(kinds == POUNDING)),
+        failure_mode=_FAILURE_MODES[failure - ABUTMENT_FAILURE] if failure >= 0 else "none",
         failure_time=float(status[0]) if failure >= 0 else float("nan"),
         dcr=float(demands[dcr_mode][0] / demands[dcr_mode][1]),
         dcr_mode=dcr_mode,

@@ -44,7 +44,7 @@ ONSET, IMPACT, POUNDING, REOPENING, REST, ABUTMENT_FAILURE, PIER1_OVERTURNING, P
 )
 EVENT_NAMES = (
     "onset", "impact", "pounding", "reopening", "rest",
-    "abutment_failure", "pier1_overturning", "pier2_overturning",
+    "abutment_failure", "overturning_pier1", "overturning_pier2",
 )  # fmt: skip
 """Event kinds, by code."""
 
