@@ -268,8 +268,7 @@ def correct_baseline(acceleration: np.ndarray, time_step: float, shape: np.ndarr
     shape
         envelope at the samples [-].
     """
-    ramp = np.linspace(0.0, 1.0, acceleration.size)
-    basis = np.stack([shape, shape * ramp])
+    basis = _baseline_values(shape)
     matrix = np.stack([_compute_final_motion(row, time_step) for row in basis], axis=1)
     coefficients = np.linalg.solve(matrix, _compute_final_motion(acceleration, time_step))
     return acceleration - coefficients @ basis
@@ -520,9 +519,15 @@ def _compute_correction(problem: _Problem, acceleration, crests, delay, weight) 
 
 
 def _build_baseline_basis(shape: np.ndarray) -> _Patterns:
-    """The two functions of `correct_baseline`, I(t) and I(t)·t/t_end, as full-length patterns."""
-    values = np.stack([shape, shape * np.linspace(0.0, 1.0, shape.size)])
-    return _Patterns(np.zeros(2, np.int64), np.full(2, shape.size, np.int64), values)
+    """The two functions of `correct_baseline` as full-length patterns."""
+    return _Patterns(
+        np.zeros(2, np.int64), np.full(2, shape.size, np.int64), _baseline_values(shape)
+    )
+
+
+def _baseline_values(shape: np.ndarray) -> np.ndarray:
+    """The baseline correction's functions I(t) and I(t)·t/t_end at the samples, shape (2, n)."""
+    return np.stack([shape, shape * np.linspace(0.0, 1.0, shape.size)])
 
 
 def _final_motion_weights(n: int, time_step: float) -> np.ndarray:

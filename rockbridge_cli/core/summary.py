@@ -16,6 +16,11 @@ SUMMARY_UNITS = {
 """Units of the numeric entries of `summarize` (its ``capacities`` are rotations [rad])."""
 
 
+def user_modes(mirrored: bool) -> tuple[float, float]:
+    """The core's modes behind the user's p and n (swapped when the tall pier is on the right)."""
+    return (-1.0, 1.0) if mirrored else (1.0, -1.0)
+
+
 def summarize(model: Model, mirrored: bool = False) -> dict[str, object]:
     """Derived constants, onset, restitution and failure capacities of a bridge.
 
@@ -37,7 +42,7 @@ def summarize(model: Model, mirrored: bool = False) -> dict[str, object]:
     ``governing_failure``. Ratios that mean nothing for the model (q without abutments; h̄, b̄, L̄,
     γ for a single block) are None.
     """
-    modes = (-1.0, 1.0) if mirrored else (1.0, -1.0)  # the core's modes behind the user's p and n
+    modes = user_modes(mirrored)
     onset = [abs(impacts.onset_threshold(model, s)) for s in modes]
     caps = impacts.capacities(model)
     governing = impacts.governing_failure(model, caps)

@@ -23,6 +23,7 @@ from matplotlib.figure import Figure
 from ..config.bridge import BridgeConfig, load_bridge
 from ..core import impacts
 from ..core.geometry import Model, pier_inertia, pier_mass, ratios
+from ..core.summary import user_modes
 from ..errors import InputError
 from .common import check_format, panel_label, save, style
 
@@ -40,7 +41,7 @@ def with_short_pier(model: Model, h_bar: float) -> Model:
 
 def directions(config: BridgeConfig) -> tuple[float, float]:
     """The core's modes behind the user's p and n (swapped when the tall pier is on the right)."""
-    return (-1.0, 1.0) if config.mirrored else (1.0, -1.0)
+    return user_modes(config.mirrored)
 
 
 def h_bar_range(model: Model, h_max: float | None = None) -> np.ndarray:
