@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import json
 import math
+import platform
 import re
 import time
 from dataclasses import dataclass, field
@@ -23,6 +24,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import scipy
 
 from . import __version__
 from .config.records import RecordSetConfig
@@ -746,6 +748,12 @@ def _build_manifest(config, config_name, target, summaries, compliance) -> dict[
     return {
         "format": "rockbridge-record-set 1",
         "generator": f"rockbridge {__version__}",
+        # The last printed digit of the samples depends on these (FFT and linear algebra).
+        "environment": {
+            "python": platform.python_version(),
+            "numpy": np.__version__,
+            "scipy": scipy.__version__,
+        },
         "config_name": config_name,
         "config": config.model_dump(mode="json"),
         "target": {

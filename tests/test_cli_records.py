@@ -2,12 +2,18 @@
 
 from __future__ import annotations
 
+import json
+import platform
+import shutil
 from pathlib import Path
 
+import numpy as np
 import pytest
+import scipy
 from click.testing import CliRunner
 
 from rockbridge_cli.cli import main
+from rockbridge_cli.records import MANIFEST
 
 ROOT = Path(__file__).parents[1]
 PAPER = ROOT / "configs" / "records" / "ec8-type1-C-ag0.6g.yaml"
@@ -40,16 +46,101 @@ def assert_user_error(result, *words):
         assert word in result.output
 
 
+SAMPLE_TOLERANCE = 1e-9
+"""Regenerated samples may differ from the bundled ones by this fraction of the PGA: the files
+print 10 significant digits, and numpy/scipy releases move the last one (1.5e-10 of the PGA
+between numpy 1.26/scipy 1.11 and numpy 2.4/scipy 1.17). A real change of the generator moves
+samples by orders of magnitude more."""
+
+
+def record_set_differences(made: Path, expected: Path) -> list[str]:
+    """How a generated record set differs from an expected one, beyond library round-off.
+
+    Record files: the same header lines, the same times, accelerations within
+    ``SAMPLE_TOLERANCE`` of the PGA. Manifest: the same keys, texts, integers and verdicts;
+    floats within 1e-8 relative (they are printed to 10 digits) or 1e-9 absolute (the final
+    velocities and displacements are round-off, ~1e-16 m/s and ~1e-14 m). The manifest's
+    ``environment`` (library versions) may differ.
+    """
+    names = sorted(path.name for path in expected.iterdir())
+    if sorted(path.name for path in made.iterdir()) != names:
+        return [f"files: {sorted(p.name for p in made.iterdir())} != {names}"]
+    found = []
+    for name in names:
+        if name == MANIFEST:
+            continue
+        lines = [(made / name).read_text().splitlines(), (expected / name).read_text().splitlines()]
+        headers = [[line for line in text if line.startswith("#")] for text in lines]
+        if headers[0] != headers[1]:
+            found.append(f"{name}: header {headers[0]} != {headers[1]}")
+        got, want = (np.loadtxt(text, ndmin=2) for text in lines)
+        if got.shape != want.shape or not np.array_equal(got[:, 0], want[:, 0]):
+            found.append(f"{name}: time column differs")
+            continue
+        error = np.max(np.abs(got[:, 1] - want[:, 1])) / np.max(np.abs(want[:, 1]))
+        if error > SAMPLE_TOLERANCE:
+            found.append(f"{name}: accelerations differ by {error:.2e} of the PGA")
+    manifests = [json.loads((folder / MANIFEST).read_text()) for folder in (made, expected)]
+    for manifest in manifests:
+        manifest.pop("environment", None)
+    found += _json_differences(MANIFEST, *manifests)
+    return found
+
+
+def _json_differences(where: str, got, want) -> list[str]:
+    if isinstance(want, dict) and isinstance(got, dict):
+        if got.keys() != want.keys():
+            return [f"{where}: keys {sorted(got)} != {sorted(want)}"]
+        return [d for key in want for d in _json_differences(f"{where}.{key}", got[key], want[key])]
+    if isinstance(want, list) and isinstance(got, list) and len(got) == len(want):
+        return [
+            d
+            for i, pair in enumerate(zip(got, want, strict=True))
+            for d in _json_differences(f"{where}[{i}]", *pair)
+        ]
+    if isinstance(want, float) and isinstance(got, float):
+        return (
+            [] if got == pytest.approx(want, rel=1e-8, abs=1e-9) else [f"{where}: {got} != {want}"]
+        )
+    return [] if type(got) is type(want) and got == want else [f"{where}: {got!r} != {want!r}"]
+
+
 @pytest.mark.slow
 def test_regenerating_the_paper_set_reproduces_the_bundled_files(tmp_path):
     result = run("generate-records", PAPER, "--out", tmp_path / "set")
     assert result.exit_code == 0, result.output
     assert "overall: compliant" in result.output
     assert "(4)b mean zero-period value" in result.output
-    bundled = sorted(path.name for path in BUNDLED.iterdir())
-    assert sorted(path.name for path in (tmp_path / "set").iterdir()) == bundled
-    for name in bundled:
-        assert (tmp_path / "set" / name).read_bytes() == (BUNDLED / name).read_bytes(), name
+    assert record_set_differences(tmp_path / "set", BUNDLED) == []
+    environment = json.loads((tmp_path / "set" / MANIFEST).read_text())["environment"]
+    assert environment == {
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "scipy": scipy.__version__,
+    }
+
+
+def test_the_regeneration_check_catches_a_real_change(tmp_path):
+    """A sample moved by 1e-8 of the PGA (10x the tolerance), a changed verdict, a changed count
+    of iterations: each is reported."""
+    copy = tmp_path / "copy"
+    shutil.copytree(BUNDLED, copy)
+    assert record_set_differences(copy, BUNDLED) == []
+    lines = (copy / "AR03.txt").read_text().splitlines()
+    index = next(i for i, line in enumerate(lines) if not line.startswith("#")) + 1000
+    time_text, value = lines[index].split()
+    pga = float(next(line for line in lines if line.startswith("# pga:")).split(":")[1])
+    lines[index] = f"{time_text} {float(value) + 1e-8 * pga:.9e}"
+    (copy / "AR03.txt").write_text("\n".join(lines) + "\n")
+    manifest = json.loads((copy / MANIFEST).read_text())
+    manifest["compliance"]["compliant"] = False
+    manifest["records"][4]["iterations"] += 1
+    (copy / MANIFEST).write_text(json.dumps(manifest))
+    found = record_set_differences(copy, BUNDLED)
+    assert len(found) == 3, found
+    assert found[0].startswith("AR03.txt: accelerations differ by 1.0")
+    assert "compliance.compliant" in found[1] + found[2]
+    assert "records[4].iterations" in found[1] + found[2]
 
 
 def test_default_folder_and_plot(tmp_path, monkeypatch):
