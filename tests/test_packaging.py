@@ -2,8 +2,17 @@
 
 from __future__ import annotations
 
+import json
+import os
 import re
+import subprocess
+import sys
 from pathlib import Path
+
+import pytest
+from packaging.requirements import Requirement
+from packaging.utils import canonicalize_name
+from packaging.version import Version
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -29,15 +38,50 @@ def test_ci_runs_the_readme_commands():
     assert "README.md" in script and "head -n 2" in script
 
 
-def test_dockerfile_installs_as_readme_says_and_runs_as_a_user():
+def dockerfile() -> list[tuple[str, str]]:
+    """The Dockerfile's instructions as (keyword, arguments), continuation lines joined."""
+    text = (REPO / "Dockerfile").read_text(encoding="utf-8").replace("\\\n", " ")
+    lines = [line.strip() for line in text.splitlines()]
+    return [tuple(line.split(None, 1)) for line in lines if line and not line.startswith("#")]
+
+
+def test_dockerfile_installs_from_the_lock_and_runs_as_a_user():
     docker = (REPO / "Dockerfile").read_text(encoding="utf-8")
-    install = readme_commands()[0]
-    command = re.search(r"^RUN (pip install \S+)$", docker, re.M)
-    assert command and command.group(1) in install
+    commands = [
+        " ".join(part.split())
+        for keyword, arguments in dockerfile()
+        if keyword == "RUN"
+        for part in arguments.split("&&")
+    ]
+    lock = commands.index("pip install --require-hashes -r requirements.lock")
+    package = commands.index("pip install --no-deps --no-build-isolation .")
+    warm = commands.index("python -m rockbridge_cli.core.warmup")
+    assert lock < package < warm
+    assert commands[warm + 1] == 'chmod -R a+rwX "$NUMBA_CACHE_DIR"'
     assert re.search(r"^FROM python:3\.\d+-slim$", docker, re.M)
     assert re.search(r"^USER (?!root)\w+$", docker, re.M)
     assert 'ENTRYPOINT ["rockbridge"]' in docker
     assert (REPO / ".dockerignore").is_file()
+
+
+def test_the_lock_pins_every_dependency_within_pyproject_and_with_hashes():
+    """requirements.lock (uv pip compile --generate-hashes) satisfies pyproject's ranges, so the
+    image runs what `pip install .` could install, and pins the build backend for
+    --no-build-isolation."""
+    tomllib = pytest.importorskip("tomllib")
+    project = tomllib.loads((REPO / "pyproject.toml").read_text(encoding="utf-8"))
+    wanted = project["project"]["dependencies"] + project["dependency-groups"]["build"]
+    text = (REPO / "requirements.lock").read_text(encoding="utf-8")
+    pins = dict(re.findall(r"^([A-Za-z0-9_.-]+)==(\S+) \\$", text, re.M))
+    pins = {canonicalize_name(name): Version(version) for name, version in pins.items()}
+    for line in wanted:
+        requirement = Requirement(line)
+        name = canonicalize_name(requirement.name)
+        assert name in pins, f"{name} is not in requirements.lock"
+        assert pins[name] in requirement.specifier, f"{name}=={pins[name]} outside {line!r}"
+    entries = re.split(r"\n(?=[A-Za-z])", text.split("\n", 2)[2].strip())
+    assert len(entries) == len(pins)
+    assert all("--hash=sha256:" in entry for entry in entries)
 
 
 def test_every_path_the_dockerfile_copies_exists():
@@ -45,3 +89,57 @@ def test_every_path_the_dockerfile_copies_exists():
     for line in re.findall(r"^COPY (.+) \S+$", docker, re.M):
         for source in line.split():
             assert (REPO / source).exists(), source
+
+
+RUN_WITH_A_WARM_CACHE = """
+import json, sys
+from click.testing import CliRunner
+from numba.core.registry import CPUDispatcher
+import rockbridge_cli.core
+from rockbridge_cli.cli import main
+
+study, output = sys.argv[1:]
+for preset in ("fast", "default", "reference", "paper"):
+    command = ["run", study, "--workers", "1", "--fidelity", preset, "--overwrite", "-o", output]
+    result = CliRunner().invoke(main, command)
+    assert result.exit_code == 0, result.output
+kernels = {
+    kernel
+    for name, module in sys.modules.items()
+    if name.startswith("rockbridge_cli.core.")
+    for kernel in vars(module).values()
+    if isinstance(kernel, CPUDispatcher)
+}
+print(json.dumps({
+    "kernels": len(kernels),
+    "hits": sum(sum(kernel.stats.cache_hits.values()) for kernel in kernels),
+    "misses": {k.py_func.__qualname__: len(k.stats.cache_misses) for k in kernels
+               if k.stats.cache_misses},
+}))
+"""
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(os.environ.get("NUMBA_DISABLE_JIT") == "1", reason="nothing is compiled")
+def test_a_run_after_the_image_s_warm_up_compiles_nothing(tmp_path):
+    """The Dockerfile's build step (`python -m rockbridge_cli.core.warmup` with the image's
+    NUMBA_CACHE_DIR) fills the cache a later process reads: `rockbridge run` at every preset
+    then loads every kernel from it and compiles none (numba's per-kernel cache statistics)."""
+    cache = dict(
+        arguments.split("=", 1)
+        for keyword, arguments in dockerfile()
+        if keyword == "ENV"
+        for arguments in arguments.split()
+        if "=" in arguments
+    )["NUMBA_CACHE_DIR"]
+    assert cache.startswith("/opt/rockbridge/")  # inside the image, beside the bundled files
+    environment = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
+    build = [sys.executable, "-m", "rockbridge_cli.core.warmup"]
+    subprocess.run(build, env=environment, check=True, timeout=600)
+    assert list((tmp_path / "cache").rglob("*.nbc")), "the warm-up wrote no compiled kernel"
+    study = str(REPO / "configs" / "studies" / "quick.yaml")
+    run = [sys.executable, "-c", RUN_WITH_A_WARM_CACHE, study, str(tmp_path / "quick.h5")]
+    found = subprocess.run(run, env=environment, check=True, timeout=600, capture_output=True)
+    stats = json.loads(found.stdout.decode().splitlines()[-1])
+    assert stats["misses"] == {}
+    assert stats["kernels"] > 5 and stats["hits"] > 0
