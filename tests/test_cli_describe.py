@@ -121,7 +121,10 @@ PUBLISHED = {
 def cli():
     from rockbridge_cli.cli import main
 
-    runner = CliRunner()
+    try:  # click < 8.2 mixes stderr into stdout unless told not to; 8.2 keeps them apart
+        runner = CliRunner(mix_stderr=False)
+    except TypeError:
+        runner = CliRunner()
 
     def run(*args):
         return runner.invoke(main, ["describe", *map(str, args)])
