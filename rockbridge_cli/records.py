@@ -678,7 +678,7 @@ def generate_record_set(
         records.append(Record(name, config.time_step, matched.acceleration, "generate-records"))
         matches.append(matched)
     check = np.geomspace(*config.band, config.check_periods)
-    summaries, compliance = _summarise(records, matches, check, target, config.envelope.stationary)
+    summaries, compliance = _summarise(records, matches, check, target, config)
     for index, record in enumerate(records):
         write_record(folder / f"{record.name}.txt", record, _record_header(config, target, index))
     manifest = _round_floats(_build_manifest(config, config_name, target, summaries, compliance))
@@ -693,8 +693,9 @@ def generate_record_set(
     )
 
 
-def _summarise(records, matches, check, target, stationary):
-    """Per-record statistics and the EN 1998-1 check, at the check periods."""
+def _summarise(records, matches, check, target, config):
+    """Per-record statistics, the EN 1998-1 check and the config's per-record tolerance, at the
+    check periods."""
     goal = target.evaluate(check)
     computed = np.array(
         [spectra.compute_psa(r.acceleration, r.time_step, check, target.damping) for r in records]
@@ -704,7 +705,8 @@ def _summarise(records, matches, check, target, stationary):
         goal,
         np.array([r.peak_acceleration for r in records]),
         target.surface_pga,
-        stationary,
+        config.envelope.stationary,
+        config.tolerance,
     )
     summaries = []
     for record, matched, low, high in zip(
@@ -795,6 +797,8 @@ def _build_manifest(config, config_name, target, summaries, compliance) -> dict[
             "zero_period_ok": compliance.zero_period_ok,
             "mean_ok": compliance.mean_ok,
             "stationary_ok": compliance.stationary_ok,
+            "tolerance": compliance.tolerance,
+            "records_ok": compliance.records_ok,
             "compliant": compliance.compliant,
         },
     }
@@ -858,6 +862,13 @@ def format_report(report: RecordSetReport) -> str:
         f"  (4)c mean >= 90% of target over {low:g}-{high:g} s (min {c.mean_min_ratio:.3f}) -> "
         f"{_verdict(c.mean_ok)}",
         f"  (3) stationary part {c.stationary_duration:g} s >= 10 s -> {_verdict(c.stationary_ok)}",
+        f"The config's tolerance: every record within {c.tolerance:.0%} of the target over "
+        f"{low:g}-{high:g} s -> {_verdict(c.records_ok)}",
+        *(
+            f"  {s.name} misses it by {miss:.3f} (min {s.min_ratio:.3f}, max {s.max_ratio:.3f})"
+            for s, miss in zip(report.records, c.record_misses, strict=True)
+            if miss
+        ),
         f"  overall: {'compliant' if c.compliant else 'NOT compliant'}",
         f"Wall time: {report.wall_time:.1f} s",
     ]

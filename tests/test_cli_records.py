@@ -159,6 +159,19 @@ def test_default_folder_and_plot(tmp_path, monkeypatch):
     assert "(4)a at least 3 records: 3 -> yes" in result.output
 
 
+def test_a_record_outside_the_tolerance_is_named_and_the_set_is_not_compliant(tmp_path):
+    """Two matching iterations cannot bring a record within 1 % of the target: the report names
+    each record that misses, by how much, and the verdict follows."""
+    (tmp_path / "tight.yaml").write_text(SMALL.replace("tolerance: 0.2", "tolerance: 0.01"))
+    result = run("generate-records", tmp_path / "tight.yaml", "--out", tmp_path / "set")
+    assert "every record within 1% of the target over 0.1-2 s -> NO" in result.output
+    assert "AR01 misses it by" in result.output
+    assert "overall: NOT compliant" in result.output
+    manifest = json.loads((tmp_path / "set" / MANIFEST).read_text())["compliance"]
+    assert manifest["tolerance"] == 0.01
+    assert manifest["records_ok"] is False and manifest["compliant"] is False
+
+
 @pytest.mark.parametrize(
     ("change", "words"),
     [

@@ -158,6 +158,20 @@ class TestCompliance:
         assert report.stationary_ok is False  # (3) 8 s < 10 s
         assert not report.compliant
 
+    def test_a_record_outside_the_stated_tolerance_makes_the_set_non_compliant(self):
+        # The passing suite's records span 0.90-1.10 of the target: inside ±11 %; at ±5 % the
+        # second misses by 0.05 below (0.90) and the third by 0.05 above (1.10).
+        spectra = np.array([[0.95, 2.1, 4.0], [1.05, 1.9, 3.6], [1.0, 2.0, 4.4]])
+        loose = ec8.check_compliance(spectra, self.target, np.full(3, 1.15), 1.15, 15.0, 0.11)
+        assert loose.records_ok and loose.compliant
+        assert loose.record_misses == pytest.approx((0.0, 0.0, 0.0), abs=1e-12)
+        tight = ec8.check_compliance(spectra, self.target, np.full(3, 1.15), 1.15, 15.0, 0.05)
+        assert tight.record_misses == pytest.approx((0.0, 0.05, 0.05))
+        assert tight.records_ok is False and not tight.compliant
+        assert tight.mean_ok  # EN 1998-1's own rules still hold: the tolerance alone fails it
+        unstated = ec8.check_compliance(spectra, self.target, np.full(3, 1.15), 1.15, 15.0)
+        assert unstated.records_ok is None and unstated.compliant
+
     def test_zero_period_allows_file_rounding(self):
         # PGAs scaled exactly to a_g·S then written with 10 digits may read back 1e-10 low
         spectra = np.array([self.target] * 3)

@@ -187,6 +187,9 @@ class ComplianceReport:
         duration of the stationary part of the records [s], or None when unknown.
     stationary_ok
         stationary part at least 10 s, §3.2.3.1.2(3); None when unknown.
+    tolerance
+        accepted deviation of each record's spectrum from the target over the band, a criterion
+        of the record set's config rather than of EN 1998-1 [-]; None when not stated.
     """
 
     count: int
@@ -201,15 +204,34 @@ class ComplianceReport:
     mean_ok: bool
     stationary_duration: float | None
     stationary_ok: bool | None
+    tolerance: float | None = None
+
+    @property
+    def record_misses(self) -> tuple[float, ...]:
+        """Per record, by how much its spectrum leaves the band 1 ± `tolerance` of the target
+        (0 inside it, or when no tolerance is stated) [-]."""
+        if self.tolerance is None:
+            return tuple(0.0 for _ in self.record_min_ratio)
+        return tuple(
+            max(0.0, 1.0 - self.tolerance - low, high - 1.0 - self.tolerance)
+            for low, high in zip(self.record_min_ratio, self.record_max_ratio, strict=True)
+        )
+
+    @property
+    def records_ok(self) -> bool | None:
+        """Every record within its `tolerance` of the target; None when no tolerance is stated."""
+        return None if self.tolerance is None else not any(self.record_misses)
 
     @property
     def compliant(self) -> bool:
-        """All the rules of §3.2.3.1.2(3)–(4) that could be checked hold."""
+        """All the rules of §3.2.3.1.2(3)–(4), and the per-record tolerance, that could be
+        checked hold."""
         return (
             self.count_ok
             and self.zero_period_ok
             and self.mean_ok
             and self.stationary_ok is not False
+            and self.records_ok is not False
         )
 
 
@@ -223,8 +245,10 @@ def check_compliance(
     peak_accelerations: np.ndarray,
     surface_pga: float,
     stationary_duration: float | None = None,
+    tolerance: float | None = None,
 ) -> ComplianceReport:
-    """Check a suite of records against EN 1998-1 §3.2.3.1.2(3) and (4)a–c.
+    """Check a suite of records against EN 1998-1 §3.2.3.1.2(3) and (4)a–c, and each record
+    against a stated tolerance.
 
     Parameters
     ----------
@@ -239,6 +263,8 @@ def check_compliance(
         a_g·S of the site [m/s²].
     stationary_duration
         duration of the records' stationary part, if known [s].
+    tolerance
+        accepted deviation of each record's spectrum from the target, if stated [-].
     """
     spectra = np.atleast_2d(np.asarray(spectra, dtype=float))
     target = np.asarray(target, dtype=float)
@@ -264,4 +290,5 @@ def check_compliance(
         mean_ok=bool(mean_ratio.min() >= 0.9),
         stationary_duration=stationary_duration,
         stationary_ok=None if stationary_duration is None else bool(stationary_duration >= 10.0),
+        tolerance=tolerance,
     )
