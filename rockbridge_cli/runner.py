@@ -9,7 +9,6 @@ assembles the same file an uninterrupted run would have written.
 
 from __future__ import annotations
 
-import os
 import signal
 import time
 from collections.abc import Callable, Iterator, Sequence
@@ -26,6 +25,7 @@ from . import results, storage
 from .config.study import Study
 from .core.analysis import analyze
 from .core.geometry import Model
+from .cpus import usable_cpus
 from .results import AnalysisResult
 from .storage import Journal, Pair
 
@@ -78,6 +78,7 @@ class RunReport:
     total : analyses in the study
     resumed : analyses already complete before this run (not recomputed)
     ran : analyses run now
+    workers : worker processes the run was allowed (fewer start when fewer analyses remain)
     wall_time_s : wall time of the whole run [s]
     solve_time_s : integration time summed over the analyses run now [s]
     peaks : the peak table of the results file (`results.read_peaks`)
@@ -87,6 +88,7 @@ class RunReport:
     total: int
     resumed: int
     ran: int
+    workers: int
     wall_time_s: float
     solve_time_s: float
     peaks: pd.DataFrame
@@ -106,8 +108,8 @@ def run_study(
     study
         The resolved study (`config.study.load_study`); its ``output`` is the results file.
     workers
-        Worker processes; default ``os.cpu_count()``. 1 runs in this process. The results do not
-        depend on it.
+        Worker processes; default: the CPUs this process may use (`cpus.usable_cpus`: its
+        affinity and cgroup quota). 1 runs in this process. The results do not depend on it.
     resume
         Skip the analyses already complete in the results file or its journal (those that could
         not run, status ``error``, are tried again). False recomputes everything.
@@ -126,6 +128,7 @@ def run_study(
         After the results file has been assembled from the analyses finished so far.
     """
     started = time.perf_counter()
+    workers = workers or usable_cpus()
     created = storage.timestamp()
     output = study.output
     journal = Journal(output)
@@ -164,6 +167,7 @@ def run_study(
         total=len(pairs),
         resumed=len(pairs) - len(pending),
         ran=done,
+        workers=workers,
         wall_time_s=time.perf_counter() - started,
         solve_time_s=float(solve_time),
         peaks=results.read_peaks(output),
@@ -191,7 +195,7 @@ def _tasks(study: Study, pending: Sequence[Pair]) -> list[Task | AnalysisResult]
 
 
 def _execute(
-    tasks: list[Task | AnalysisResult], workers: int | None, journal: Journal, config_hash: str
+    tasks: list[Task | AnalysisResult], workers: int, journal: Journal, config_hash: str
 ) -> Iterator[Finished]:
     """Run and journal the tasks, in this process or in a pool of worker processes; yield each
     as it finishes.
@@ -204,7 +208,7 @@ def _execute(
         return
     yield _run(tasks[0], journal, config_hash)
     rest = tasks[1:]
-    count = min(workers or os.cpu_count() or 1, len(rest))
+    count = min(workers, len(rest))
     if count <= 1:
         yield from (_run(task, journal, config_hash) for task in rest)
         return

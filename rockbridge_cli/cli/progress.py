@@ -16,17 +16,28 @@ class ProgressDisplay:
     On a terminal it redraws one line, ``[#####-----] 12/30  0:03 elapsed  0:05 left``; otherwise
     (a log, CI) it prints a line at every tenth of the run. Analyses that did not end ``ok`` are
     reported on a line of their own in both cases.
+
+    Parameters
+    ----------
+    heading
+        Printed once, before the first analysis is reported (nothing for a run that is refused).
+    terminal
+        Draw a bar; default: whether stderr is a terminal.
     """
 
     WIDTH = 30
 
-    def __init__(self, terminal: bool | None = None):
+    def __init__(self, heading: str = "", terminal: bool | None = None):
+        self.heading = heading
         self.terminal = sys.stderr.isatty() if terminal is None else terminal
         self.start = time.monotonic()
         self.shown = 0  # tenths of the run reported (plain lines)
         self.bar_open = False  # a bar drawn without its final newline (terminal)
 
     def __call__(self, item: Finished, done: int, total: int) -> None:
+        if self.heading:
+            click.echo(self.heading, err=True)
+            self.heading = ""
         if item.status != "ok":
             self._line(f"{item.bridge} × {item.record}: {item.status}: {item.message}")
         elapsed = time.monotonic() - self.start

@@ -28,7 +28,9 @@ _DISPLAY = (
     "--workers",
     type=click.IntRange(min=1),
     default=None,
-    help="Worker processes [default: the number of CPUs]. The results do not depend on it.",
+    help="Worker processes [default: the CPUs this process may use, after its affinity "
+    "(taskset, SLURM) and cgroup quota (docker --cpus, Kubernetes limits)]. The results do not "
+    "depend on it.",
 )
 @click.option(
     "--fidelity",
@@ -72,11 +74,16 @@ def run(
     stopped.
     """
     from ..config.study import load_study
+    from ..cpus import usable_cpus
     from ..runner import run_study
     from .progress import ProgressDisplay
 
     resolved = load_study(study, preset=fidelity, output=output)
-    display = ProgressDisplay()
+    if workers is None:
+        workers, why = usable_cpus(), "the CPUs this process may use; --workers to change"
+    else:
+        why = "--workers"
+    display = ProgressDisplay(heading=f"workers: {workers} ({why})")
     try:
         report = run_study(resolved, workers, resume, overwrite, progress=display)
     except KeyboardInterrupt:
@@ -98,7 +105,8 @@ def run(
         "failure of the bridge"
     )
     click.echo(
-        f"time: {report.wall_time_s:.2f} s wall, {report.solve_time_s:.2f} s solving "
+        f"time: {report.wall_time_s:.2f} s wall on {report.workers} worker(s), "
+        f"{report.solve_time_s:.2f} s solving "
         f"(summed over the {report.ran} analyses run now)"
     )
     click.echo("peaks, largest over the records:")
