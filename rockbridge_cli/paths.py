@@ -1,7 +1,9 @@
-"""Output paths: check that a file can be written before any work is done on it."""
+"""Output paths: check that a file can be written before any work is done on it, and replace a
+file atomically."""
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 from .errors import InputError
@@ -37,3 +39,19 @@ def writable(path: str | Path, folder: bool = False) -> Path:
         culprit = f" ({exc.filename})" if exc.filename else ""
         raise InputError(path, [("", f"cannot write here: {exc.strerror}{culprit}")]) from None
     return path
+
+
+def replace_atomically(temporary: Path, target: Path) -> None:
+    """Flush ``temporary`` to disk and rename it over ``target`` (atomic on POSIX and Windows)."""
+    descriptor = os.open(temporary, os.O_RDONLY)
+    try:
+        os.fsync(descriptor)
+    finally:
+        os.close(descriptor)
+    os.replace(temporary, target)
+    if hasattr(os, "O_DIRECTORY"):  # make the rename itself durable
+        folder = os.open(target.parent, os.O_RDONLY | os.O_DIRECTORY)
+        try:
+            os.fsync(folder)
+        finally:
+            os.close(folder)

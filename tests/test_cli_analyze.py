@@ -14,6 +14,7 @@ from rockbridge_cli.cli import main
 from rockbridge_cli.config.bridge import load_bridge
 from rockbridge_cli.core.analysis import analyze
 from rockbridge_cli.records import read_record
+from rockbridge_cli.results import read_events
 
 REPO = Path(__file__).resolve().parents[1]
 BRIDGE = REPO / "configs" / "bridges" / "studied-hbar1.25.yaml"
@@ -84,10 +85,9 @@ def test_rocking_restitution_from_the_config_is_used(tmp_path):
     bridge.write_text(BRIDGE.read_text() + "rocking_restitution: 0.9\n")
     out = tmp_path / "one.h5"
     assert invoke("analyze", bridge, RECORD, "-o", out).exit_code == 0
-    with h5py.File(out, "r") as file:
-        events = file["analyses/bridge/AR07/events"]
-        impact = events["kind"][()].astype(str) == "impact"
-        ratio = events["rate_after"][()][impact] / events["rate_before"][()][impact]
+    events = read_events(out, "bridge", "AR07")
+    impact = events["kind"] == "impact"
+    ratio = events["rate_after"][impact] / events["rate_before"][impact]
     assert impact.sum() > 5
     np.testing.assert_allclose(ratio, 0.9, rtol=1e-12)
     described = json.loads(invoke("describe", bridge, "--json").output)

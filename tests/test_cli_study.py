@@ -10,12 +10,12 @@ import pytest
 from click.testing import CliRunner
 from studies import REPO, STUDIED, write_study
 
-from rockbridge_cli import runner
 from rockbridge_cli.cli import main
 from rockbridge_cli.cli.progress import ProgressDisplay
 from rockbridge_cli.core.analysis import analyze
 from rockbridge_cli.results import read_peaks
-from rockbridge_cli.runner import Finished
+from rockbridge_cli.study import work
+from rockbridge_cli.study.work import Finished
 
 
 @pytest.fixture(autouse=True)
@@ -131,12 +131,12 @@ def test_ctrl_c_keeps_what_finished(tmp_path, monkeypatch):
             raise KeyboardInterrupt
         return analyze(*args, **kwargs)
 
-    monkeypatch.setattr(runner, "analyze", interrupted)
+    monkeypatch.setattr(work, "analyze", interrupted)
     result = invoke("run", write_study(tmp_path), "--workers", "1")
     assert result.exit_code == 130 and "Traceback" not in result.output
     assert "interrupted: the analyses finished so far are in results/study.h5" in result.output
     assert len(read_peaks(tmp_path / "results" / "study.h5")) == 2
-    monkeypatch.setattr(runner, "analyze", analyze)
+    monkeypatch.setattr(work, "analyze", analyze)
     resumed = invoke("run", tmp_path / "study.yaml", "--workers", "1")
     assert "(2 run now, 2 already done)" in resumed.output
 

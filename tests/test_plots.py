@@ -15,7 +15,7 @@ from rockbridge_cli.errors import InputError
 from rockbridge_cli.plots import parametric
 from rockbridge_cli.plots.history import plot_history
 from rockbridge_cli.plots.peaks import plot_peaks
-from rockbridge_cli.runner import run_study
+from rockbridge_cli.study.run import run_study
 
 MAGIC = {".png": b"\x89PNG", ".pdf": b"%PDF", ".svg": b"<?xml"}
 

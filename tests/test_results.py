@@ -12,7 +12,7 @@ from studies import RECORDS, STUDIED, burst, write_study
 
 from rockbridge_cli import __version__
 from rockbridge_cli.config.study import load_study
-from rockbridge_cli.core.analysis import HISTORY_UNITS, PEAK_UNITS
+from rockbridge_cli.core.quantities import HISTORY_UNITS, PEAK_UNITS
 from rockbridge_cli.errors import InputError
 from rockbridge_cli.results import (
     EVENT_COLUMNS,
@@ -24,7 +24,7 @@ from rockbridge_cli.results import (
     read_history,
     read_peaks,
 )
-from rockbridge_cli.runner import run_study
+from rockbridge_cli.study.run import run_study
 
 
 @pytest.fixture(scope="module")
@@ -74,25 +74,35 @@ def test_plain_h5py_reads_it(done):
         assert units["q"] == "m/N" and units["model_u_jo"] == "m" and units["ug_min_p"] == "m/s2"
         assert json.loads(bridge["config"])["piers"]["heights"] == [26.0, 13.0]
 
+        peaks = file["peaks"]
+        assert json.loads(peaks.attrs["columns"]) == list(PEAK_COLUMNS)
+        for name, unit in PEAK_UNITS.items():
+            assert peaks[f"{name}_max"].attrs["units"] == unit
+            assert peaks[f"{name}_time"].attrs["units"] == "s"
+        assert list(peaks["bridge"].asstr()[()]) == [b for b in STUDIED for _ in "12"]
+        assert list(peaks["record"].asstr()[()]) == ["R1", "R2", "R1", "R2"]
+        assert list(peaks["status"].asstr()[()]) == ["ok"] * 4
+
+        # /events: a CF contiguous ragged array counted by /peaks/n_events
+        counts = peaks["n_events"][()]
+        assert peaks["n_events"].attrs["sample_dimension"] == "events"
+        events = file["events"]
+        for name, (unit, _) in EVENT_COLUMNS.items():
+            assert events[name].attrs["units"] == unit and events[name].shape == (counts.sum(),)
+        kinds = events["kind"].asstr()[()]
+        starts = np.concatenate([[0], np.cumsum(counts)])
+        assert all(kinds[start] == "onset" for start in starts[:-1])  # each analysis rocks first
+        times = events["time"][()]
+        for start, stop in zip(starts[:-1], starts[1:], strict=True):  # in time within each
+            assert np.all(np.diff(times[start:stop]) >= 0)
+
         analysis = file["analyses/studied-hbar2.00/R2"]
-        assert analysis.attrs["status"] == "ok" and analysis.attrs["record"] == "R2"
-        assert json.loads(analysis.attrs["units"])["u_deck_max"] == "m"
         for name, unit in HISTORY_UNITS.items():
             dataset = analysis["histories"][name]
             assert dataset.attrs["units"] == unit and dataset.attrs["description"]
             assert dataset.compression == "gzip" and dataset.chunks is not None
         time = analysis["histories/time"][()]
         np.testing.assert_allclose(np.diff(time), study.knobs["output_step"])
-        for name, (unit, _) in EVENT_COLUMNS.items():
-            assert analysis["events"][name].attrs["units"] == unit
-        assert analysis["events/kind"].asstr()[0] == "onset"
-
-        peaks = file["peaks"]
-        assert json.loads(peaks.attrs["columns"]) == list(PEAK_COLUMNS)
-        for name, unit in PEAK_UNITS.items():
-            assert peaks[f"{name}_max"].attrs["units"] == unit
-            assert peaks[f"{name}_time"].attrs["units"] == "s"
-        assert [b.decode() for b in peaks["bridge"][()]] == [b for b in STUDIED for _ in "12"]
 
 
 def test_readers(done):
@@ -103,11 +113,12 @@ def test_readers(done):
     assert peaks["n_impacts"].dtype == "Int64"
     with h5py.File(path, "r") as file:
         node = file["analyses/studied-hbar1.00/R2"]
-        assert peaks.loc[1, "u_deck_max"] == node.attrs["u_deck_max"]
+        assert peaks.loc[1, "u_deck_max"] == file["peaks/u_deck_max"][1]
         history = read_history(path, "studied-hbar1.00", "R2")
         np.testing.assert_array_equal(history["theta1"], node["histories/theta1"][()])
         events = read_events(path, "studied-hbar1.00", "R2")
-        assert len(events) == node["events/time"].size
+        start, count = file["peaks/n_events"][0], file["peaks/n_events"][1]
+        np.testing.assert_array_equal(events["time"], file["events/time"][start : start + count])
     assert list(history.columns) == list(HISTORY_UNITS)
     assert history.index.name == "time" and history.attrs["units"]["u_deck"] == "m"
     assert events.attrs["units"]["rate_after"] == "rad/s"
@@ -156,6 +167,11 @@ def test_not_a_results_file(tmp_path):
         file.attrs.update({"format": FORMAT, "format_version": 99})
     with pytest.raises(InputError, match="newer rockbridge"):
         read_peaks(newer)
+    older = tmp_path / "older.h5"
+    with h5py.File(older, "w") as file:
+        file.attrs.update({"format": FORMAT, "format_version": 1})
+    with pytest.raises(InputError, match="older rockbridge .format 1.; run the study again"):
+        read_peaks(older)
 
 
 def test_truncated_file_is_an_input_error(done, tmp_path):

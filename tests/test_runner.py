@@ -13,13 +13,14 @@ import pandas as pd
 import pytest
 from studies import VOLATILE, contents, write_study
 
-from rockbridge_cli import results, runner
+from rockbridge_cli import results
 from rockbridge_cli.config.study import load_study
 from rockbridge_cli.core.analysis import analyze
 from rockbridge_cli.errors import InputError
 from rockbridge_cli.results import AnalysisResult, read_history, read_peaks
-from rockbridge_cli.runner import run_study
-from rockbridge_cli.storage import Journal
+from rockbridge_cli.study import work
+from rockbridge_cli.study.journal import Journal, journal_path
+from rockbridge_cli.study.run import run_study
 
 
 @pytest.fixture(autouse=True)
@@ -91,14 +92,14 @@ def test_a_failing_analysis_does_not_stop_the_others(tmp_path, monkeypatch):
             raise RuntimeError("boom")
         return analyze(model, acceleration, *args, **kwargs)
 
-    monkeypatch.setattr(runner, "analyze", flaky)
+    monkeypatch.setattr(work, "analyze", flaky)
     report = run_study(study, workers=1)
     peaks = report.peaks.set_index(["bridge", "record"])
     assert list(peaks["status"]) == ["ok", "error", "ok", "error"]
     assert list(peaks["message"]) == ["", "RuntimeError: boom", "", "RuntimeError: boom"]
     assert peaks["n_impacts"].isna().tolist() == [False, True, False, True]
     assert np.isnan(peaks.loc[("studied-hbar1.00", "R2"), "u_deck_max"])
-    monkeypatch.setattr(runner, "analyze", analyze)
+    monkeypatch.setattr(work, "analyze", analyze)
     again = Recorder()
     assert run_study(study, workers=1, progress=again).ran == 2  # only the failed ones
     assert again.pairs == [("studied-hbar1.00", "R2"), ("studied-hbar2.00", "R2")]
@@ -125,7 +126,7 @@ def test_interrupted_run_resumes(tmp_path, workers):
     assert set(first.pairs) <= saved
     if workers == 1:
         assert saved == set(PAIRS[:2])
-    assert not Journal(study.output).folder.exists()
+    assert not journal_path(study.output).exists()
     second = Recorder()
     report = run_study(study, workers=workers, progress=second)
     assert report.resumed == len(saved) and report.ran == 4 - len(saved)
@@ -135,9 +136,9 @@ def test_interrupted_run_resumes(tmp_path, workers):
 
 _KILLED_RUN = """
 import os, signal, sys
-from rockbridge_cli import results
 from rockbridge_cli.config.study import load_study
-from rockbridge_cli.runner import run_study
+from rockbridge_cli.study import run
+from rockbridge_cli.study.run import run_study
 
 def kill_after_two(item, done, total):
     if done == 2:
@@ -151,7 +152,7 @@ def kill_while_writing(file, *args):
 if sys.argv[2] == "analyses":
     run_study(load_study(sys.argv[1]), workers=1, progress=kill_after_two)
 else:
-    results.write_results = kill_while_writing
+    run.ResultsWriter = kill_while_writing
     run_study(load_study(sys.argv[1]), workers=1, resume=False)
 """
 
@@ -167,13 +168,15 @@ def test_sigkill_loses_only_what_was_in_flight(tmp_path):
     study, expected = _reference(tmp_path)
     _killed(study, "analyses")
     assert not study.output.exists()
-    journalled = Journal(study.output).entries(study.config_hash)
+    journal = Journal(study.output, study.config_hash)
+    journalled = journal.statuses()
+    journal.close()
     assert sorted(journalled) == PAIRS[:2]
     resumed = Recorder()
     report = run_study(study, workers=1, progress=resumed)
     assert resumed.pairs == PAIRS[2:] and report.resumed == 2
     assert contents(study.output) == expected
-    assert not Journal(study.output).folder.exists()
+    assert not journal_path(study.output).exists()
 
 
 def test_sigkill_while_writing_leaves_the_previous_file(tmp_path):
@@ -186,7 +189,7 @@ def test_sigkill_while_writing_leaves_the_previous_file(tmp_path):
     report = run_study(study, workers=1)  # the journal holds the four new analyses
     assert report.ran == 0 and report.resumed == 4
     assert contents(study.output) == expected
-    assert not list(tmp_path.glob(".out.h5.*")) and not Journal(study.output).folder.exists()
+    assert not list(tmp_path.glob(".out.h5.*")) and not journal_path(study.output).exists()
 
 
 def test_interrupted_recomputation_keeps_the_earlier_results(tmp_path):
@@ -226,8 +229,13 @@ def test_results_of_another_study_are_refused(tmp_path):
 
 def test_a_journal_of_another_study_is_refused(tmp_path):
     study = load_study(write_study(tmp_path))
-    Journal(study.output).write(AnalysisResult.failed("studied-hbar1.00", "R1", "x"), "another")
-    with pytest.raises(InputError, match="journal: holds analyses of a different study"):
+    study.output.parent.mkdir(parents=True)
+    journal = Journal(study.output, "another study's hash")
+    journal.add(
+        [(0, "studied-hbar1.00", "R1", "error", AnalysisResult.failed("b", "r", "x").pack())]
+    )
+    journal.close()
+    with pytest.raises(InputError, match="journal.db: holds analyses of a different study"):
         run_study(study, workers=1)
     assert run_study(study, workers=1, overwrite=True).ran == 4
 
@@ -245,7 +253,7 @@ def test_a_damaged_output_is_refused(tmp_path):
 def test_an_output_that_cannot_be_written_is_refused_before_any_work(tmp_path, monkeypatch):
     (tmp_path / "file").write_text("", encoding="utf-8")
     study = load_study(write_study(tmp_path), output=tmp_path / "file" / "out.h5")
-    monkeypatch.setattr(runner, "analyze", None)  # would fail if anything ran
+    monkeypatch.setattr(work, "analyze", None)  # would fail if anything ran
     with pytest.raises(InputError, match="cannot write here"):
         run_study(study, workers=1)
 

@@ -10,8 +10,8 @@ from studies import BRIDGES, REPO, STUDIED, write_records, write_study
 
 from rockbridge_cli.config.bridge import load_bridge
 from rockbridge_cli.config.study import Fidelity, load_study
-from rockbridge_cli.core.analysis import HISTORY_UNITS
 from rockbridge_cli.core.fidelity import knobs
+from rockbridge_cli.core.quantities import HISTORY_UNITS
 from rockbridge_cli.errors import InputError
 from rockbridge_cli.records import Record, write_record
 

@@ -55,7 +55,7 @@ def analyze(
         summary = response.summary()
     else:  # the same analysis, through the study runner, so that the file has run's layout
         from ..config.study import single_analysis
-        from ..runner import run_study
+        from ..study.run import run_study
 
         study = single_analysis(bridge, record, units, time_step, fidelity, output)
         report = run_study(study, workers=1, overwrite=overwrite)
@@ -70,7 +70,7 @@ def analyze(
 
 
 def _rows(bridge: str, record: str, s: dict) -> list[tuple[str, str]]:
-    from ..core.analysis import PEAK_UNITS
+    from ..core.quantities import PEAK_UNITS
 
     onset = s["t_onset"]
     failure = s["failure_mode"]

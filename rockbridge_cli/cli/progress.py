@@ -7,11 +7,11 @@ import time
 
 import click
 
-from ..runner import Finished
+from ..study.work import Finished
 
 
 class ProgressDisplay:
-    """A `runner.Progress` callback.
+    """A `study.run.Progress` callback; `assembling` is an `study.run.Assembly` callback.
 
     On a terminal it redraws one line, ``[#####-----] 12/30  0:03 elapsed  0:05 left``; otherwise
     (a log, CI) it prints a line at every tenth of the run. Analyses that did not end ``ok`` are
@@ -57,6 +57,17 @@ class ProgressDisplay:
                 f"about {left:.0f} s left",
                 err=True,
             )
+
+    def assembling(self, done: int, total: int) -> None:
+        """Report the writing of the results file: a bar on a terminal, its start and end
+        otherwise."""
+        if self.terminal:
+            self.bar_open = done < total
+            click.echo(f"\rwriting the results file: {done}/{total}", err=True,
+                       nl=not self.bar_open)  # fmt: skip
+        elif done in (1, total):
+            state = "done" if done == total else "started"
+            click.echo(f"writing the results file ({total} analyses): {state}", err=True)
 
     def close(self) -> None:
         """End a bar that an interruption left unfinished."""

@@ -21,6 +21,11 @@ _DISPLAY = (
 )
 """Peak columns shown in tables: column, header with the display unit, scale from SI."""
 
+EXIT_INTERRUPTED = 130
+"""Exit status after Ctrl-C (128 + SIGINT, the shell's convention)."""
+EXIT_TERMINATED = 143
+"""Exit status after SIGTERM (128 + SIGTERM)."""
+
 
 @main.command()
 @click.argument("study", type=click.Path(path_type=Path))
@@ -75,7 +80,7 @@ def run(
     """
     from ..config.study import load_study
     from ..cpus import usable_cpus
-    from ..runner import run_study
+    from ..study.run import Terminated, run_study
     from .progress import ProgressDisplay
 
     resolved = load_study(study, preset=fidelity, output=output)
@@ -85,24 +90,26 @@ def run(
         why = "--workers"
     display = ProgressDisplay(heading=f"workers: {workers} ({why})")
     try:
-        report = run_study(resolved, workers, resume, overwrite, progress=display)
-    except KeyboardInterrupt:
+        report = run_study(
+            resolved, workers, resume, overwrite, progress=display, assembly=display.assembling
+        )
+    except KeyboardInterrupt as exc:
         display.close()
+        stopped = "terminated (SIGTERM)" if isinstance(exc, Terminated) else "interrupted"
         click.echo(
-            f"interrupted: the analyses finished so far are in {resolved.output}; "
+            f"{stopped}: the analyses finished so far are in {resolved.output}; "
             "run the same command again to resume",
             err=True,
         )
-        ctx.exit(130)
+        ctx.exit(EXIT_TERMINATED if isinstance(exc, Terminated) else EXIT_INTERRUPTED)
     display.close()
-    table = report.peaks
-    counts = table["status"].value_counts()
+    counts = report.statuses
     click.echo(f"results: {report.output}")
     click.echo(
         f"analyses: {report.total} ({report.ran} run now, {report.resumed} already done): "
         f"{counts.get('ok', 0)} ok, {counts.get('solver_error', 0)} solver errors, "
-        f"{counts.get('error', 0)} could not run; {_failures(table['failure_mode'])} with a "
-        "failure of the bridge"
+        f"{counts.get('error', 0)} could not run; {report.failures} with a failure of the "
+        "bridge"
     )
     click.echo(
         f"time: {report.wall_time_s:.2f} s wall on {report.workers} worker(s), "
@@ -110,8 +117,8 @@ def run(
         f"(summed over the {report.ran} analyses run now)"
     )
     click.echo("peaks, largest over the records:")
-    click.echo(_bridge_table(table))
-    problems = len(table) - counts.get("ok", 0)
+    click.echo(_bridge_table(report.peaks))
+    problems = sum(counts.values()) - counts.get("ok", 0)
     if problems:
         click.echo(
             f"error: {problems} analyses did not end ok; their status and message are in the "

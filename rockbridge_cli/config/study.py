@@ -7,7 +7,7 @@ inside the study file are relative to the study file; the default output, ``resu
 is relative to the current folder, like a path given on the command line.
 
 A record that cannot be read does not stop the study: the `StudyRecord` carries the reason and
-the runner records it as the status of that record's analyses.
+the run records it as the status of that record's analyses.
 """
 
 from __future__ import annotations
@@ -32,8 +32,8 @@ from pydantic import (
     model_validator,
 )
 
-from ..core.analysis import HISTORY_UNITS
 from ..core.fidelity import PRESETS, knobs
+from ..core.quantities import HISTORY_UNITS
 from ..errors import InputError
 from ..records import Record, read_manifest, read_record
 from . import loading

@@ -12,25 +12,16 @@ from . import fidelity, impacts
 from ._jit import jit
 from .geometry import Model, kind, pounding_ratio
 from .kinematics import EXACT, displacements, simplified_fits
+from .quantities import PEAK_NAMES
 from .solver import (
     ABUTMENT_FAILURE,
     EVENT_NAMES,
     IMPACT,
     ONSET,
-    PEAK_NAMES,
     POUNDING,
     Laws,
     integrate,
 )
-
-HISTORY_UNITS = {
-    "theta1": "rad", "theta1_rate": "rad/s", "mode": "-", "theta2": "rad", "theta_deck": "rad",
-    "u_deck": "m", "v_deck": "m", "u_pier1": "m", "v_pier1": "m", "u_pier2": "m", "v_pier2": "m",
-}  # fmt: skip
-"""Every history a `Response` carries, with its unit. Pier 1 is the tall pier (paper's notation)."""
-
-PEAK_UNITS = {name: HISTORY_UNITS[name] for name in PEAK_NAMES}
-"""Peak quantities: maxima of the absolute values, except v_deck (largest uplift)."""
 
 
 @dataclass

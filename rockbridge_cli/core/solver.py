@@ -48,9 +48,6 @@ EVENT_NAMES = (
 )  # fmt: skip
 """Event kinds, by code."""
 
-PEAK_NAMES = ("u_deck", "v_deck", "theta_deck", "theta1", "theta2", "u_pier1", "u_pier2")
-"""Peak quantities tracked during the integration, by index (all absolute except v_deck)."""
-
 
 class Settings(NamedTuple):
     """Numerical knobs of one analysis (see `fidelity` for the named presets).

@@ -1,0 +1,14 @@
+"""The quantities an analysis reports, with their units: a vocabulary shared by the core, the
+configs and the results file, importable without the compiled core."""
+
+HISTORY_UNITS = {
+    "theta1": "rad", "theta1_rate": "rad/s", "mode": "-", "theta2": "rad", "theta_deck": "rad",
+    "u_deck": "m", "v_deck": "m", "u_pier1": "m", "v_pier1": "m", "u_pier2": "m", "v_pier2": "m",
+}  # fmt: skip
+"""Every history a `Response` carries, with its unit. Pier 1 is the tall pier (paper's notation)."""
+
+PEAK_NAMES = ("u_deck", "v_deck", "theta_deck", "theta1", "theta2", "u_pier1", "u_pier2")
+"""Peak quantities tracked during the integration, by index (all absolute except v_deck)."""
+
+PEAK_UNITS = {name: HISTORY_UNITS[name] for name in PEAK_NAMES}
+"""Peak quantities: maxima of the absolute values, except v_deck (largest uplift)."""

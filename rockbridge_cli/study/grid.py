@@ -1,0 +1,87 @@
+"""A study as its grid of cells: every analysis (bridge × record) in the order of the results,
+with what a worker needs to run it as plain data, sent to each worker once."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, NamedTuple
+
+import numpy as np
+
+from ..core.geometry import Model
+
+if TYPE_CHECKING:
+    from ..config.study import Study
+
+
+class BridgeCase(NamedTuple):
+    """A bridge as the core analyses it."""
+
+    id: str
+    model: Model
+    mirrored: bool
+    restitution: float | None
+
+
+class RecordCase(NamedTuple):
+    """A ground motion [m/s²] at ``time_step`` [s], or why it could not be read."""
+
+    id: str
+    acceleration: np.ndarray | None
+    time_step: float
+    error: str
+
+
+class Cell(NamedTuple):
+    """One analysis: its position in the results and the bridge and record it combines."""
+
+    index: int
+    bridge: int
+    record: int
+
+
+@dataclass(frozen=True)
+class Grid:
+    """Everything needed to run any cell of a study, and nothing else.
+
+    Attributes
+    ----------
+    bridges, records : the study's, in its order
+    preset, overrides : fidelity preset and the knobs the study changes
+    keep : names of the histories to store
+    config_hash : the study's hash (`Study.config_hash`)
+    """
+
+    bridges: tuple[BridgeCase, ...]
+    records: tuple[RecordCase, ...]
+    preset: str
+    overrides: dict[str, Any]
+    keep: tuple[str, ...]
+    config_hash: str
+
+    @classmethod
+    def of(cls, study: Study) -> Grid:
+        """The grid of a resolved study."""
+        bridges = tuple(
+            BridgeCase(b.id, b.config.to_model(), b.config.mirrored, b.config.rocking_restitution)
+            for b in study.bridges
+        )
+        records = tuple(
+            RecordCase(r.id, r.record.acceleration, r.record.time_step, "")
+            if r.record is not None
+            else RecordCase(r.id, None, float("nan"), r.error)
+            for r in study.records
+        )
+        return cls(
+            bridges, records, study.preset, study.overrides, study.histories, study.config_hash
+        )
+
+    @property
+    def cells(self) -> list[Cell]:
+        """Every analysis, bridge by bridge, record by record: the order of the results."""
+        count = len(self.records)
+        return [Cell(b * count + r, b, r) for b in range(len(self.bridges)) for r in range(count)]
+
+    def ids(self, cell: Cell) -> tuple[str, str]:
+        """(bridge id, record id) of a cell."""
+        return self.bridges[cell.bridge].id, self.records[cell.record].id

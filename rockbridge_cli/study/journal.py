@@ -1,0 +1,108 @@
+"""The journal: the analyses finished since the results file was last written, crash-safe.
+
+An SQLite database (Python's standard library) next to the results file,
+``<output>.journal.db``, in write-ahead-log mode. The parent process commits what the workers
+send back, a batch at a time; a committed transaction survives any death of the process, SIGKILL
+included (with ``synchronous=NORMAL`` only a power cut can undo the last ones, and it never
+leaves the database damaged). The journal is tied to one study by its config hash, so results of
+another study are never mixed in; it is removed once the results file holds its analyses.
+"""
+
+from __future__ import annotations
+
+import sqlite3
+from collections.abc import Iterable, Iterator
+from pathlib import Path
+
+from ..errors import InputError
+
+_SCHEMA = """
+CREATE TABLE IF NOT EXISTS study (config_hash TEXT NOT NULL);
+CREATE TABLE IF NOT EXISTS analyses (
+    cell INTEGER PRIMARY KEY,   -- position in the results (`grid.Cell.index`)
+    bridge TEXT NOT NULL,
+    record TEXT NOT NULL,
+    status TEXT NOT NULL,       -- ok, solver_error or error
+    packed BLOB NOT NULL        -- `results.packing.AnalysisResult.pack`
+);
+"""
+
+
+class Journal:
+    """The journal of a results file, opened for one study.
+
+    Parameters
+    ----------
+    output
+        The results file; the journal is ``<output>.journal.db`` next to it.
+    config_hash
+        The study's hash.
+
+    Raises
+    ------
+    InputError
+        The journal belongs to another study, or is not a journal.
+    """
+
+    def __init__(self, output: Path, config_hash: str):
+        self.path = journal_path(output)
+        hint = "rerun with --overwrite to discard it"
+        try:
+            self.connection = sqlite3.connect(self.path, isolation_level=None)
+            self.connection.execute("PRAGMA journal_mode=WAL")
+            self.connection.execute("PRAGMA synchronous=NORMAL")
+            self.connection.executescript(_SCHEMA)
+            stored = self.connection.execute("SELECT config_hash FROM study").fetchone()
+        except sqlite3.DatabaseError as exc:
+            raise InputError(self.path, [("", f"not a readable journal ({exc}); {hint}")]) from None
+        if stored is None:
+            self.connection.execute("INSERT INTO study VALUES (?)", (config_hash,))
+        elif stored[0] != config_hash:
+            self.connection.close()
+            reason = "holds analyses of a different study or different inputs (an interrupted run)"
+            raise InputError(self.path, [("", f"{reason}; {hint}")])
+
+    def add(self, rows: Iterable[tuple[int, str, str, str, bytes]]) -> None:
+        """Commit finished analyses: (cell, bridge, record, status, packed) each, in one
+        transaction (an analysis journalled again replaces the earlier entry)."""
+        with self.connection:
+            self.connection.execute("BEGIN")
+            self.connection.executemany(
+                "INSERT OR REPLACE INTO analyses VALUES (?, ?, ?, ?, ?)", rows
+            )
+
+    def statuses(self) -> dict[tuple[str, str], str]:
+        """The status of each journalled analysis, by (bridge, record)."""
+        rows = self.connection.execute("SELECT bridge, record, status FROM analyses")
+        return {(bridge, record): status for bridge, record, status in rows}
+
+    def packed(self) -> Iterator[tuple[int, str, str, bytes]]:
+        """The journalled analyses in the order of the results: (cell, bridge, record, packed)."""
+        yield from self.connection.execute(
+            "SELECT cell, bridge, record, packed FROM analyses ORDER BY cell"
+        )
+
+    def close(self) -> None:
+        """Close the database (what is committed stays)."""
+        self.connection.close()
+
+    def remove(self) -> None:
+        """Close and delete the journal."""
+        self.close()
+        _delete(self.path)
+
+
+def journal_path(output: Path) -> Path:
+    """Where the journal of a results file lives."""
+    return output.with_name(f"{output.name}.journal.db")
+
+
+def remove_journal(output: Path) -> None:
+    """Delete the journal of a results file."""
+    _delete(journal_path(output))
+
+
+def _delete(database: Path) -> None:
+    """Delete an SQLite database with its write-ahead log and shared-memory index."""
+    for path in (database, Path(f"{database}-wal"), Path(f"{database}-shm")):
+        path.unlink(missing_ok=True)

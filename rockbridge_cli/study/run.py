@@ -1,0 +1,316 @@
+"""Run a study: every cell an independent analysis, in parallel, journalled, resumable.
+
+The parent process journals what the workers send back (`journal.Journal`, SQLite) and, when
+the run ends — completed, interrupted by Ctrl-C or SIGTERM, or stopped by an exception — writes
+the results file in one streaming pass from the earlier results file and the journal, into a
+temporary file that is then renamed over the output. A run killed outright (SIGKILL) loses only
+the analyses in flight: the next run finds the journal and the earlier file, skips what they
+hold and writes the same file an uninterrupted run would have written. One run at a time may
+write an output (a lock), and the workers end with the parent however it ends.
+"""
+
+from __future__ import annotations
+
+import heapq
+import os
+import signal
+import threading
+import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from datetime import datetime, timezone
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import h5py
+import numpy as np
+
+from ..cpus import usable_cpus
+from ..errors import InputError
+from ..paths import replace_atomically, writable
+from ..results.packing import AnalysisResult, Packed
+from ..results.reading import open_results, peak_columns, stored_results, stored_statuses
+from ..results.writing import ResultsWriter
+from .executors import run_local
+from .grid import Grid
+from .journal import Journal, remove_journal
+from .work import Finished
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+    from ..config.study import Study
+
+Progress = Callable[[Finished, int, int], None]
+"""Called after each analysis is journalled with (what finished, analyses done, analyses to run)."""
+
+Assembly = Callable[[int, int], None]
+"""Called while the results file is written with (analyses written, analyses to write)."""
+
+
+class Terminated(KeyboardInterrupt):
+    """The run was asked to stop by SIGTERM (``docker stop``, Kubernetes, SLURM); handled like
+    Ctrl-C: the finished analyses are saved."""
+
+
+@dataclass(frozen=True)
+class RunReport:
+    """What `run_study` did.
+
+    Attributes
+    ----------
+    output : the results file
+    total : analyses in the study
+    resumed : analyses already complete before this run (not recomputed)
+    ran : analyses run now
+    workers : worker processes the run was allowed (fewer start when fewer analyses remain)
+    wall_time_s : wall time of the whole run [s]
+    solve_time_s : integration time summed over the analyses run now [s]
+    statuses : how many analyses of the file ended with each status
+    failures : how many analyses of the file ended with a failure of the bridge
+    """
+
+    output: Path
+    total: int
+    resumed: int
+    ran: int
+    workers: int
+    wall_time_s: float
+    solve_time_s: float
+    statuses: dict[str, int]
+    failures: int
+
+    @property
+    def peaks(self) -> pd.DataFrame:
+        """The peak table of the results file (`results.read_peaks`)."""
+        from ..results import read_peaks
+
+        return read_peaks(self.output)
+
+
+def run_study(
+    study: Study,
+    workers: int | None = None,
+    resume: bool = True,
+    overwrite: bool = False,
+    progress: Progress | None = None,
+    assembly: Assembly | None = None,
+) -> RunReport:
+    """Run every analysis of a study that is not complete yet and write the results file.
+
+    Parameters
+    ----------
+    study
+        The resolved study (`config.study.load_study`); its ``output`` is the results file.
+    workers
+        Worker processes; default: the CPUs this process may use (`cpus.usable_cpus`: its
+        affinity and cgroup quota). 1 runs in this process. The results do not depend on it.
+    resume
+        Skip the analyses already complete in the results file or its journal (those that could
+        not run, status ``error``, are tried again). False recomputes everything.
+    overwrite
+        Start afresh: delete the results file and its journal, whatever study they belong to or
+        if they cannot be read, and recompute everything. Without it, a results file or journal
+        of another study, or one that cannot be read, is refused and left untouched.
+    progress
+        Called after each analysis (`Progress`).
+    assembly
+        Called while the results file is written (`Assembly`).
+
+    Raises
+    ------
+    InputError
+        The output cannot be written, another run is writing it, or it holds results of another
+        study (without ``overwrite``).
+    KeyboardInterrupt
+        After the results file has been written from the analyses finished so far; `Terminated`
+        if SIGTERM stopped the run.
+    """
+    started = time.perf_counter()
+    workers = workers or usable_cpus()
+    created = _timestamp()
+    output = writable(study.output)
+    grid = Grid.of(study)
+    with _exclusive(output), _sigterm_interrupts():
+        for stale in output.parent.glob(f".{output.name}.*.tmp"):  # a killed run's
+            stale.unlink()
+        if overwrite:
+            remove_journal(output)
+            output.unlink(missing_ok=True)
+        earlier = _stored_in_output(output, grid.config_hash)
+        journal = Journal(output, grid.config_hash)
+        try:
+            if not resume:  # recompute everything; what is stored stays until it is replaced
+                journal.remove()
+                journal = Journal(output, grid.config_hash)
+            journalled = journal.statuses()
+            stored = earlier | journalled
+            cells = grid.cells
+            pending = [
+                cell for cell in cells
+                if not resume or stored.get(grid.ids(cell)) in (None, "error")
+            ]  # fmt: skip
+            solve_time, done = 0.0, 0
+            try:
+                for batch in run_local(grid, pending, workers):
+                    journal.add(
+                        (o.cell.index, *grid.ids(o.cell), o.finished.status, o.packed)
+                        for o in batch
+                    )
+                    for outcome in batch:
+                        solve_time += np.nan_to_num(outcome.finished.solve_time_s)
+                        done += 1
+                        if progress is not None:
+                            progress(outcome.finished, done, len(pending))
+            finally:
+                if done or journalled or not output.exists():
+                    _write(output, grid, study, journal, created, assembly)
+                journal.remove()
+        finally:
+            journal.close()
+    statuses, failures = _tally(output)
+    return RunReport(
+        output=output,
+        total=len(cells),
+        resumed=len(cells) - len(pending),
+        ran=done,
+        workers=workers,
+        wall_time_s=time.perf_counter() - started,
+        solve_time_s=float(solve_time),
+        statuses=statuses,
+        failures=failures,
+    )
+
+
+def _write(
+    output: Path, grid: Grid, study: Study, journal: Journal, created: str,
+    assembly: Assembly | None,
+) -> None:  # fmt: skip
+    """Write the results file from the journal and the earlier file, in the study's order, into
+    a temporary file renamed over the output at the end."""
+    temporary = output.with_name(f".{output.name}.{os.getpid()}.tmp")
+    total = len(grid.bridges) * len(grid.records)
+    try:
+        with h5py.File(temporary, "w") as file, _earlier_results(output, grid) as earlier:
+            writer = ResultsWriter(file, study, created)
+            for written, analysis in enumerate(_merged(journal, earlier), start=1):
+                writer.add(analysis)
+                if assembly is not None:
+                    assembly(written, total)
+            writer.close(_timestamp())
+        replace_atomically(temporary, output)
+    finally:
+        temporary.unlink(missing_ok=True)
+
+
+def _merged(
+    journal: Journal, earlier: Iterator[tuple[int, AnalysisResult]]
+) -> Iterator[Packed | AnalysisResult]:
+    """The journalled analyses and those of the earlier file, in the order of the results; the
+    journal's where both have one."""
+    journalled = ((cell, Packed.unpack(*rest)) for cell, *rest in journal.packed())
+    last = None
+    for cell, analysis in heapq.merge(journalled, earlier, key=lambda item: item[0]):
+        if cell != last:  # on a tie the journal's comes first: heapq.merge is stable
+            yield analysis
+        last = cell
+
+
+@contextmanager
+def _earlier_results(output: Path, grid: Grid) -> Iterator[Iterator[tuple[int, AnalysisResult]]]:
+    """The analyses of the earlier results file with their cells, in the order of the results,
+    read one at a time."""
+    if not output.exists():
+        yield iter(())
+        return
+    cells = {grid.ids(cell): cell.index for cell in grid.cells}
+    with open_results(output) as file:
+        yield ((cells[(r.bridge, r.record)], r) for r in stored_results(file))
+
+
+def _stored_in_output(output: Path, config_hash: str) -> dict[tuple[str, str], str]:
+    """The status of each analysis an earlier results file of the same study holds.
+
+    Raises
+    ------
+    InputError
+        The file cannot be read or belongs to another study.
+    """
+    if not output.exists():
+        return {}
+    hint = "rerun with --overwrite to replace it, or choose another output"
+    try:
+        with open_results(output) as file:
+            same = file.attrs.get("config_hash") == config_hash
+            stored = stored_statuses(file) if same else {}
+    except InputError as exc:  # unreadable or not a results file
+        raise InputError(output, [("", f"{exc.problems[0][1]}; {hint}")]) from None
+    if not same:
+        reason = f"holds results of a different study or different inputs; {hint}"
+        raise InputError(output, [("", reason)])
+    return stored
+
+
+def _tally(output: Path) -> tuple[dict[str, int], int]:
+    """How many analyses of a results file ended with each status, and with a failure."""
+    with open_results(output) as file:
+        columns = peak_columns(file)
+    names, counts = np.unique(columns["status"], return_counts=True)
+    failures = int(np.isin(columns["failure_mode"], ("", "none"), invert=True).sum())
+    return dict(zip(names.tolist(), counts.tolist(), strict=True)), failures
+
+
+@contextmanager
+def _exclusive(output: Path) -> Iterator[None]:
+    """Hold the output's lock for the run: a second run on the same output is refused.
+
+    The lock is an advisory ``flock`` on ``.<output>.lock`` beside it; the operating system
+    releases it when the process ends, however it ends, so a killed run never blocks the next.
+    (Where ``fcntl`` does not exist, Windows, runs are not locked.)
+    """
+    try:
+        import fcntl
+    except ImportError:
+        yield
+        return
+    path = output.with_name(f".{output.name}.lock")
+    descriptor = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+    try:
+        try:
+            fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            holder = os.pread(descriptor, 32, 0).decode(errors="replace").strip() or "?"
+            reason = (f"another rockbridge run (process {holder}) is writing this file; wait "
+                      "for it to end, or choose another output")  # fmt: skip
+            raise InputError(output, [("", reason)]) from None
+        os.ftruncate(descriptor, 0)
+        os.pwrite(descriptor, str(os.getpid()).encode(), 0)
+        try:
+            yield
+        finally:
+            path.unlink(missing_ok=True)
+    finally:
+        os.close(descriptor)
+
+
+@contextmanager
+def _sigterm_interrupts() -> Iterator[None]:
+    """Turn SIGTERM into `Terminated` while the run lasts (in the main thread only)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def stop(signum, frame):
+        raise Terminated
+
+    previous = signal.signal(signal.SIGTERM, stop)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def _timestamp() -> str:
+    """The current time in UTC, ISO 8601 to the second."""
+    return datetime.now(timezone.utc).isoformat(timespec="seconds")
