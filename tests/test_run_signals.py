@@ -1,0 +1,136 @@
+"""What batch schedulers do to a run: SIGTERM (``docker stop``, Kubernetes, SLURM) is handled like
+Ctrl-C, the workers die with the parent however it dies, and a second run on the same output is
+refused while the first is writing it.
+
+Each scenario runs ``rockbridge run`` in a child process whose analyses are slowed down (each
+analysis first appends its process id to a file, then sleeps), so that the test can act while
+analyses are in flight.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from studies import contents, write_study
+
+from rockbridge_cli.config.study import load_study
+from rockbridge_cli.errors import InputError
+from rockbridge_cli.results import read_peaks
+from rockbridge_cli.study.run import run_study
+
+pytestmark = pytest.mark.skipif(os.name != "posix", reason="POSIX signals")
+
+SLOW_RUN = """
+import os, sys, time
+from rockbridge_cli.cli import main
+from rockbridge_cli.study import work
+
+started = sys.argv[1]
+analyze = work.analyze
+
+def slow(*args, **kwargs):
+    with open(started, "a") as file:
+        file.write(f"{os.getpid()}\\n")
+    time.sleep(0.5)
+    return analyze(*args, **kwargs)
+
+work.analyze = slow
+main(sys.argv[2:], prog_name="rockbridge")
+"""
+
+
+def start_run(tmp_path: Path, study: Path, workers: int) -> tuple[subprocess.Popen, Path]:
+    """``rockbridge run`` in a child process, slowed down; returns it and its file of pids.
+
+    Its output goes to files, not pipes: a worker that outlived it would hold a pipe open."""
+    started = tmp_path / "started.txt"
+    command = [sys.executable, "-c", SLOW_RUN, str(started), "run", str(study), "--workers",
+               str(workers)]  # fmt: skip
+    with open(tmp_path / "stdout.txt", "w") as out, open(tmp_path / "stderr.txt", "w") as err:
+        child = subprocess.Popen(command, cwd=tmp_path, stdout=out, stderr=err)
+    return child, started
+
+
+def wait_for(condition, timeout: float = 60.0) -> None:
+    deadline = time.monotonic() + timeout
+    while not condition():
+        assert time.monotonic() < deadline, "timed out"
+        time.sleep(0.05)
+
+
+def pids(started: Path) -> set[int]:
+    return {int(line) for line in started.read_text().split()} if started.exists() else set()
+
+
+def alive(pid: int) -> bool:
+    """Whether a process exists and is not a zombie waiting to be reaped."""
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except FileNotFoundError:
+        return False
+    except OSError:  # no /proc: ask the kernel
+        try:
+            os.kill(pid, 0)
+        except ProcessLookupError:
+            return False
+        return True
+    return state != "Z"
+
+
+@pytest.fixture
+def study(tmp_path):
+    """The four-analysis test study, with the results of an uninterrupted run for comparison."""
+    path = write_study(tmp_path, extra=f"output: {{path: {tmp_path / 'out.h5'}}}\n")
+    reference = load_study(path)
+    run_study(reference, workers=1)
+    expected = contents(reference.output)
+    reference.output.unlink()
+    return path, expected
+
+
+def test_sigterm_saves_the_finished_analyses_and_the_next_run_resumes(tmp_path, study):
+    path, expected = study
+    child, started = start_run(tmp_path, path, workers=1)
+    wait_for(lambda: len(started.read_text().split()) >= 2 if started.exists() else False)
+    # the first analysis is done, the second runs
+    child.send_signal(signal.SIGTERM)
+    child.wait(timeout=120)
+    err = (tmp_path / "stderr.txt").read_text()
+    assert child.returncode == 143, err
+    assert "terminated (SIGTERM)" in err and "run the same command again to resume" in err
+    assert "Traceback" not in err
+    saved = read_peaks(tmp_path / "out.h5")  # a readable file with what finished
+    assert 1 <= len(saved) < 4
+    report = run_study(load_study(path), workers=1)
+    assert report.resumed == len(saved) and report.ran == 4 - len(saved)
+    assert contents(tmp_path / "out.h5") == expected
+
+
+@pytest.mark.parametrize("how", [signal.SIGKILL, signal.SIGTERM])
+def test_the_workers_end_with_the_run(tmp_path, study, how):
+    path, _ = study
+    child, started = start_run(tmp_path, path, workers=2)
+    wait_for(lambda: len(pids(started) - {child.pid}) >= 1)  # a worker is analysing
+    workers = pids(started) - {child.pid}
+    child.send_signal(how)
+    child.wait(timeout=120)
+    wait_for(lambda: not any(alive(pid) for pid in workers), timeout=10)
+
+
+def test_a_second_run_on_the_same_output_is_refused(tmp_path, study):
+    path, _ = study
+    child, started = start_run(tmp_path, path, workers=1)
+    try:
+        wait_for(lambda: len(pids(started)) >= 1)
+        with pytest.raises(InputError, match=rf"another rockbridge run \(process {child.pid}\)"):
+            run_study(load_study(path), workers=1)
+    finally:
+        child.kill()
+        child.wait()
+    assert run_study(load_study(path), workers=1).total == 4  # the lock died with the run
