@@ -12,6 +12,9 @@ the run records it as the status of that record's analyses.
 
 from __future__ import annotations
 
+import collections
+import dataclasses
+import functools
 import hashlib
 import json
 import re
@@ -426,19 +429,22 @@ def _resolve_records(records: Records, base: Path) -> list[StudyRecord]:
     else:
         assert records.files is not None
         files = [(f.id or f.path.stem, f.path, f.units, f.time_step) for f in records.files]
-    return [_read(name, source, base, units, step) for name, source, units, step in files]
+    read = functools.cache(_read)  # a file listed several times is read once
+    return [
+        dataclasses.replace(read(base / source, units, step), id=name, source=source.as_posix())
+        for name, source, units, step in files
+    ]
 
 
-def _read(
-    name: str, source: Path, base: Path, units: str | None, time_step: float | None
-) -> StudyRecord:
+def _read(path: Path, units: str | None, time_step: float | None) -> StudyRecord:
+    """A record file as a `StudyRecord` (its id and source are set by the caller)."""
     try:
-        record = read_record(base / source, units=units, time_step=time_step)
+        record = read_record(path, units=units, time_step=time_step)
     except InputError as exc:
-        return StudyRecord(name, source.as_posix(), None, str(exc), _file_digest(base / source))
+        return StudyRecord("", "", None, str(exc), _file_digest(path))
     digest = hashlib.sha256(np.float64(record.time_step).tobytes())
     digest.update(record.acceleration.tobytes())
-    return StudyRecord(name, source.as_posix(), record, "", digest.hexdigest())
+    return StudyRecord("", "", record, "", digest.hexdigest())
 
 
 def _file_digest(path: Path) -> str:
@@ -455,5 +461,5 @@ def _check_ids(field: str, ids: list[str]) -> list[tuple[str, str]]:
         for index, i in enumerate(ids)
         if not re.match(ID_PATTERN, i)
     ]
-    twice = sorted({i for i in ids if ids.count(i) > 1})
+    twice = sorted(i for i, count in collections.Counter(ids).items() if count > 1)
     return problems + [(field, f"id {i!r} is used twice: ids must be unique") for i in twice]

@@ -16,6 +16,10 @@ from pathlib import Path
 
 from ..errors import InputError
 
+_CHECKPOINT_PAGES = 16384
+"""Pages (4 KiB) the write-ahead log may hold before SQLite copies it into the database, the
+only step that waits for the disk (fsync): every 64 MiB instead of SQLite's default 4 MiB."""
+
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS study (config_hash TEXT NOT NULL);
 CREATE TABLE IF NOT EXISTS analyses (
@@ -51,6 +55,7 @@ class Journal:
             self.connection = sqlite3.connect(self.path, isolation_level=None)
             self.connection.execute("PRAGMA journal_mode=WAL")
             self.connection.execute("PRAGMA synchronous=NORMAL")
+            self.connection.execute(f"PRAGMA wal_autocheckpoint={_CHECKPOINT_PAGES}")
             self.connection.executescript(_SCHEMA)
             stored = self.connection.execute("SELECT config_hash FROM study").fetchone()
         except sqlite3.DatabaseError as exc:

@@ -1,0 +1,120 @@
+"""Throughput of the study layer: what a study of N analyses costs end to end, and where.
+
+Each row is one fresh process that loads a study of the paper's three bridges × N/3 record
+entries (the ten bundled records, each listed several times under its own id) and runs it with
+`run_study` into a new results file. It prints, per analysis:
+
+- ``e2e``: wall time from the start of the study's loading to the closed results file;
+- ``solve``: integration time (`Response.solve_time_s`) summed over the analyses;
+- ``over``: e2e × workers − solve, the cost beyond the solve, per analysis;
+- ``parent``, ``worker``: CPU time of the parent process and of the workers (the parent runs
+  the first analysis itself, to compile the kernels once); their ratio is the ceiling on any
+  number of cores: with N cores at most ``worker/parent`` of them stay busy;
+- peak resident memory of the parent and of the largest worker.
+
+The kernels are compiled (or loaded from numba's cache) before the rows are timed.
+
+    python benchmarks/bench_study.py [--sizes 30 300 3000 10000] [--workers 1 2]
+                                     [--fidelity default] [--histories none all]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+BRIDGES = [REPO / "configs" / "bridges" / f"studied-hbar{h}.yaml" for h in ("1.00", "1.25", "2.00")]
+RECORDS = sorted((REPO / "records" / "ec8-type1-C-ag0.6g").glob("AR*.txt"))
+
+ROW = """
+import json, resource, sys, time
+started = time.perf_counter()
+from rockbridge_cli.config.study import load_study
+from rockbridge_cli.study.run import run_study
+
+def cpu(who):
+    usage = resource.getrusage(who)
+    return usage.ru_utime + usage.ru_stime
+
+study = load_study(sys.argv[1])
+loaded = time.perf_counter()
+before = cpu(resource.RUSAGE_SELF)
+report = run_study(study, workers=int(sys.argv[2]))
+print(json.dumps({
+    "n": report.total, "load": loaded - started, "e2e": time.perf_counter() - started,
+    "solve": report.solve_time_s, "parent": cpu(resource.RUSAGE_SELF) - before,
+    "worker": cpu(resource.RUSAGE_CHILDREN),
+    "rss_parent": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+    "rss_worker": resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024,
+    "size": report.output.stat().st_size / 2**20,
+}))
+"""
+
+
+def write_study(folder: Path, analyses: int, histories: str, fidelity: str) -> Path:
+    """A study of the three studied bridges × ``analyses / 3`` record entries."""
+    entries = max(1, analyses // len(BRIDGES))
+    lines = ["bridges:"] + [f"  - {path}" for path in BRIDGES] + ["records:", "  files:"]
+    lines += [
+        f"    - {{path: {RECORDS[i % len(RECORDS)]}, id: R{i:05d}}}" for i in range(entries)
+    ]
+    lines += [f"fidelity: {fidelity}", f"output: {{path: {folder / 'out.h5'}, histories: "
+              f"{histories}}}"]  # fmt: skip
+    path = folder / f"study-{analyses}-{histories}.yaml"
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path
+
+
+def measure(analyses: int, histories: str, workers: int, fidelity: str) -> dict:
+    with tempfile.TemporaryDirectory() as folder:
+        study = write_study(Path(folder), analyses, histories, fidelity)
+        done = subprocess.run(
+            [sys.executable, "-c", ROW, str(study), str(workers)],
+            capture_output=True, text=True, check=True,
+        )  # fmt: skip
+    return json.loads(done.stdout)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--sizes", type=int, nargs="+", default=[30, 300, 3000, 10000])
+    parser.add_argument("--workers", type=int, nargs="+", default=[1, 2])
+    parser.add_argument("--histories", nargs="+", default=["none", "all"])
+    parser.add_argument("--fidelity", default="default")
+    options = parser.parse_args()
+
+    measure(3, "none", 1, options.fidelity)  # compile the kernels into numba's cache
+    print(f"machine: {platform.machine()}, {os.cpu_count()} CPUs, Python "
+          f"{platform.python_version()}; fidelity {options.fidelity}; histories at 0.01 s")  # fmt: skip
+    print(
+        f"{'N':>6} {'hist':>4} {'wrk':>3} | {'e2e':>7} {'solve':>7} {'over':>7} "
+        f"{'parent':>7} {'worker':>7} {'ceiling':>7} | {'load':>6} {'total':>7} | "
+        f"{'RSS par':>7} {'RSS wrk':>7} {'file':>7}"
+    )
+    print(f"{'':>6} {'':>4} {'':>3} | {'ms/analysis':^39} {'':>7} | {'s':^14} | {'MiB':^23}")
+    for analyses in options.sizes:
+        for histories in options.histories:
+            for workers in options.workers:
+                row = measure(analyses, histories, workers, options.fidelity)
+                n = row["n"]
+                ms = {key: 1e3 * row[key] / n for key in ("e2e", "solve", "parent", "worker")}
+                over = ms["e2e"] * workers - ms["solve"]
+                ceiling = (row["worker"] / row["parent"]) if workers > 1 else float("nan")
+                print(
+                    f"{n:>6} {histories:>4} {workers:>3} | {ms['e2e']:7.3f} {ms['solve']:7.3f} "
+                    f"{over:7.3f} {ms['parent']:7.3f} {ms['worker']:7.3f} {ceiling:7.1f} | "
+                    f"{row['load']:6.2f} {row['e2e']:7.2f} | {row['rss_parent']:7.0f} "
+                    f"{row['rss_worker']:7.0f} {row['size']:7.1f}",
+                    flush=True,
+                )
+
+
+if __name__ == "__main__":
+    main()
