@@ -7,7 +7,6 @@ from pathlib import Path
 
 import click
 
-from ..config.bridge import load_bridge
 from ..core.fidelity import PRESETS
 from . import main
 from .output import echo_json, echo_table
@@ -42,6 +41,7 @@ def analyze(
     overwrite: bool,
 ) -> None:
     """Analyse BRIDGE (a YAML file) under the ground motion in RECORD."""
+    from ..config.bridge import load_bridge  # pydantic: loaded on use
     from ..core.analysis import analyze as run_analysis  # the compiled core: loaded on use
     from ..records import read_record
 

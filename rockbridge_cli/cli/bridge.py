@@ -7,7 +7,6 @@ from pathlib import Path
 
 import click
 
-from ..config.bridge import load_bridge
 from . import main
 from .output import echo_json, echo_table
 
@@ -17,6 +16,7 @@ from .output import echo_json, echo_table
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object with SI values.")
 def describe(bridge: Path, as_json: bool) -> None:
     """Print the model used and the quantities a designer checks first for BRIDGE (a YAML file)."""
+    from ..config.bridge import load_bridge  # pydantic: loaded on use
     from ..core.summary import summarize  # the compiled core: loaded on use
 
     config = load_bridge(bridge)
