@@ -62,9 +62,7 @@ def write_study(folder: Path, analyses: int, histories: str, fidelity: str) -> P
     """A study of the three studied bridges × ``analyses / 3`` record entries."""
     entries = max(1, analyses // len(BRIDGES))
     lines = ["bridges:"] + [f"  - {path}" for path in BRIDGES] + ["records:", "  files:"]
-    lines += [
-        f"    - {{path: {RECORDS[i % len(RECORDS)]}, id: R{i:05d}}}" for i in range(entries)
-    ]
+    lines += [f"    - {{path: {RECORDS[i % len(RECORDS)]}, id: R{i:05d}}}" for i in range(entries)]
     lines += [f"fidelity: {fidelity}", f"output: {{path: {folder / 'out.h5'}, histories: "
               f"{histories}}}"]  # fmt: skip
     path = folder / f"study-{analyses}-{histories}.yaml"
@@ -91,8 +89,8 @@ def main() -> None:
     options = parser.parse_args()
 
     measure(3, "none", 1, options.fidelity)  # compile the kernels into numba's cache
-    print(f"machine: {platform.machine()}, {os.cpu_count()} CPUs, Python "
-          f"{platform.python_version()}; fidelity {options.fidelity}; histories at 0.01 s")  # fmt: skip
+    machine = f"{platform.machine()}, {os.cpu_count()} CPUs, Python {platform.python_version()}"
+    print(f"machine: {machine}; fidelity {options.fidelity}; histories at 0.01 s")
     print(
         f"{'N':>6} {'hist':>4} {'wrk':>3} | {'e2e':>7} {'solve':>7} {'over':>7} "
         f"{'parent':>7} {'worker':>7} {'ceiling':>7} | {'load':>6} {'total':>7} | "

@@ -70,7 +70,11 @@ def test_the_lock_pins_every_dependency_within_pyproject_and_with_hashes():
     --no-build-isolation."""
     tomllib = pytest.importorskip("tomllib")
     project = tomllib.loads((REPO / "pyproject.toml").read_text(encoding="utf-8"))
-    wanted = project["project"]["dependencies"] + project["dependency-groups"]["build"]
+    wanted = (
+        project["project"]["dependencies"]
+        + project["project"]["optional-dependencies"]["dask"]
+        + project["dependency-groups"]["build"]
+    )
     text = (REPO / "requirements.lock").read_text(encoding="utf-8")
     pins = dict(re.findall(r"^([A-Za-z0-9_.-]+)==(\S+) \\$", text, re.M))
     pins = {canonicalize_name(name): Version(version) for name, version in pins.items()}

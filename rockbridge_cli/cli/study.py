@@ -3,6 +3,7 @@ restitution|spans``."""
 
 from __future__ import annotations
 
+import dataclasses
 import sys
 from pathlib import Path
 
@@ -63,6 +64,29 @@ EXIT_TERMINATED = 143
     default=True,
     help="Recompute the analyses already in the results file.",
 )
+@click.option(
+    "--shard",
+    default=None,
+    metavar="K/N|auto",
+    help="Run only shard K of N (K from 1) of the study's analyses, into its own file "
+    "[default output: <output stem>.part-K-of-N.h5], for 'rockbridge merge'. 'auto' takes K (and "
+    "N where the scheduler sets it) from a Kubernetes Indexed Job, AWS Batch array job or SLURM "
+    "job array.",
+)
+@click.option(
+    "--shard-count",
+    type=click.IntRange(min=1),
+    default=None,
+    help="N for --shard auto where the scheduler does not set it (Kubernetes, AWS Batch); alone, "
+    "implies --shard auto.",
+)
+@click.option(
+    "--scheduler",
+    default=None,
+    metavar="ADDRESS",
+    help="Run the analyses on a Dask distributed cluster (tcp://host:8786) instead of local "
+    'worker processes; needs pip install "rockbridge[dask]".',
+)
 @click.pass_context
 def run(
     ctx: click.Context,
@@ -72,6 +96,9 @@ def run(
     output: Path | None,
     overwrite: bool,
     resume: bool,
+    shard: str | None,
+    shard_count: int | None,
+    scheduler: str | None,
 ) -> None:
     """Run every bridge × record analysis of STUDY (a YAML file) into one HDF5 results file.
 
@@ -81,18 +108,30 @@ def run(
     from ..config.study import load_study
     from ..cpus import usable_cpus
     from ..study.run import Terminated, run_study
+    from ..study.shards import shard_label
     from .progress import ProgressDisplay
 
+    part = _shard(shard, shard_count)
     resolved = load_study(study, preset=fidelity, output=output)
-    if workers is None:
-        workers, why = usable_cpus(), "the CPUs this process may use; --workers to change"
+    if part is not None and output is None:
+        stem = resolved.output.stem
+        name = f"{stem}.part-{part[0] + 1}-of-{part[1]}{resolved.output.suffix}"
+        resolved = dataclasses.replace(resolved, output=resolved.output.with_name(name))
+    if scheduler is not None:
+        heading = f"workers: the Dask cluster at {scheduler}"
+    elif workers is None:
+        workers = usable_cpus()
+        heading = f"workers: {workers} (the CPUs this process may use; --workers to change)"
     else:
-        why = "--workers"
-    display = ProgressDisplay(heading=f"workers: {workers} ({why})")
+        heading = f"workers: {workers} (--workers)"
+    if part is not None:
+        heading += f"; shard {shard_label(part)}"
+    display = ProgressDisplay(heading=heading)
     try:
         report = run_study(
-            resolved, workers, resume, overwrite, progress=display, assembly=display.assembling
-        )
+            resolved, workers, resume, overwrite, progress=display, assembly=display.assembling,
+            shard=part, scheduler=scheduler,
+        )  # fmt: skip
     except KeyboardInterrupt as exc:
         display.close()
         stopped = "terminated (SIGTERM)" if isinstance(exc, Terminated) else "interrupted"
@@ -164,6 +203,52 @@ def peaks(results: Path, csv_file: str | None, as_json: bool) -> None:
     table["dcr"] = frame["dcr"]
     table["status"] = frame["status"]
     click.echo(table.to_string(index=False, float_format="{:.4g}".format, na_rep="-"))
+
+
+def _shard(shard: str | None, count: int | None) -> tuple[int, int] | None:
+    """(index, count) of the shard to run, None for the whole study."""
+    from ..study.shards import parse_shard, shard_from_environment
+
+    if shard is None and count is None:
+        return None
+    if shard is None or shard == "auto":
+        return shard_from_environment(count)
+    if count is not None:
+        raise click.UsageError("--shard-count goes with --shard auto, not with --shard K/N")
+    try:
+        return parse_shard(shard)
+    except ValueError as exc:
+        raise click.BadParameter(str(exc), param_hint="--shard") from None
+
+
+@main.command()
+@click.argument("output", type=click.Path(dir_okay=False, path_type=Path))
+@click.argument("parts", nargs=-1, required=True, type=click.Path(path_type=Path))
+@click.option("--overwrite", is_flag=True, help="Replace OUTPUT if it exists.")
+@click.pass_context
+def merge(ctx: click.Context, output: Path, parts: tuple[Path, ...], overwrite: bool) -> None:
+    """Merge the results files of a study's shards (PARTS, from 'run --shard') into OUTPUT: the
+    file one run of the whole study would have written."""
+    from ..study.merge import merge_results
+
+    report = merge_results(output, list(parts), overwrite)
+    for flag in report.flags:
+        click.echo(f"warning: {flag}", err=True)
+    if report.duplicated:
+        click.echo(f"warning: {len(report.duplicated)} analyses are in more than one part "
+                   f"(the first part's kept): {_pairs(report.duplicated)}", err=True)  # fmt: skip
+    click.echo(f"merged: {report.output} ({report.merged} of {report.total} analyses, "
+               f"from {len(parts)} parts)")  # fmt: skip
+    if report.missing:
+        missing = f"{len(report.missing)} analyses are in no part: {_pairs(report.missing)}"
+        click.echo(f"error: {missing}; run their shards and merge again", err=True)
+        ctx.exit(1)
+
+
+def _pairs(pairs: list[tuple[str, str]], shown: int = 5) -> str:
+    """The first few bridge/record pairs, and how many more."""
+    text = ", ".join(f"{bridge}/{record}" for bridge, record in pairs[:shown])
+    return text + (f" and {len(pairs) - shown} more" if len(pairs) > shown else "")
 
 
 def _bridge_table(frame) -> str:

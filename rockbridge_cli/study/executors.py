@@ -1,14 +1,17 @@
-"""Where the cells run: in this process, or in a pool of worker processes on this machine.
+"""Where the cells run: in this process, in a pool of worker processes on this machine, or on
+a Dask distributed cluster.
 
 Workers receive the study's `Grid` once, when they start, and then batches of cells; they send
 back packed results (`work.Outcome`), so that what the parent does per analysis is small next to
 the analysis itself. The number of batches in flight is bounded, which keeps the parent's memory
-flat in the number of analyses.
+flat in the number of analyses. Every executor yields the same outcomes; only their order and
+grouping differ, and the journal and the results file put them back in the study's order.
 """
 
 from __future__ import annotations
 
 import ctypes
+import itertools
 import math
 import multiprocessing
 import os
@@ -17,6 +20,7 @@ import sys
 from collections.abc import Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 
+from ..errors import InputError
 from .grid import Cell, Grid
 from .work import Outcome, run_cells
 
@@ -38,6 +42,15 @@ _grid: Grid | None = None
 def batch_size(cells: int, workers: int) -> int:
     """Cells per batch for ``cells`` analyses on ``workers`` processes."""
     return max(1, min(MAX_BATCH, math.ceil(cells / (workers * BATCHES_PER_WORKER))))
+
+
+def execute(
+    grid: Grid, cells: Sequence[Cell], workers: int, scheduler: str | None = None
+) -> Iterator[list[Outcome]]:
+    """Run the cells on local workers (`run_local`) or on a Dask cluster (`run_dask`)."""
+    if scheduler is None:
+        return run_local(grid, cells, workers)
+    return run_dask(grid, cells, scheduler)
 
 
 def run_local(grid: Grid, cells: Sequence[Cell], workers: int) -> Iterator[list[Outcome]]:
@@ -99,3 +112,43 @@ def _start_worker(grid: Grid, parent: int) -> None:
 def _run_batch(cells: list[Cell]) -> list[Outcome]:
     assert _grid is not None, "a worker runs cells only after _start_worker"
     return run_cells(_grid, cells)
+
+
+def run_dask(grid: Grid, cells: Sequence[Cell], scheduler: str) -> Iterator[list[Outcome]]:
+    """Run the cells on a Dask distributed cluster and yield their outcomes, a batch at a time.
+
+    The grid is sent to every worker once (``scatter``); batches are submitted as earlier ones
+    come back, at most two per worker thread in flight. Dask runs a batch again elsewhere if its
+    worker dies, and a batch gives the same outcomes wherever it runs.
+
+    Raises
+    ------
+    InputError
+        The ``dask`` extra is not installed, or the scheduler cannot be reached.
+    """
+    try:
+        from distributed import Client, as_completed
+    except ImportError:
+        reason = 'needs Dask: pip install "rockbridge[dask]"'
+        raise InputError(scheduler, [("", reason)]) from None
+    if not cells:
+        return
+    try:
+        client = Client(scheduler, timeout="10s")
+    except (OSError, TimeoutError) as exc:
+        raise InputError(scheduler, [("", f"cannot reach the Dask scheduler ({exc})")]) from None
+    with client:
+        threads = max(sum(client.nthreads().values()), 1)
+        size = batch_size(len(cells), threads)
+        batches = (list(cells[start : start + size]) for start in range(0, len(cells), size))
+        shared = client.scatter(grid, broadcast=True)
+        running = as_completed()
+        try:
+            for batch in itertools.islice(batches, 2 * threads):
+                running.add(client.submit(run_cells, shared, batch, pure=False))
+            for future in running:
+                yield future.result()
+                for batch in itertools.islice(batches, 1):
+                    running.add(client.submit(run_cells, shared, batch, pure=False))
+        finally:  # interrupted: nothing more is needed from the cluster
+            client.cancel(list(running.futures))

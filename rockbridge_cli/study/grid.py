@@ -1,8 +1,10 @@
 """A study as its grid of cells: every analysis (bridge × record) in the order of the results,
-with what a worker needs to run it as plain data, sent to each worker once."""
+with what a worker needs to run it as plain data, sent to each worker once; and the split of the
+cells into the shards of an array job."""
 
 from __future__ import annotations
 
+import heapq
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, NamedTuple
 
@@ -85,3 +87,33 @@ class Grid:
     def ids(self, cell: Cell) -> tuple[str, str]:
         """(bridge id, record id) of a cell."""
         return self.bridges[cell.bridge].id, self.records[cell.record].id
+
+    def cost(self, cell: Cell) -> int:
+        """The expected cost of a cell: the samples of its record (an analysis steps through
+        each), and 0 for a record that could not be read."""
+        record = self.records[cell.record]
+        return 0 if record.acceleration is None else record.acceleration.size
+
+    def shard(self, index: int, count: int) -> list[Cell]:
+        """The cells of shard ``index`` of ``count`` (0-based), in the order of the results.
+
+        The split depends on the grid alone, so every task of an array job computes the same one
+        without talking to the others: the cells, costliest first (ties in the order of the
+        results), each go to the shard with the least cost so far (ties to the lowest index);
+        shards then differ in cost by at most one cell's.
+
+        Raises
+        ------
+        ValueError
+            ``index`` is not in 0 … count − 1.
+        """
+        if not 0 <= index < count:
+            raise ValueError(f"shard {index} of {count}: the index must be 0 … {count - 1}")
+        loads = [(0, shard) for shard in range(count)]
+        mine = []
+        for cell in sorted(self.cells, key=lambda c: (-self.cost(c), c.index)):
+            load, shard = heapq.heappop(loads)
+            if shard == index:
+                mine.append(cell)
+            heapq.heappush(loads, (load + self.cost(cell), shard))
+        return sorted(mine)

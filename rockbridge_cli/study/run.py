@@ -30,11 +30,18 @@ from ..cpus import usable_cpus
 from ..errors import InputError
 from ..paths import replace_atomically, writable
 from ..results.packing import AnalysisResult, Packed
-from ..results.reading import open_results, peak_columns, stored_results, stored_statuses
-from ..results.writing import ResultsWriter
-from .executors import run_local
-from .grid import Grid
+from ..results.reading import (
+    open_results,
+    peak_columns,
+    stored_results,
+    stored_shard_of,
+    stored_statuses,
+)
+from ..results.writing import ResultsWriter, describe_study
+from .executors import execute
+from .grid import Cell, Grid
 from .journal import Journal, remove_journal
+from .shards import shard_label
 from .work import Finished
 
 if TYPE_CHECKING:
@@ -96,6 +103,8 @@ def run_study(
     overwrite: bool = False,
     progress: Progress | None = None,
     assembly: Assembly | None = None,
+    shard: tuple[int, int] | None = None,
+    scheduler: str | None = None,
 ) -> RunReport:
     """Run every analysis of a study that is not complete yet and write the results file.
 
@@ -117,6 +126,12 @@ def run_study(
         Called after each analysis (`Progress`).
     assembly
         Called while the results file is written (`Assembly`).
+    shard
+        (index, count), 0-based: run only that shard of the study (`grid.Grid.shard`) into an
+        output of its own, to be merged with the others (`merge.merge_results`).
+    scheduler
+        Address of a Dask distributed scheduler (``tcp://host:8786``) to run the analyses on,
+        instead of local worker processes; ``workers`` is then ignored.
 
     Raises
     ------
@@ -132,28 +147,29 @@ def run_study(
     created = _timestamp()
     output = writable(study.output)
     grid = Grid.of(study)
+    cells = grid.cells if shard is None else grid.shard(*shard)
+    scope = grid.config_hash if shard is None else f"{grid.config_hash} shard {shard[0]}/{shard[1]}"
     with _exclusive(output), _sigterm_interrupts():
         for stale in output.parent.glob(f".{output.name}.*.tmp"):  # a killed run's
             stale.unlink()
         if overwrite:
             remove_journal(output)
             output.unlink(missing_ok=True)
-        earlier = _stored_in_output(output, grid.config_hash)
-        journal = Journal(output, grid.config_hash)
+        earlier = _stored_in_output(output, grid.config_hash, shard)
+        journal = Journal(output, scope)
         try:
             if not resume:  # recompute everything; what is stored stays until it is replaced
                 journal.remove()
-                journal = Journal(output, grid.config_hash)
+                journal = Journal(output, scope)
             journalled = journal.statuses()
             stored = earlier | journalled
-            cells = grid.cells
             pending = [
                 cell for cell in cells
                 if not resume or stored.get(grid.ids(cell)) in (None, "error")
             ]  # fmt: skip
             solve_time, done = 0.0, 0
             try:
-                for batch in run_local(grid, pending, workers):
+                for batch in execute(grid, pending, workers, scheduler):
                     journal.add(
                         (o.cell.index, *grid.ids(o.cell), o.finished.status, o.packed)
                         for o in batch
@@ -165,7 +181,7 @@ def run_study(
                             progress(outcome.finished, done, len(pending))
             finally:
                 if done or journalled or not output.exists():
-                    _write(output, grid, study, journal, created, assembly)
+                    _write(output, study, grid, cells, shard, journal, created, assembly)
                 journal.remove()
         finally:
             journal.close()
@@ -184,20 +200,20 @@ def run_study(
 
 
 def _write(
-    output: Path, grid: Grid, study: Study, journal: Journal, created: str,
-    assembly: Assembly | None,
+    output: Path, study: Study, grid: Grid, cells: list[Cell], shard: tuple[int, int] | None,
+    journal: Journal, created: str, assembly: Assembly | None,
 ) -> None:  # fmt: skip
     """Write the results file from the journal and the earlier file, in the study's order, into
     a temporary file renamed over the output at the end."""
     temporary = output.with_name(f".{output.name}.{os.getpid()}.tmp")
-    total = len(grid.bridges) * len(grid.records)
     try:
         with h5py.File(temporary, "w") as file, _earlier_results(output, grid) as earlier:
-            writer = ResultsWriter(file, study, created)
+            describe_study(file, study, created, shard)
+            writer = ResultsWriter(file, len(cells))
             for written, analysis in enumerate(_merged(journal, earlier), start=1):
                 writer.add(analysis)
                 if assembly is not None:
-                    assembly(written, total)
+                    assembly(written, len(cells))
             writer.close(_timestamp())
         replace_atomically(temporary, output)
     finally:
@@ -229,13 +245,15 @@ def _earlier_results(output: Path, grid: Grid) -> Iterator[Iterator[tuple[int, A
         yield ((cells[(r.bridge, r.record)], r) for r in stored_results(file))
 
 
-def _stored_in_output(output: Path, config_hash: str) -> dict[tuple[str, str], str]:
-    """The status of each analysis an earlier results file of the same study holds.
+def _stored_in_output(
+    output: Path, config_hash: str, shard: tuple[int, int] | None
+) -> dict[tuple[str, str], str]:
+    """The status of each analysis an earlier results file of the same study (and shard) holds.
 
     Raises
     ------
     InputError
-        The file cannot be read or belongs to another study.
+        The file cannot be read, belongs to another study, or holds another shard.
     """
     if not output.exists():
         return {}
@@ -243,12 +261,16 @@ def _stored_in_output(output: Path, config_hash: str) -> dict[tuple[str, str], s
     try:
         with open_results(output) as file:
             same = file.attrs.get("config_hash") == config_hash
-            stored = stored_statuses(file) if same else {}
+            stored_shard = stored_shard_of(file)
+            stored = stored_statuses(file) if same and stored_shard == shard else {}
     except InputError as exc:  # unreadable or not a results file
         raise InputError(output, [("", f"{exc.problems[0][1]}; {hint}")]) from None
     if not same:
         reason = f"holds results of a different study or different inputs; {hint}"
         raise InputError(output, [("", reason)])
+    if stored_shard != shard:
+        which = "the whole study" if stored_shard is None else f"shard {shard_label(stored_shard)}"
+        raise InputError(output, [("", f"holds {which}; {hint}")])
     return stored
 
 

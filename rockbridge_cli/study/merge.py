@@ -1,0 +1,158 @@
+"""Merge the results files of a study's shards into the file one run would have written.
+
+The parts must come from the same study (config hash) and the same rockbridge (version and
+format): anything else is refused. Parts made with other numpy/scipy/Python versions are merged
+but flagged, since their last digits may differ from a single run's. The merged file describes
+the study as its parts do, lists their provenance (``merged_from``), and holds every analysis
+once, in the study's order; missing analyses are reported and leave the file incomplete.
+"""
+
+from __future__ import annotations
+
+import heapq
+import json
+import os
+import platform
+from collections.abc import Iterator
+from contextlib import ExitStack
+from dataclasses import dataclass
+from pathlib import Path
+
+import h5py
+
+from ..errors import InputError
+from ..paths import replace_atomically, writable
+from ..results.packing import AnalysisResult
+from ..results.reading import open_results, stored_results, stored_statuses
+from ..results.writing import ResultsWriter, copy_description
+
+PROVENANCE = (
+    "host", "created", "finished", "shard_index", "shard_count", "rockbridge_version",
+    "python_version", "numpy_version", "scipy_version", "h5py_version", "hdf5_version",
+)  # fmt: skip
+"""Root attributes of a part recorded in the merged file's ``merged_from``."""
+
+MUST_AGREE = ("config_hash", "format_version", "rockbridge_version")
+"""Root attributes on which all parts must agree."""
+
+SHOULD_AGREE = ("python_version", "numpy_version", "scipy_version")
+"""Root attributes on which parts should agree (a difference is flagged)."""
+
+
+@dataclass(frozen=True)
+class MergeReport:
+    """What `merge_results` did.
+
+    Attributes
+    ----------
+    output : the merged file
+    total : analyses of the study
+    merged : analyses in the merged file
+    missing : (bridge, record) of the analyses no part holds
+    duplicated : (bridge, record) of the analyses more than one part holds (the first part's kept)
+    flags : differences between the parts that may change last digits
+    """
+
+    output: Path
+    total: int
+    merged: int
+    missing: list[tuple[str, str]]
+    duplicated: list[tuple[str, str]]
+    flags: list[str]
+
+
+def merge_results(output: Path, parts: list[Path], overwrite: bool = False) -> MergeReport:
+    """Write ``output`` from the results files of a study's shards.
+
+    Raises
+    ------
+    InputError
+        No parts, a part that is not a results file, parts of different studies or rockbridge
+        versions, an output that is one of the parts, or an existing output without
+        ``overwrite``.
+    """
+    if not parts:
+        raise InputError("merge", [("", "give the results files to merge")])
+    output = Path(output)
+    if any(output.resolve() == Path(part).resolve() for part in parts):
+        raise InputError(output, [("", "is one of the parts: choose another output")])
+    if output.exists() and not overwrite:
+        raise InputError(output, [("", "exists; rerun with --overwrite to replace it")])
+    writable(output)
+    temporary = output.with_name(f".{output.name}.{os.getpid()}.tmp")
+    try:
+        with ExitStack() as stack:
+            files = [stack.enter_context(open_results(part)) for part in parts]
+            flags = _check(parts, files)
+            order = _study_order(files[0])
+            holders: dict[tuple[str, str], int] = {}
+            duplicated = []
+            for number, file in enumerate(files):
+                for pair in stored_statuses(file):
+                    if pair in holders:
+                        duplicated.append(pair)
+                    else:
+                        holders[pair] = number
+            missing = [pair for pair in order if pair not in holders]
+            file = stack.enter_context(h5py.File(temporary, "w"))
+            copy_description(file, files[0], skip=(*PROVENANCE[:5], "complete", "n_complete"))
+            file.attrs.update(
+                host=platform.node(),
+                created=min(str(part.attrs["created"]) for part in files),
+                merged_from=json.dumps(
+                    [{"file": str(path), **{k: _plain(f.attrs.get(k)) for k in PROVENANCE}}
+                     for path, f in zip(parts, files, strict=True)], indent=1),
+            )  # fmt: skip
+            writer = ResultsWriter(file, len(order))
+            for result in _in_order(files, holders, order):
+                writer.add(result)
+            writer.close(max(str(part.attrs["finished"]) for part in files))
+        replace_atomically(temporary, output)
+    finally:
+        temporary.unlink(missing_ok=True)
+    return MergeReport(output, len(order), len(holders), missing, duplicated, flags)
+
+
+def _check(parts: list[Path], files: list[h5py.File]) -> list[str]:
+    """Refuse parts that disagree on what must agree; flag what should."""
+    first = files[0].attrs
+    for path, file in zip(parts[1:], files[1:], strict=True):
+        for name in MUST_AGREE:
+            if file.attrs.get(name) != first.get(name):
+                reason = (f"{name} differs from {parts[0]}'s ({file.attrs.get(name)} ≠ "
+                          f"{first.get(name)}): parts must come from the same study and the same "
+                          "rockbridge")  # fmt: skip
+                raise InputError(path, [("", reason)])
+    flags = []
+    for name in SHOULD_AGREE:
+        values = sorted({str(file.attrs.get(name)) for file in files})
+        if len(values) > 1:
+            flags.append(f"{name} differs between the parts ({', '.join(values)}): their last "
+                         "digits may differ from a single run's")  # fmt: skip
+    return flags
+
+
+def _study_order(file: h5py.File) -> list[tuple[str, str]]:
+    """(bridge, record) of every analysis of the study, in the order of the results."""
+    config = json.loads(file.attrs["config"])
+    return [(b["id"], r["id"]) for b in config["bridges"] for r in config["records"]]
+
+
+def _in_order(
+    files: list[h5py.File], holders: dict[tuple[str, str], int], order: list[tuple[str, str]]
+) -> Iterator[AnalysisResult]:
+    """The analyses of the parts, each from its first holder, in the study's order."""
+    position = {pair: index for index, pair in enumerate(order)}
+
+    def held(number: int) -> Iterator[tuple[int, AnalysisResult]]:
+        for result in stored_results(files[number]):
+            if holders[(result.bridge, result.record)] == number:
+                yield position[(result.bridge, result.record)], result
+
+    streams = [held(number) for number in range(len(files))]
+    for _, result in heapq.merge(*streams, key=lambda item: item[0]):
+        yield result
+
+
+def _plain(value: object) -> object:
+    return value.item() if hasattr(value, "item") else value
