@@ -145,7 +145,7 @@ def kill_after_two(item, done, total):
         os.kill(os.getpid(), signal.SIGKILL)
 
 def kill_while_writing(file, *args):
-    file.create_group("records")
+    file.create_group("half-written")
     file.flush()
     os.kill(os.getpid(), signal.SIGKILL)
 
