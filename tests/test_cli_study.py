@@ -156,6 +156,30 @@ def test_progress_display(capsys, terminal):
         assert len(err.splitlines()) == 11 and "30/30 analyses (100%)" in err
 
 
+@pytest.mark.parametrize("terminal", [True, False])
+def test_progress_stays_short_for_a_big_study(capsys, terminal):
+    """10 000 analyses, 500 of them failing: the heading once, ten failures by name, then one
+    line for the rest; plain output one line per tenth; the results file's writing reported."""
+    display = ProgressDisplay(heading="workers: 2 (--workers)", terminal=terminal)
+    for done in range(1, 10_001):
+        status = "solver_error" if done % 20 == 0 else "ok"
+        display(
+            Finished("b", f"R{done}", status, "x" if status != "ok" else "", 0.001), done, 10_000
+        )
+    for written in range(1, 10_001):
+        display.assembling(written, 10_000)
+    display.close()
+    lines = capsys.readouterr().err.replace("\r", "\n").splitlines()
+    assert lines[0] == "workers: 2 (--workers)"
+    assert sum(": solver_error: x" in line for line in lines) == 10
+    assert sum("more analyses did not end ok" in line for line in lines) == 1
+    assert "writing the results file" in lines[-1] and "10000" in lines[-1]
+    if not terminal:
+        assert len(lines) == 1 + 11 + 10 + 2  # heading, problems, tenths, writing started/done
+    else:
+        assert len(lines) < 200  # redrawn every 0.1 s at most, and at the end
+
+
 def test_outputs_that_cannot_be_written_exit_2_before_any_work(tmp_path):
     """A figure, a CSV export or a record folder under a path that is a file: one message, 2."""
     blocker = tmp_path / "file"

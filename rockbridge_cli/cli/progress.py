@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import sys
 import time
 
@@ -26,23 +27,39 @@ class ProgressDisplay:
     """
 
     WIDTH = 30
+    REDRAW = 0.1
+    """Seconds between two redraws of the bar (a study of 10 000 short analyses would otherwise
+    redraw it 10 000 times)."""
+    SHOWN_PROBLEMS = 10
+    """Analyses that did not end ok reported one by one; the rest are counted (the peak table
+    has them all)."""
 
     def __init__(self, heading: str = "", terminal: bool | None = None):
         self.heading = heading
+        self.problems = 0
         self.terminal = sys.stderr.isatty() if terminal is None else terminal
         self.start = time.monotonic()
         self.shown = 0  # tenths of the run reported (plain lines)
         self.bar_open = False  # a bar drawn without its final newline (terminal)
+        self.drawn = -math.inf  # when the bar was last drawn
 
     def __call__(self, item: Finished, done: int, total: int) -> None:
         if self.heading:
             click.echo(self.heading, err=True)
             self.heading = ""
         if item.status != "ok":
-            self._line(f"{item.bridge} × {item.record}: {item.status}: {item.message}")
-        elapsed = time.monotonic() - self.start
+            self.problems += 1
+            if self.problems <= self.SHOWN_PROBLEMS:
+                self._line(f"{item.bridge} × {item.record}: {item.status}: {item.message}")
+            elif self.problems == self.SHOWN_PROBLEMS + 1:
+                self._line("more analyses did not end ok: see the peak table's status and message")
+        now = time.monotonic()
+        elapsed = now - self.start
         left = elapsed / done * (total - done)
         if self.terminal:
+            if done < total and now - self.drawn < self.REDRAW:
+                return
+            self.drawn = now
             bar = "#" * (self.WIDTH * done // total)
             self.bar_open = done < total
             click.echo(
@@ -62,6 +79,10 @@ class ProgressDisplay:
         """Report the writing of the results file: a bar on a terminal, its start and end
         otherwise."""
         if self.terminal:
+            now = time.monotonic()
+            if done < total and now - self.drawn < self.REDRAW:
+                return
+            self.drawn = now
             self.bar_open = done < total
             click.echo(f"\rwriting the results file: {done}/{total}", err=True,
                        nl=not self.bar_open)  # fmt: skip
