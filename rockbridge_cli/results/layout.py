@@ -1,0 +1,102 @@
+"""The results file's layout: what it holds, with the name, unit and meaning of every column.
+
+::
+
+    /                          study, versions, timestamps, config hash, fidelity knobs
+    /records/<record>          acceleration [m/s2], time step, PGA, source file
+    /bridges/<bridge>          bridge config, model constants and summarize() values
+    /peaks/<column>            one row per analysis that ran, in the study's order: status,
+                               peaks, counts, timings
+    /events/<column>           the events of every analysis, the analyses one after the other
+                               in the order of /peaks
+    /analyses/<bridge>/<record>/histories/<name>     histories, where the study keeps them
+
+``/events`` is a contiguous ragged array in the sense of the CF conventions (§9.3.3): the column
+``/peaks/n_events`` counts the rows of each analysis (its ``sample_dimension`` attribute names
+``events``), so the events of row i start at the sum of the counts before it. Every dataset has
+``units`` and ``description`` attributes; a group's scalar attributes are described by its
+``units`` attribute, a JSON object mapping attribute names to units. All values are SI.
+
+Format 1 (before the study layer wrote in one streaming pass) also kept the scalar results and
+the events of each analysis in attributes and datasets of its own group; the readers refuse it.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from ..core.quantities import PEAK_UNITS
+
+FORMAT = "rockbridge-results"
+FORMAT_VERSION = 2
+
+STATUSES = {
+    "ok": "the analysis ran to the end of the record or to a failure of the bridge",
+    "solver_error": "the integrator stopped early (message says why); results up to there",
+    "error": "the analysis could not run (message says why); no results",
+}
+
+HISTORY_TEXT = {
+    "theta1": "rotation of the tall pier (pier 1), counter-clockwise positive",
+    "theta1_rate": "angular velocity of the tall pier",
+    "mode": "rocking mode: +1 p (counter-clockwise), -1 n, 0 at rest",
+    "theta2": "rotation of the short pier (pier 2)",
+    "theta_deck": "rotation of the deck, counter-clockwise positive",
+    "u_deck": "horizontal displacement of the deck's centre of gravity",
+    "v_deck": "vertical displacement (uplift) of the deck's centre of gravity",
+    "u_pier1": "horizontal displacement of the tall pier's centre of gravity",
+    "v_pier1": "vertical displacement of the tall pier's centre of gravity",
+    "u_pier2": "horizontal displacement of the short pier's centre of gravity",
+    "v_pier2": "vertical displacement of the short pier's centre of gravity",
+}
+
+EVENT_COLUMNS = {
+    "time": ("s", "time of the event"),
+    "kind": ("-", "onset, impact, pounding, reopening, rest or a failure"),
+    "mode": ("-", "rocking mode after the event: +1 p, -1 n, 0 at rest"),
+    "rate_before": ("rad/s", "angular velocity of the tall pier before the event"),
+    "rate_after": ("rad/s", "angular velocity of the tall pier after the event"),
+}
+
+
+def _peak_columns() -> dict[str, tuple[str, str]]:
+    columns = {"bridge": ("-", "bridge id"), "record": ("-", "record id")}
+    for name, unit in PEAK_UNITS.items():
+        how = "largest" if name == "v_deck" else "largest absolute"
+        columns[f"{name}_max"] = (unit, f"{how} {name}: {HISTORY_TEXT[name]}")
+        columns[f"{name}_time"] = ("s", f"time of {name}_max")
+    columns.update(
+        t_onset=("s", "first onset of rocking; NaN if the bridge never rocks"),
+        n_impacts=("-", "impacts at the rocking interfaces; -1 without results"),
+        n_poundings=("-", "deck-backwall poundings; -1 without results"),
+        failure_mode=("-", "none, abutment, overturning_pier1 or overturning_pier2"),
+        failure_time=("s", "time of failure; NaN without"),
+        dcr=("-", "peak demand/capacity of the governing failure mode"),
+        dcr_mode=("-", "the failure mode dcr refers to: abutment or overturning"),
+        status=("-", "; ".join(f"{k}: {v}" for k, v in STATUSES.items())),
+        message=("-", "why the analysis stopped early or could not run; empty if ok"),
+        model=("-", "the model that ran (asymmetric-bridge, symmetric-frame, ...)"),
+        solve_time_s=("s", "wall time of the integration"),
+        wall_time_s=("s", "wall time of the whole analysis"),
+        steps=("-", "accepted integration steps; -1 without results"),
+        rejected_steps=("-", "rejected integration steps; -1 without results"),
+        n_events=("-", "rows of the analysis in /events (CF count variable)"),
+    )
+    return columns
+
+
+PEAK_COLUMNS = _peak_columns()
+"""Columns of the peak table: name → (unit, description)."""
+
+TEXT_COLUMNS = ("bridge", "record", "failure_mode", "dcr_mode", "status", "message", "model")
+COUNT_COLUMNS = ("n_impacts", "n_poundings", "steps", "rejected_steps", "n_events")
+
+COMPRESSION = {"compression": "gzip", "compression_opts": 4, "shuffle": True}
+"""HDF5 filters of the compressed datasets (records, histories): byte shuffle, then deflate."""
+
+
+def missing(column: str) -> Any:
+    """The value of a peak-table column for an analysis that has no results."""
+    if column in TEXT_COLUMNS:
+        return ""
+    return -1 if column in COUNT_COLUMNS else float("nan")

@@ -1,0 +1,221 @@
+"""Reading a results file back: the peak table, one analysis's events and histories, the bridges.
+
+Reading needs h5py and numpy only; the readers that return pandas DataFrames import pandas when
+they are called, so that a command printing a table starts quickly.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import h5py
+import numpy as np
+
+from ..core.quantities import HISTORY_UNITS
+from ..errors import InputError
+from .layout import COUNT_COLUMNS, EVENT_COLUMNS, FORMAT, FORMAT_VERSION
+from .packing import AnalysisResult
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+
+@contextmanager
+def open_results(path: str | Path) -> Iterator[h5py.File]:
+    """Open a results file for reading.
+
+    Raises
+    ------
+    InputError
+        The file is missing, not HDF5, or not a rockbridge results file; or a part the reader
+        needs is missing or cannot be read.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(path, [("", "file not found")])
+    try:
+        file = h5py.File(path, "r")
+    except OSError as exc:
+        raise InputError(path, [("", f"not a readable HDF5 file, or damaged ({exc})")]) from None
+    with file:
+        if file.attrs.get("format") != FORMAT:
+            raise InputError(path, [("", "not a rockbridge results file (no 'format' attribute)")])
+        version = int(file.attrs.get("format_version", 0))
+        if version != FORMAT_VERSION:
+            which = "newer" if version > FORMAT_VERSION else "older"
+            advice = "please upgrade" if version > FORMAT_VERSION else "run the study again"
+            raise InputError(
+                path, [("", f"written by an {which} rockbridge (format {version}); {advice}")]
+            )
+        try:
+            yield file
+        except (OSError, KeyError) as exc:  # a part is missing or cannot be read
+            raise InputError(path, [("", f"damaged or incomplete results file ({exc})")]) from None
+
+
+def peak_columns(file: h5py.File) -> dict[str, np.ndarray]:
+    """The columns of the peak table of an open results file: text as ``str`` arrays, counts as
+    int64 (−1 where the analysis could not run), the rest float64 [SI]."""
+    group = file["peaks"]
+    columns = {}
+    for name in json.loads(group.attrs["columns"]):
+        values = group[name][()]
+        if values.dtype.kind in "OS":
+            values = np.array([v.decode() if isinstance(v, bytes) else str(v) for v in values])
+        columns[name] = values
+    return columns
+
+
+def peak_units(file: h5py.File) -> dict[str, str]:
+    """The unit of each column of the peak table."""
+    group = file["peaks"]
+    return {name: group[name].attrs["units"] for name in json.loads(group.attrs["columns"])}
+
+
+def read_peaks(path: str | Path) -> pd.DataFrame:
+    """The peak table: one row per bridge × record, SI values; units in ``DataFrame.attrs``.
+
+    Counts are nullable integers (``<NA>`` where the analysis could not run).
+    """
+    import pandas as pd
+
+    with open_results(path) as file:
+        columns, units = peak_columns(file), peak_units(file)
+    frame = pd.DataFrame(
+        {
+            name: pd.array(np.where(values < 0, None, values), dtype="Int64")
+            if name in COUNT_COLUMNS
+            else values
+            for name, values in columns.items()
+        }
+    )
+    frame.attrs["units"] = units
+    return frame
+
+
+def stored_statuses(file: h5py.File) -> dict[tuple[str, str], str]:
+    """The status of each analysis an open results file holds, by (bridge, record)."""
+    group = file["peaks"]
+    pairs = zip(group["bridge"].asstr()[()], group["record"].asstr()[()], strict=True)
+    return dict(zip(pairs, group["status"].asstr()[()], strict=True))
+
+
+def stored_shard_of(file: h5py.File) -> tuple[int, int] | None:
+    """(index, count) of the shard an open results file holds (0-based), None for a whole study."""
+    if "shard_index" not in file.attrs:
+        return None
+    return int(file.attrs["shard_index"]), int(file.attrs["shard_count"])
+
+
+def read_history(path: str | Path, bridge: str, record: str) -> pd.DataFrame:
+    """The stored histories of one analysis, indexed by time [s]; units in ``DataFrame.attrs``.
+
+    Raises
+    ------
+    InputError
+        No such analysis, or the study kept no histories.
+    """
+    import pandas as pd
+
+    with open_results(path) as file:
+        row = _row(file, path, bridge, record)
+        group = file.get(f"analyses/{bridge}/{record}/histories")
+        if group is None:
+            reason = file["peaks/message"].asstr()[row] or (
+                "the study kept no histories (output.histories)")  # fmt: skip
+            raise InputError(path, [(f"analyses/{bridge}/{record}", f"no histories: {reason}")])
+        names = [name for name in HISTORY_UNITS if name in group]
+        frame = pd.DataFrame(
+            {name: group[name][()] for name in names},
+            index=pd.Index(group["time"][()], name="time"),
+        )
+        frame.attrs["units"] = {name: group[name].attrs["units"] for name in ("time", *names)}
+    return frame
+
+
+def read_events(path: str | Path, bridge: str, record: str) -> pd.DataFrame:
+    """The events of one analysis (`EVENT_COLUMNS`); units in ``DataFrame.attrs``."""
+    import pandas as pd
+
+    with open_results(path) as file:
+        starts = _event_starts(file["peaks/n_events"][()])
+        events = _events(file, starts, _row(file, path, bridge, record))
+    frame = pd.DataFrame(events)
+    frame.attrs["units"] = {name: unit for name, (unit, _) in EVENT_COLUMNS.items()}
+    return frame
+
+
+def stored_results(file: h5py.File) -> Iterator[AnalysisResult]:
+    """Every analysis an open results file holds, as the result that was stored, in the order
+    of the file (for a run that resumes and writes a new file from the old one)."""
+    columns = peak_columns(file)
+    starts = _event_starts(columns["n_events"])
+    for row, (bridge, record) in enumerate(zip(columns["bridge"], columns["record"])):
+        values = {name: _item(values[row]) for name, values in columns.items()}
+        del values["bridge"], values["record"]
+        events = _events(file, starts, row)
+        group = file.get(f"analyses/{bridge}/{record}/histories")
+        names = [name for name in HISTORY_UNITS if group is not None and name in group]
+        yield AnalysisResult(
+            bridge, record, values,
+            time=group["time"][()] if names else np.zeros(0),
+            histories={name: group[name][()] for name in names},
+            events=events,
+        )  # fmt: skip
+
+
+def read_bridges(path: str | Path) -> pd.DataFrame:
+    """One row per bridge (index: id) with its name, model constants and summary values [SI]."""
+    import pandas as pd
+
+    with open_results(path) as file:
+        rows = {
+            bridge_id: {k: v for k, v in node.attrs.items() if k not in ("config", "units")}
+            for bridge_id, node in file["bridges"].items()
+        }
+        order = [item["id"] for item in json.loads(file.attrs["config"])["bridges"]]
+    return pd.DataFrame.from_dict(rows, orient="index").loc[order]
+
+
+def read_config_hash(path: str | Path) -> str:
+    """The hash of the resolved study a results file was made from (`Study.config_hash`)."""
+    with open_results(path) as file:
+        return str(file.attrs["config_hash"])
+
+
+def _row(file: h5py.File, path: str | Path, bridge: str, record: str) -> int:
+    """The row of an analysis in the peak table."""
+    bridges, records = file["peaks/bridge"].asstr()[()], file["peaks/record"].asstr()[()]
+    found = np.flatnonzero((bridges == bridge) & (records == record))
+    if not found.size:
+        pairs = [f"{b}/{r}" for b, r in zip(bridges, records)]
+        raise InputError(
+            path,
+            [("", f"no analysis {bridge}/{record}; the file has {', '.join(pairs) or 'none'}")],
+        )
+    return int(found[0])
+
+
+def _event_starts(counts: np.ndarray) -> np.ndarray:
+    """Where each row's events start in /events, from /peaks/n_events (one more: the end)."""
+    return np.concatenate([[0], np.cumsum(counts)])
+
+
+def _events(file: h5py.File, starts: np.ndarray, row: int) -> dict[str, np.ndarray]:
+    """The events of the analysis in ``row`` of the peak table."""
+    start, stop = int(starts[row]), int(starts[row + 1])
+    return {name: _decoded(file["events"][name][start:stop]) for name in EVENT_COLUMNS}
+
+
+def _decoded(values: np.ndarray) -> np.ndarray:
+    if values.dtype.kind in "OS":
+        return np.array([v.decode() if isinstance(v, bytes) else str(v) for v in values], dtype=str)
+    return values
+
+
+def _item(value: Any) -> Any:
+    return value.item() if isinstance(value, np.generic) else value

@@ -1,0 +1,277 @@
+"""Writing a results file in one streaming pass: the study's description first, then each
+analysis in the study's order, the peak and event tables appended in batches.
+
+Memory stays flat in the number of analyses: a batch of rows at a time, and each analysis's
+histories go into the file as soon as it is added.
+"""
+
+from __future__ import annotations
+
+import json
+import platform
+from typing import TYPE_CHECKING, Any
+
+import h5py
+import numpy as np
+import scipy
+
+from .. import __version__
+from ..core.geometry import Model
+from ..core.quantities import HISTORY_UNITS
+from .layout import (
+    COMPRESSION,
+    COUNT_COLUMNS,
+    EVENT_COLUMNS,
+    FORMAT,
+    FORMAT_VERSION,
+    HISTORY_TEXT,
+    PEAK_COLUMNS,
+    TEXT_COLUMNS,
+)
+from .packing import AnalysisResult, Chunk, Packed
+
+if TYPE_CHECKING:
+    from ..config.study import Study
+
+PEAK_ROWS = 4096
+"""Rows of the peak table held in memory before they are appended to the file, and its HDF5
+chunk length."""
+
+EVENT_ROWS = 65536
+"""The same for the event table (about 100 events an analysis; 2.6 MiB a batch)."""
+
+_MODEL_UNITS = {
+    "B": "m", "H1": "m", "H2": "m", "L1": "m", "L2": "m", "h": "m",
+    "m1": "kg", "m2": "kg", "md": "kg", "I1": "kg m2", "I2": "kg m2", "Id": "kg m2",
+    "g": "m/s2", "has_abutments": "-", "u_jo": "m", "k": "N/m", "c": "N s/m", "u_ab": "m",
+    "e": "-", "m_abut": "kg",
+}  # fmt: skip
+
+
+class ResultsWriter:
+    """Fills a results file whose description is written (`describe_study`, `copy_description`),
+    one analysis at a time in the study's order.
+
+    Parameters
+    ----------
+    file
+        The file, open for writing.
+    total
+        The analyses the file is meant to hold (the study's, or a shard's).
+    """
+
+    def __init__(self, file: h5py.File, total: int):
+        self.file = file
+        self.total = total
+        self.added = 0
+        self.peaks = _table(file.create_group("peaks"), PEAK_COLUMNS, PEAK_ROWS, "one row per "
+                            "analysis that ran, in the study's order (bridge × record)")  # fmt: skip
+        self.peaks["n_events"].attrs["sample_dimension"] = "events"
+        self.events = _table(file.create_group("events"), EVENT_COLUMNS, EVENT_ROWS, "the events "
+                             "of every analysis, in the order of /peaks; /peaks/n_events counts "
+                             "each analysis's rows (CF contiguous ragged array)")  # fmt: skip
+        self._rows: dict[str, list] = {name: [] for name in PEAK_COLUMNS}
+        self._events: dict[str, list[np.ndarray]] = {name: [] for name in EVENT_COLUMNS}
+        self._event_count = 0
+
+    def add(self, analysis: Packed | AnalysisResult) -> None:
+        """Append one analysis: its row of /peaks, its events, its histories."""
+        values = {"bridge": analysis.bridge, "record": analysis.record, **analysis.values}
+        for name, rows in self._rows.items():
+            rows.append(values[name])
+        for name, parts in self._events.items():
+            parts.append(analysis.events[name])
+        self._event_count += len(analysis.events["time"])
+        if isinstance(analysis, Packed):
+            histories: dict[str, Chunk | np.ndarray] = dict(analysis.histories)
+        else:
+            histories = {"time": analysis.time, **analysis.histories} if analysis.histories else {}
+        if histories:
+            parent = self.file.require_group(f"analyses/{analysis.bridge}")
+            _write_histories(parent.create_group(analysis.record).create_group("histories"),
+                             histories)  # fmt: skip
+        self.added += 1
+        if len(self._rows["bridge"]) >= PEAK_ROWS or self._event_count >= EVENT_ROWS:
+            self._flush()
+
+    def close(self, finished: str) -> None:
+        """Append what is buffered and state how complete the file is."""
+        self._flush()
+        self.file.attrs.update(
+            {"finished": finished, "complete": self.added == self.total,
+             "n_analyses": self.total, "n_complete": self.added}
+        )  # fmt: skip
+
+    def _flush(self) -> None:
+        for name, values in self._rows.items():
+            _append(self.peaks[name], values)
+            values.clear()
+        for name, parts in self._events.items():
+            _append(self.events[name], np.concatenate(parts) if parts else [])
+            parts.clear()
+        self._event_count = 0
+
+
+def _table(
+    group: h5py.Group, columns: dict[str, tuple[str, str]], chunk: int, text: str
+) -> h5py.Group:
+    """Empty, extendable columns: text as UTF-8 strings, counts as int64, the rest float64."""
+    group.attrs["description"] = text
+    group.attrs["columns"] = json.dumps(list(columns))
+    for name, (unit, description) in columns.items():
+        if name in TEXT_COLUMNS or name == "kind":
+            dtype: Any = h5py.string_dtype()
+        else:
+            dtype = np.int64 if name in COUNT_COLUMNS else np.float64
+        dataset = group.create_dataset(
+            name, shape=(0,), maxshape=(None,), chunks=(chunk,), dtype=dtype
+        )
+        dataset.attrs["units"] = unit
+        dataset.attrs["description"] = description
+    return group
+
+
+def _append(dataset: h5py.Dataset, values: list | np.ndarray) -> None:
+    if not len(values):
+        return
+    start = dataset.shape[0]
+    dataset.resize((start + len(values),))
+    if dataset.dtype.kind == "O":
+        dataset[start:] = np.array([str(value) for value in values], dtype=object)
+    else:
+        dataset[start:] = np.asarray(values, dtype=dataset.dtype)
+
+
+def _write_histories(group: h5py.Group, histories: dict[str, Chunk | np.ndarray]) -> None:
+    for name, history in histories.items():
+        unit, text = ("s", "sample times") if name == "time" else (
+            HISTORY_UNITS[name], HISTORY_TEXT[name])  # fmt: skip
+        if isinstance(history, Chunk) and history.size:
+            dataset = group.create_dataset(
+                name, shape=(history.size,), chunks=(history.size,), dtype="<f8", **COMPRESSION
+            )
+            dataset.id.write_direct_chunk((0,), history.data)
+        else:
+            samples = history.samples() if isinstance(history, Chunk) else np.asarray(history)
+            options = COMPRESSION if samples.size else {}
+            dataset = group.create_dataset(name, data=samples.astype("<f8"), **options)
+        dataset.attrs["units"] = unit
+        dataset.attrs["description"] = text
+
+
+def describe_study(
+    file: h5py.File, study: Study, created: str, shard: tuple[int, int] | None = None
+) -> None:
+    """Write what the results rest on: the study and its provenance (root attributes), its
+    records and its bridges.
+
+    Parameters
+    ----------
+    shard
+        (index, count) when the file holds one shard of the study (0-based index).
+    """
+    _write_header(file, study, created)
+    if shard is not None:
+        file.attrs.update({"shard_index": shard[0], "shard_count": shard[1]})
+    _write_records(file.create_group("records"), study)
+    _write_bridges(file.create_group("bridges"), study)
+
+
+def copy_description(file: h5py.File, source: h5py.File, skip: tuple[str, ...]) -> None:
+    """Copy the description of another results file of the same study (root attributes except
+    ``skip``, records, bridges)."""
+    file.attrs.update({k: v for k, v in source.attrs.items() if k not in skip})
+    for name in ("records", "bridges"):
+        source.copy(source[name], file, name=name)
+
+
+def _write_header(file: h5py.File, study: Study, created: str) -> None:
+    knobs = study.resolved()["fidelity"]["knobs"]
+    file.attrs.update(
+        {
+            "format": FORMAT,
+            "format_version": FORMAT_VERSION,
+            "rockbridge_version": __version__,
+            "python_version": platform.python_version(),
+            "numpy_version": np.__version__,
+            "scipy_version": scipy.__version__,
+            "h5py_version": h5py.__version__,
+            "hdf5_version": h5py.version.hdf5_version,
+            "host": platform.node(),
+            "created": created,
+            "study_file": study.path.as_posix(),
+            "study_yaml": study.text,
+            "config": json.dumps(study.resolved(), indent=1),
+            "config_hash": study.config_hash,
+            "fidelity": study.preset,
+            "knobs": json.dumps(knobs),
+            "output_step": float(study.knobs["output_step"]),
+            "histories": json.dumps(list(study.histories)),
+        }
+    )
+    _describe_attrs(file, {"output_step": "s", "n_analyses": "-", "n_complete": "-"})
+
+
+def _write_records(group: h5py.Group, study: Study) -> None:
+    """One group per record; records with the same samples share one dataset (a hard link)."""
+    written: dict[str, h5py.Dataset] = {}
+    for item in study.records:
+        node = group.create_group(item.id)
+        node.attrs.update({"source": item.source, "sha256": item.digest, "error": item.error})
+        record = item.record
+        if record is None:
+            continue
+        node.attrs.update(
+            {
+                "name": record.name,
+                "time_step": record.time_step,
+                "n_samples": record.acceleration.size,
+                "duration": record.duration,
+                "pga": record.peak_acceleration,
+            }
+        )
+        _describe_attrs(node, {"time_step": "s", "n_samples": "-", "duration": "s", "pga": "m/s2"})
+        if item.digest in written:
+            node["acceleration"] = written[item.digest]
+            continue
+        dataset = node.create_dataset("acceleration", data=record.acceleration, **COMPRESSION)
+        dataset.attrs["units"] = "m/s2"
+        dataset.attrs["description"] = (
+            "ground acceleration, positive to the right, from t = 0 at time_step"
+        )
+        written[item.digest] = dataset
+
+
+def _write_bridges(group: h5py.Group, study: Study) -> None:
+    from ..core.summary import SUMMARY_UNITS, summarize
+
+    for item in study.bridges:
+        model = item.config.to_model()
+        summary = summarize(model, mirrored=item.config.mirrored)
+        node = group.create_group(item.id)
+        node.attrs.update(
+            {
+                "name": item.config.label(item.id),
+                "source": item.source,
+                "config": json.dumps(item.config.model_dump(mode="json"), indent=1),
+                "model": summary["model"],
+                "mirrored": item.config.mirrored,
+                "governing_failure": summary["governing_failure"],
+            }
+        )
+        units = {}
+        for name, unit in SUMMARY_UNITS.items():
+            node.attrs[name] = np.nan if summary[name] is None else summary[name]
+            units[name] = unit
+        for limit, rotations in summary["capacities"].items():  # capacity_<limit>_<p|n>
+            for mode, value in rotations.items():
+                node.attrs[f"capacity_{limit}_{mode}"] = value
+                units[f"capacity_{limit}_{mode}"] = "rad"
+        for name in Model._fields:
+            node.attrs[f"model_{name}"] = getattr(model, name)
+            units[f"model_{name}"] = _MODEL_UNITS[name]
+        _describe_attrs(node, units)
+
+
+def _describe_attrs(node: h5py.Group | h5py.File, units: dict[str, str]) -> None:
+    node.attrs["units"] = json.dumps(units)
