@@ -6,7 +6,7 @@ active pivot (no diagonal angles, no closed-form derivatives), the short pier's 
 a two-circle intersection, and derivatives are taken by finite differences. It handles either pier
 being the tall one, which the mirror tests need.
 
-Sources of the data (Thomaidis, Camara & Kappos 2022; MODEL.md §2, §10):
+Sources of the data (Thomaidis, Camara & Kappos 2022; docs/model.md §2, §10):
 * studied bridges (Table 1): 2B = 2.6, 2H1 = 26, 2H2 = 26 / 20.8 / 13, L1 = 38, L2 = 60, 2h = 1.7,
   A = 6 m², ρ = 2500, k = 132 MN/m, c = 48 MN·s/m, u_jo = 0.12, u_ab = 0.10, e = 0.6;
 * Fig. 3 bridge: the studied bridge with 2H2 = 26/6.4 (h̄ = 6.4);
@@ -29,9 +29,9 @@ CONFIGS = REPO / "configs" / "bridges"
 BAD_BRIDGES = Path(__file__).resolve().parent / "data" / "bad_bridges"
 
 RHO = 2500.0  # ρ of piers and deck, "Description of the Studied Bridges" [kg/m³]
-G = 9.81  # MODEL.md §1 [m/s²]
+G = 9.81  # docs/model.md §1 [m/s²]
 STUDIED_HEIGHTS = {1.0: 26.0, 1.25: 20.8, 2.0: 13.0}  # h̄ → 2H2, Table 1 [m]
-M_ABUT = 2000.0 * 1.0 * 9.5 * 2.0  # MODEL.md §2 defaults ρ_s·L_cr·B_abut·h_bw = 38 000 kg
+M_ABUT = 2000.0 * 1.0 * 9.5 * 2.0  # docs/model.md §2 defaults ρ_s·L_cr·B_abut·h_bw = 38 000 kg
 
 
 def make_bridge(
@@ -59,7 +59,7 @@ def make_bridge(
 
     Masses and inertias are written out here from first principles: a pier 2B × 2B × 2H has mass
     ρ·(2B)²·(2H) and inertia m·((2B)² + (2H)²)/12 about its centre; the deck has mass ρ·A·(2L1 + L2)
-    (MODEL.md §2) and, by default, m·(L_tot² + (2h)²)/12.
+    (docs/model.md §2) and, by default, m·(L_tot² + (2h)²)/12.
     """
     B, H1, H2, h = width / 2, height1 / 2, height2 / 2, depth / 2
     length = 2 * side + central
@@ -206,7 +206,7 @@ def ref_restitution(
     s: float,
     seats: bool = True,
 ) -> float:
-    """η = θ̇_L,after / θ̇_L,before of the impact ending mode s, body by body (MODEL.md §6).
+    """η = θ̇_L,after / θ̇_L,before of the impact ending mode s, body by body (docs/model.md §6).
 
     Impulse–momentum of the three bodies (left pier, right pier, deck; x, z and moment about each
     centre of gravity) with impulses from the ground at the new base pivots, between piers and deck
@@ -284,7 +284,7 @@ def ref_onset(link: RefLinkage, masses: tuple[float, float, float], g: float, s:
 
 
 def eq30(model: Model, s: float, printed: bool = False) -> float:
-    """Eq. (30) of the paper with the bracket fix of MODEL.md §6 (upper signs s = +1: p→n).
+    """Eq. (30) of the paper with the bracket fix of docs/model.md §6 (upper signs s = +1: p→n).
 
     Written out here from the paper's text, term by term; the ∓2α6·b̄(h̄² − 1) and ±2α8·b̄(h̄² − 1)
     terms are moved inside the B²(…) brackets. ``printed=True`` leaves them where the paper prints

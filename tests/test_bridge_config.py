@@ -73,7 +73,7 @@ abutments:
 
 def test_defaults(tmp_path):
     model = load_bridge(yaml_file(tmp_path, BRIDGE_TEXT.format(left=26.0, right=20.8))).to_model()
-    # MODEL.md §2: ρ = 2500, g = 9.81, e = 0.6, m_abut = 38 000 kg, I_deck = m(L² + (2h)²)/12
+    # docs/model.md §2: ρ = 2500, g = 9.81, e = 0.6, m_abut = 38 000 kg, I_deck = m(L² + (2h)²)/12
     expected = studied_bridge(1.25)
     assert model.m_abut == pytest.approx(M_ABUT, rel=1e-14)
     assert model.e == 0.6 and model.g == 9.81
@@ -82,7 +82,7 @@ def test_defaults(tmp_path):
 
 
 def test_mirrored_bridge(tmp_path):
-    # MODEL.md §1: the tall pier on the right is the mirror image of the tall pier on the left
+    # docs/model.md §1: the tall pier on the right is the mirror image of the tall pier on the left
     left = load_bridge(yaml_file(tmp_path, BRIDGE_TEXT.format(left=26.0, right=20.8), "a.yaml"))
     right = load_bridge(yaml_file(tmp_path, BRIDGE_TEXT.format(left=20.8, right=26.0), "b.yaml"))
     assert not left.mirrored and right.mirrored

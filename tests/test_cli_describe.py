@@ -27,7 +27,7 @@ REQUIRED = {
 
 
 def pounding(md):
-    """Eq. (20) with e = 0.6 and m_abut = 38 000 kg (MODEL.md §2)."""
+    """Eq. (20) with e = 0.6 and m_abut = 38 000 kg (docs/model.md §2)."""
     return 1 - 1.6 * M_ABUT / (M_ABUT + md)
 
 
@@ -39,7 +39,7 @@ def frame_eta(model, s):
     )  # fmt: skip
 
 
-# Published values (MODEL.md §10, paper's Table 1) with the absolute tolerance of their digits;
+# Published values (docs/model.md §10, paper's Table 1) with the absolute tolerance of their digits;
 # where nothing is published, an independent computation from conftest.
 PUBLISHED = {
     "studied-hbar1.00.yaml": {
@@ -88,7 +88,7 @@ PUBLISHED = {
         "model": "asymmetric-bridge",
         "m_pier1": (43.94e4, 5e1),
         "m_deck": (204e4, 5e3),
-        # 0.3355 g: MODEL.md's "0.336" rounds 0.335496 (see test_impacts)
+        # 0.3355 g: docs/model.md's "0.336" rounds 0.335496 (see test_impacts)
         "ug_min_p_g": (0.336, 5.1e-4),
         "ug_min_n_g": (0.361, 5e-4),
         "m_pier2": (studied_bridge(6.4).m2, 1e-6),
@@ -157,7 +157,7 @@ def test_describe_table(cli):
     assert result.exit_code == 0, result.output
     assert "moderately asymmetric" in result.stdout
     assert "asymmetric-bridge" in result.stdout and "governing failure" in result.stdout
-    assert "0.1118 g / 0.1128 g" in result.stdout  # MODEL.md §10
+    assert "0.1118 g / 0.1128 g" in result.stdout  # docs/model.md §10
     assert "0.9822 / 0.9811" in result.stdout
 
 
@@ -176,7 +176,7 @@ def test_describe_mirrored(cli, tmp_path):
     ):
         assert b[p] == a[n] and b[n] == a[p]
     assert b["mirrored"] is True and a["mirrored"] is False
-    # MODEL.md §10 values with p and n swapped
+    # docs/model.md §10 values with p and n swapped
     assert b["ug_min_p_g"] == pytest.approx(0.1128, abs=5e-5)
     assert b["eta_pn"] == pytest.approx(0.9811, abs=5e-5)
     assert "mirrored" in cli(right).stdout

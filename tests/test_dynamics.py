@@ -1,6 +1,6 @@
 """Equation of motion: the code's Lagrangian form against the paper's corrected Eq. (18), against
 Lagrange's equations built by finite differences of T and V on an independent kinematics, and the
-energy balance (MODEL.md §4, §6)."""
+energy balance (docs/model.md §4, §6)."""
 
 from __future__ import annotations
 
@@ -35,7 +35,7 @@ def random_states(model, s, count, rng, low=0.0, high=0.9):
 
 
 # ---------------------------------------------------------------------------------------------
-# The paper's Eq. (18), written out from the text with the two fixes of MODEL.md §4
+# The paper's Eq. (18), written out from the text with the two fixes of docs/model.md §4
 # ---------------------------------------------------------------------------------------------
 
 
@@ -43,7 +43,7 @@ def eq18_terms(model, s, theta1):
     """T_f1, T_f2, V_inf, Q_inf, S, and the deck displacement, as printed after Eq. (18).
 
     I_pier,i^Pivot = 4m_i·R_i²/3 and I_deck^Pivot = I_deck^CG + m_deck·r_BD² (the square missing
-    from the printed text, MODEL.md §4). ψ', θ', ψ'', θ'' are the linkage's (tested separately).
+    from the printed text, docs/model.md §4). ψ', θ', ψ'', θ'' are the linkage's (tested separately).
     """
     B, H1, H2, L2, h = model.B, model.H1, model.H2, model.L2, model.h
     m1, m2, md, Id = model.m1, model.m2, model.md, model.Id
@@ -96,7 +96,7 @@ def eq18(model, s, theta1, omega, ground, contact, printed_sign=False):
     if not contact:
         return frame
     total = model.m1 + model.m2 + 3 * model.md
-    q = 4 * R1 / (g * total)  # MODEL.md §2, with the parentheses
+    q = 4 * R1 / (g * total)  # docs/model.md §2, with the parentheses
     # V_asf: "±B/(2R1)" and "∓u_jo/(2R1)" take the upper signs in mode p (deck on the left)
     v_asf = (
         total
@@ -109,7 +109,7 @@ def eq18(model, s, theta1, omega, ground, contact, printed_sign=False):
         )
         * t["S"]
     )
-    q_adf = total * t["S"] ** 2  # MODEL.md §4: S², not S
+    q_adf = total * t["S"] ** 2  # docs/model.md §4: S², not S
     return frame - (g / R1) * q * (model.k * v_asf / t["tf1"] + model.c * q_adf / t["tf1"] * omega)
 
 
@@ -131,7 +131,7 @@ def eq18_scale(model, s, theta1, omega, ground, contact=True):
 
 @pytest.mark.parametrize("s", MODES)
 def test_tf1_tf2_are_m_over_r1_squared(any_bridge, s):
-    # MODEL.md §4: T_f1 = M/R1², T_f2 = M'/(2R1²) — the paper's expressions, written out above
+    # docs/model.md §4: T_f1 = M/R1², T_f2 = M'/(2R1²) — the paper's expressions, written out above
     m = any_bridge
     for f in (0.0, 0.2, 0.5, 0.8):
         theta1 = s * f * m.alpha1
@@ -172,7 +172,7 @@ def test_acceleration_equals_corrected_eq18_in_contact(any_bridge, s, compiled):
 
 
 def test_printed_sign_of_the_velocity_term_is_wrong_only_when_asymmetric():
-    # MODEL.md §4: the φ̇² sign error vanishes at h̄ = 1 (M' ≡ 0): only an asymmetric bridge sees it
+    # docs/model.md §4: the φ̇² sign error vanishes at h̄ = 1 (M' ≡ 0): only an asymmetric bridge sees it
     sym, asym = studied_bridge(1.0), studied_bridge(2.0)
     theta1, omega = 0.5 * sym.alpha1, 0.8
     assert coefficients(sym, 1.0, theta1, EXACT)[1] == pytest.approx(0.0, abs=1e-9 * sym.m1)
@@ -268,7 +268,7 @@ def test_mass_at_rest_closed_form(any_bridge):
         )  # fmt: skip
         masses[s] = coefficients(m, s, 0.0, EXACT)[0]
         assert masses[s] == pytest.approx(expected, rel=1e-12)
-    # MODEL.md §6: M differs between the modes at rest unless h̄ = 1
+    # docs/model.md §6: M differs between the modes at rest unless h̄ = 1
     if m.H1 == m.H2:
         assert masses[1.0] == pytest.approx(masses[-1.0], rel=1e-14)
     else:
@@ -277,7 +277,7 @@ def test_mass_at_rest_closed_form(any_bridge):
 
 @pytest.mark.parametrize("s", MODES)
 def test_energy_is_continuous_across_an_impact_with_eta_sqrt_mass_ratio(any_bridge, s):
-    # MODEL.md §6: with η = √(M_from/M_to), ½M_from·φ̇² = ½M_to·(ηφ̇)²
+    # docs/model.md §6: with η = √(M_from/M_to), ½M_from·φ̇² = ½M_to·(ηφ̇)²
     m = any_bridge
     m_from = coefficients(m, s, 0.0, EXACT)[0]
     m_to = coefficients(m, -s, 0.0, EXACT)[0]

@@ -20,8 +20,8 @@ from rockbridge_cli.core.geometry import (
     single_block,
 )
 
-# Table 1 as reproduced by the corrected equations (MODEL.md §10), and as printed in the paper.
-TABLE1 = {  # h̄: (m_pier,2 [10⁴ kg], γ, q [10⁻³ m/kN]) — MODEL.md §10
+# Table 1 as reproduced by the corrected equations (docs/model.md §10), and as printed in the paper.
+TABLE1 = {  # h̄: (m_pier,2 [10⁴ kg], γ, q [10⁻³ m/kN]) — docs/model.md §10
     1.0: (43.94, 2.321, 0.7612),
     1.25: (35.15, 2.579, 0.7708),
     2.0: (21.97, 3.095, 0.7858),
@@ -68,10 +68,10 @@ def test_pier_inertia_about_centre_and_pivot():
 
 
 def test_deck_mass_and_inertia():
-    # Table 1: m_deck = ρ·A·(2L1 + L2) = 2500·6·136 = 204·10⁴ kg (MODEL.md §2, not 2ρAL)
+    # Table 1: m_deck = ρ·A·(2L1 + L2) = 2500·6·136 = 204·10⁴ kg (docs/model.md §2, not 2ρAL)
     model = studied_bridge(1.0)
     assert model.md == pytest.approx(RHO * 6.0 * 136.0, rel=1e-14)
-    # MODEL.md §2: default I_deck ≈ 3.145·10⁹ kg·m²
+    # docs/model.md §2: default I_deck ≈ 3.145·10⁹ kg·m²
     assert deck_inertia(model.md, 136.0, 1.7) == pytest.approx(3.145e9, rel=5e-4)
     assert deck_inertia(2.0, 3.0, 4.0) == pytest.approx(2.0 * (9 + 16) / 12, rel=1e-14)
     # Fig. 7's 360·10⁷ kg·m² vs m·L²/12 = 364.5·10⁷: "agrees" to 1.25 %, no better
@@ -79,7 +79,7 @@ def test_deck_mass_and_inertia():
 
 
 def test_backfill_mass_default():
-    # MODEL.md §2: ρ_s·L_cr·B_abut·h_bw = 2000·1·9.5·2 = 38 000 kg
+    # docs/model.md §2: ρ_s·L_cr·B_abut·h_bw = 2000·1·9.5·2 = 38 000 kg
     assert backfill_mass(2000.0, 1.0, 9.5, 2.0) == pytest.approx(38_000.0, rel=1e-14)
 
 
@@ -91,7 +91,7 @@ def test_ratios_definitions():
     assert r["L_bar"] == pytest.approx(38.0 / 60.0, rel=1e-14)
     piers = model.m1 + model.m2
     assert r["gamma"] == pytest.approx(model.md / piers, rel=1e-14)
-    # MODEL.md §2: q = 4R1/(g·[m1 + m2 + 3m_deck]), with the parentheses
+    # docs/model.md §2: q = 4R1/(g·[m1 + m2 + 3m_deck]), with the parentheses
     R1 = math.hypot(13.0, 1.3)
     assert r["q"] == pytest.approx(4 * R1 / (9.81 * (piers + 3 * model.md)), rel=1e-14)
 
@@ -99,7 +99,7 @@ def test_ratios_definitions():
 @pytest.mark.parametrize(
     ("deck_mass", "expected"),
     [
-        # MODEL.md §10: 5.3 % ("not reproducible" vs the paper's "4 %"); that figure is for the
+        # docs/model.md §10: 5.3 % ("not reproducible" vs the paper's "4 %"); that figure is for the
         # studied bridges' m_deck = 204·10⁴ kg
         (204e4, 0.053),
         # the Fig. 4 text's m_deck = 200·10⁴ kg gives 5.4 %: closed form

@@ -1,5 +1,5 @@
 """Onset of rocking (Eq. 8), restitution at the rocking interfaces (Eqs. 21–30), the published
-values of MODEL.md §10, the classical limits, and the failure capacities."""
+values of docs/model.md §10, the classical limits, and the failure capacities."""
 
 from __future__ import annotations
 
@@ -49,7 +49,7 @@ def eq8(model, s):
 
 @pytest.mark.parametrize("s", MODES)
 def test_onset_equals_eq8_as_printed(any_bridge, s):
-    # MODEL.md §5: Eq. (8) is correct as printed
+    # docs/model.md §5: Eq. (8) is correct as printed
     assert onset_threshold(any_bridge, s) == pytest.approx(eq8(any_bridge, s), rel=1e-12)
 
 
@@ -62,7 +62,7 @@ def test_onset_equals_virtual_work_on_the_reference_kinematics(any_bridge, s):
 
 @pytest.mark.parametrize(
     ("h_bar", "p", "n"),
-    [(1.0, 0.1000, 0.1000), (1.25, 0.1118, 0.1128), (2.0, 0.1456, 0.1497)],  # MODEL.md §10
+    [(1.0, 0.1000, 0.1000), (1.25, 0.1118, 0.1128), (2.0, 0.1456, 0.1497)],  # docs/model.md §10
 )
 def test_onset_of_the_studied_bridges(h_bar, p, n):
     m = studied_bridge(h_bar)
@@ -72,7 +72,7 @@ def test_onset_of_the_studied_bridges(h_bar, p, n):
 
 def test_onset_published_digits():
     # the paper: 0.10 g (h̄ = 1) and 0.15 g (h̄ = 2) hold in both directions to their digits;
-    # its "0.13 g" for h̄ = 1.25 does not (MODEL.md §5: 0.112 g)
+    # its "0.13 g" for h̄ = 1.25 does not (docs/model.md §5: 0.112 g)
     for h_bar, printed in ((1.0, 0.10), (2.0, 0.15)):
         m = studied_bridge(h_bar)
         for s in MODES:
@@ -83,12 +83,12 @@ def test_onset_published_digits():
 
 
 def test_onset_of_the_fig3_bridge():
-    # MODEL.md §10: 0.336 g / 0.361 g at h̄ = 6.4; the paper's "0.35 g" lies between them, and the
+    # docs/model.md §10: 0.336 g / 0.361 g at h̄ = 6.4; the paper's "0.35 g" lies between them, and the
     # ratio to the symmetric bridge's 0.10 g is the paper's "3.5 times" (3.4–3.6)
     m = studied_bridge(6.4)
     p = onset_threshold(m, 1.0) / m.g
     n = -onset_threshold(m, -1.0) / m.g
-    # Eq. (8) gives p = 0.335496 g: MODEL.md's "0.336" is a double rounding of 0.3355 (0.335 to
+    # Eq. (8) gives p = 0.335496 g: docs/model.md's "0.336" is a double rounding of 0.3355 (0.335 to
     # three digits), hence the 1e-5 of slack
     assert p == pytest.approx(0.336, abs=5.1e-4)
     assert n == pytest.approx(0.361, abs=5e-4)
@@ -137,7 +137,7 @@ def test_onset_does_not_depend_on_the_abutments():
 
 @pytest.mark.parametrize(
     ("h_bar", "pn", "np_"),
-    [(1.0, 0.9856, 0.9856), (1.25, 0.9822, 0.9811), (2.0, 0.9666, 0.9621)],  # MODEL.md §10
+    [(1.0, 0.9856, 0.9856), (1.25, 0.9822, 0.9811), (2.0, 0.9666, 0.9621)],  # docs/model.md §10
 )
 def test_restitution_of_the_studied_bridges(h_bar, pn, np_):
     m = studied_bridge(h_bar)
@@ -169,7 +169,7 @@ def sweep_model(family, hb, Lb):
 
 
 def test_impulse_system_equals_corrected_eq30_over_a_sweep():
-    # MODEL.md §6: both signs of the corrected Eq. (30) equal the impulse system,
+    # docs/model.md §6: both signs of the corrected Eq. (30) equal the impulse system,
     # h̄ ∈ [1, 6], L̄ ∈ [0, 2]
     for family, hb, Lb in SWEEP:
         m = sweep_model(family, hb, Lb)
@@ -193,7 +193,7 @@ def test_eq30_as_printed_is_off():
 
 
 def paper_5x5(model, seats=True):
-    """η for p→n from the paper's Eqs. (25)–(29) with the corrected Eqs. (23)–(24) (MODEL.md §6).
+    """η for p→n from the paper's Eqs. (25)–(29) with the corrected Eqs. (23)–(24) (docs/model.md §6).
 
     Unknowns Λ_A,x, Λ_A,z, Λ_C,x, Λ_C,z, φ̇_II with φ̇_I = 1; each equation is written as
     (coefficients)·(Λ) = c₋·(φ̇_I − φ̇_II) + c₊·(φ̇_I + φ̇_II), as printed.
@@ -303,7 +303,7 @@ def test_symmetric_bridge_restitution_is_the_same_both_ways():
         assert restitution(m, 1.0) == pytest.approx(restitution(m, -1.0), rel=1e-13)
 
 
-@pytest.mark.parametrize(("h_bar", "expected"), [(1.0, 0.0041), (5.0, 0.127)])  # MODEL.md §10
+@pytest.mark.parametrize(("h_bar", "expected"), [(1.0, 0.0041), (5.0, 0.127)])  # docs/model.md §10
 def test_fig7_bridge_vs_frame(h_bar, expected):
     m = fig78_bridge(h_bar)
     bridge, frame = restitution(m, 1.0), restitution(m, 1.0, abutment_seats=False)
@@ -323,7 +323,7 @@ def test_fig7_difference_grows_with_asymmetry():
 
 
 def test_fig8a_restitution_increases_with_the_side_span():
-    # MODEL.md §10: L2 = 45, h̄ = 1.5; 15 m: 0.9829/0.9798 … 90 m: 0.9879/0.9847
+    # docs/model.md §10: L2 = 45, h̄ = 1.5; 15 m: 0.9829/0.9798 … 90 m: 0.9879/0.9847
     spans = np.linspace(15.0, 90.0, 16)
     for s, first, last in ((1.0, 0.9829, 0.9879), (-1.0, 0.9798, 0.9847)):
         eta = [restitution(fig78_bridge(1.5, side=L1), s) for L1 in spans]
@@ -336,7 +336,7 @@ def test_fig8a_restitution_increases_with_the_side_span():
 
 
 def test_fig8b_restitution_against_the_central_span():
-    # MODEL.md §10: L1 = 45, h̄ = 1.5; p→n decreases 0.9890 (15 m) … 0.9843 (90 m);
+    # docs/model.md §10: L1 = 45, h̄ = 1.5; p→n decreases 0.9890 (15 m) … 0.9843 (90 m);
     # n→p is not monotonic, highest near L2 ≈ 60 m (found here at 55 m on a 1 m grid)
     spans = np.arange(15.0, 90.5, 1.0)
     pn = [restitution(fig78_bridge(1.5, central=L2), 1.0) for L2 in spans]
@@ -363,7 +363,7 @@ def test_capacities(h_bar):
     for mode, s in (("p", 1.0), ("n", -1.0)):
         # the tall pier overturns at θ1 = s·α1 (Eq. 4: u1 = R1·cos φ ∓ B = ∓B at φ = π/2)
         assert caps["overturning_pier1"][mode] == pytest.approx(s * m.alpha1, abs=1e-12)
-        # abutment: |u_deck| = u_jo + u_ab (MODEL.md §7), on the reference kinematics
+        # abutment: |u_deck| = u_jo + u_ab (docs/model.md §7), on the reference kinematics
         theta = caps["abutment"][mode]
         assert s * theta > 0
         assert abs(link.solve(s, theta)["xd"] - m.L2 / 2) == pytest.approx(0.22, abs=1e-10)

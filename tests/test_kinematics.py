@@ -1,5 +1,5 @@
 """Kinematics of the linkage: positions against the paper's Eqs. (1)–(6) and an independent
-rigid-body formulation, every derivative against finite differences (MODEL.md §3)."""
+rigid-body formulation, every derivative against finite differences (docs/model.md §3)."""
 
 from __future__ import annotations
 
@@ -75,7 +75,7 @@ def test_loop_closure(any_bridge, s):
     R1, R2 = math.hypot(m.H1, m.B), math.hypot(m.H2, m.B)
     for _, theta1 in states(m, (s,)):
         phi, psi, theta, *_ = linkage(m, s, theta1, EXACT)
-        # MODEL.md §3: 2R1·e(φ) + L2·e(θ) − 2R2·e(ψ) = C − A = (L2, 2H1 − 2H2)
+        # docs/model.md §3: 2R1·e(φ) + L2·e(θ) − 2R2·e(ψ) = C − A = (L2, 2H1 − 2H2)
         gap_x = 2 * R1 * math.cos(phi) + m.L2 * math.cos(theta) - 2 * R2 * math.cos(psi) - m.L2
         gap_z = (
             2 * R1 * math.sin(phi) + m.L2 * math.sin(theta) - 2 * R2 * math.sin(psi)
@@ -115,10 +115,10 @@ def test_positions_against_rigid_body_reference(any_bridge, s):
         assert theta2 == pytest.approx(ref["theta_right"], abs=1e-12)
 
 
-def test_at_rest_the_bridge_is_where_model_md_puts_it(any_bridge):
+def test_at_rest_the_bridge_is_where_the_model_puts_it(any_bridge):
     m = any_bridge
     for s in MODES:
-        # MODEL.md §1: CGs at rest (0, H1), (L2, 2H1 − H2), (L2/2, 2H1 + h); zero displacements
+        # docs/model.md §1: CGs at rest (0, H1), (L2, 2H1 − H2), (L2/2, 2H1 + h); zero displacements
         pos = centres(m, s, 0.0, EXACT)[0]
         expected = (0.0, m.H1, m.L2, 2 * m.H1 - m.H2, m.L2 / 2, 2 * m.H1 + m.h)
         assert np.allclose(pos, expected, rtol=0, atol=1e-12)
@@ -176,7 +176,7 @@ def test_at_rest_values(any_bridge):
     h_bar, b_bar = m.H1 / m.H2, m.B / m.L2
     for s in MODES:
         _, _, _, dpsi, dtheta, _, _ = linkage(m, s, 0.0, EXACT)
-        # MODEL.md §3: ψ' = h̄ and θ' = ±2b̄(h̄ − 1); the sign is + in mode p, − in mode n
+        # docs/model.md §3: ψ' = h̄ and θ' = ±2b̄(h̄ − 1); the sign is + in mode p, − in mode n
         # (first order: the deck pivots move alike horizontally, so 2H1 = 2H2·ψ'; vertically the
         # short pier's top rises 2sB·h̄ against 2sB, so the deck turns by 2sB(h̄ − 1)/L2)
         assert dpsi == pytest.approx(h_bar, rel=1e-12)
@@ -184,7 +184,7 @@ def test_at_rest_values(any_bridge):
 
 
 def test_deck_turns_with_the_mode():
-    # mode p: counter-clockwise pier rotation (θ1 > 0), deck to the left (MODEL.md §1). The short
+    # mode p: counter-clockwise pier rotation (θ1 > 0), deck to the left (docs/model.md §1). The short
     # pier turns more (ψ' ≈ h̄) and its top rises more than the tall pier's in either mode, so the
     # deck turns counter-clockwise in both modes: θ_deck ≈ θ'·θ1 with θ' = s·2b̄(h̄ − 1).
     m = studied_bridge(2.0)
@@ -197,7 +197,7 @@ def test_deck_turns_with_the_mode():
 
 @pytest.mark.parametrize("s", MODES)
 def test_symmetric_bridge_deck_does_not_turn(s):
-    # h̄ = 1: the linkage is a parallelogram, θ_deck ≡ 0, ψ = φ, ψ' = 1 (MODEL.md §8 limit)
+    # h̄ = 1: the linkage is a parallelogram, θ_deck ≡ 0, ψ = φ, ψ' = 1 (docs/model.md §8 limit)
     for m in (studied_bridge(1.0), make_bridge(2.0, 12.0, 12.0, 5.0, 20.0, 1.0, area=3.0)):
         for f in np.linspace(0.0, 0.95, 20):
             theta1 = s * f * m.alpha1
@@ -208,7 +208,7 @@ def test_symmetric_bridge_deck_does_not_turn(s):
 
 
 def test_deck_rotation_grows_like_2b_hbar_minus_1(any_bridge):
-    # MODEL.md §8: θ_deck ≈ 2b̄(h̄ − 1)·θ1 for small rotations (≈ 10⁻⁴ rad for the studied bridges)
+    # docs/model.md §8: θ_deck ≈ 2b̄(h̄ − 1)·θ1 for small rotations (≈ 10⁻⁴ rad for the studied bridges)
     # — in mode p. In mode n (θ1 < 0) θ' = −2b̄(h̄ − 1), so θ_deck ≈ 2b̄(h̄ − 1)·|θ1|: the deck
     # always turns counter-clockwise (the short pier's end rises more), never with the sign of θ1.
     m = any_bridge
@@ -246,7 +246,7 @@ FIT_BOUNDS = {"hbar1.25": 1e-3, "hbar2": 2e-3, "hbar6.4": 1.5e-2, "fig78": 1e-3,
 
 @pytest.mark.parametrize("name", sorted(FIT_BOUNDS))
 def test_simplified_fits_error_is_small_and_measured(name):
-    # the paper's simplified procedure: fitted ψ', θ' (MODEL.md §3); positions stay exact
+    # the paper's simplified procedure: fitted ψ', θ' (docs/model.md §3); positions stay exact
     m = dict(BRIDGES)[name]
     fits = simplified_fits(m)
     assert fits.shape == (2, 2, 3) and np.all(np.isfinite(fits))

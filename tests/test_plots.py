@@ -1,4 +1,4 @@
-"""The figures: the parametric curves against the paper's published values (MODEL.md §10), and
+"""The figures: the parametric curves against the paper's published values (docs/model.md §10), and
 every figure written in each format, with its labels and units."""
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ def svg_text(path) -> str:
     return path.read_text(encoding="utf-8")
 
 
-# --- the curves against the paper (MODEL.md §10, "from the corrected equations") ----------
+# --- the curves against the paper (docs/model.md §10, "from the corrected equations") ----------
 
 
 def test_onset_fig3():
@@ -97,7 +97,7 @@ def test_restitution_vs_spans_fig8():
 
 
 def test_directions_follow_the_tall_pier(tmp_path):
-    """A bridge drawn with its tall pier on the right is the mirror image (MODEL.md §1): its
+    """A bridge drawn with its tall pier on the right is the mirror image (docs/model.md §1): its
     p and n curves are those of the original swapped."""
     text = (BRIDGES / "studied-hbar2.00.yaml").read_text(encoding="utf-8")
     mirrored = tmp_path / "mirrored.yaml"

@@ -63,7 +63,7 @@ def test_plain_h5py_reads_it(done):
         }  # fmt: skip
 
         # Table 1 of the paper, h̄ = 2: m_deck = ρ·A·L_tot = 2500·6·136 kg; m_pier,2 = 21.97·10⁴ kg,
-        # γ = 3.095, q = 0.7858·10⁻³ m/kN (MODEL.md §10)
+        # γ = 3.095, q = 0.7858·10⁻³ m/kN (docs/model.md §10)
         bridge = file["bridges/studied-hbar2.00"].attrs
         assert bridge["m_deck"] == pytest.approx(2500 * 6 * 136)
         assert bridge["m_pier2"] == pytest.approx(21.97e4, rel=1e-3)

@@ -1,7 +1,7 @@
 """The event-driven integrator against closed forms, conservation laws and independent solvers.
 
 Sources of the expected values are given test by test: Housner (1963) energy balance; an
-independent integration with scipy's DOP853; conservation of energy between impacts (MODEL.md §6);
+independent integration with scipy's DOP853; conservation of energy between impacts (docs/model.md §6);
 the dynamic equivalence of a symmetric frame and a single block (Makris & Vassiliou 2013; DeJong &
 Dimitrakopoulos 2014); Eq. (8) onset; mirror symmetry; and convergence of the scheme itself.
 """
@@ -85,7 +85,7 @@ def test_housner_block_released_from_rest():
 def test_energy_is_conserved_between_impacts_and_across_them_with_the_mass_ratio(h_bar):
     """Free rocking of a frame (no abutments, no ground motion): at every impact the bridge is at
     rest position, so its energy is ½·M_s(0)·θ̇1². Between impacts energy is conserved; with
-    η_s = √(M_s/M_−s) (MODEL.md §6) it is conserved across impacts too: every impact then
+    η_s = √(M_s/M_−s) (docs/model.md §6) it is conserved across impacts too: every impact then
     carries the same energy."""
     frame = studied_bridge(h_bar, abutments=False)
     mass = {s: coefficients(frame, s, 0.0, EXACT)[0] for s in (1.0, -1.0)}
@@ -161,7 +161,7 @@ def test_near_symmetric_bridge_matches_the_symmetric_one():
 @pytest.mark.parametrize("direction", [1.0, -1.0])
 def test_onset_threshold_separates_rest_from_rocking(h_bar, direction):
     """A pulse peaking 0.1 % below |ü_g,min| of its direction (Eq. 8) leaves the bridge at rest;
-    0.1 % above, it rocks in that direction. MODEL.md §1: a positive ground acceleration drives
+    0.1 % above, it rocks in that direction. docs/model.md §1: a positive ground acceleration drives
     mode p, which moves the deck to the left (u_deck < 0)."""
     bridge = studied_bridge(h_bar)
     threshold = abs(impacts.onset_threshold(bridge, direction))
@@ -278,7 +278,7 @@ def test_extremes_finish_cleanly(name, preset):
 
 def test_chattering_near_rest_ends_in_rest():
     """A pulse just above the threshold makes the bridge rock a little and come to rest through
-    ever smaller impacts; the chatter guard (MODEL.md §7) ends them."""
+    ever smaller impacts; the chatter guard (docs/model.md §7) ends them."""
     bridge = studied_bridge(2.0)
     threshold = impacts.onset_threshold(bridge, 1.0)
     response = analyze(bridge, half_sine(1.05 * threshold, period=0.6, duration=20.0), DT)
@@ -289,7 +289,7 @@ def test_chattering_near_rest_ends_in_rest():
 
 def test_strong_motion_fails_the_abutment_first():
     """A motion far above the paper's: the abutment–backfill fails (|u_deck| = u_jo + u_ab) and
-    the analysis stops there (MODEL.md §7)."""
+    the analysis stops there (docs/model.md §7)."""
     bridge = studied_bridge(1.25)
     response = analyze(bridge, ground_motion(pga=3.0 * G, seed=8), DT)
     assert response.failure_mode == "abutment"

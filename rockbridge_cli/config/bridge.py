@@ -4,7 +4,7 @@ Lengths are the full dimensions a designer draws (pier width 2B, heights 2H, dec
 units. Optional parts are optional: without ``abutments`` the bridge is a rocking frame; with a
 single pier height and no deck it is Housner's block. Heights are listed left to right; a bridge
 whose taller pier stands on the right is analysed as the mirror image of one with the tall pier on
-the left (MODEL.md §1), and `BridgeConfig.mirrored` says so.
+the left (docs/model.md §1), and `BridgeConfig.mirrored` says so.
 """
 
 from __future__ import annotations
@@ -71,7 +71,7 @@ class Spans(StrictModel):
 
 
 class Pounding(StrictModel):
-    """Deck–backwall pounding (Eqs. 19–20). Defaults: MODEL.md §2 (m_abut = 38 000 kg)."""
+    """Deck–backwall pounding (Eqs. 19–20). Defaults: docs/model.md §2 (m_abut = 38 000 kg)."""
 
     restitution: float = Field(0.6, ge=0.0, le=1.0, description="Coefficient of restitution e [-]")
     mass: PositiveFloat | None = Field(

@@ -1,11 +1,11 @@
-"""Equation of motion of the rocking bridge in Lagrangian form (MODEL.md §4).
+"""Equation of motion of the rocking bridge in Lagrangian form (docs/model.md §4).
 
     M(φ)·φ̈ + ½·M'(φ)·φ̇² + ∂V/∂φ = Q
 
 with the generalised mass M = Σ m_i·|∂p_i/∂φ|² + I1 + I2·ψ'² + I_deck·θ'², the potential
 V = g·Σ m_i·z_i (+ ½k(|u_deck| − u_jo)² while the deck presses on an abutment) and the generalised
 force Q = −ü_g·Σ m_i·∂x_i/∂φ (− c·(∂u_deck/∂φ)²·φ̇ while in contact). This is the paper's
-Eq. (18) without its two misprints (MODEL.md §4); φ̇ = θ̇1 and φ̈ = θ̈1.
+Eq. (18) without its two misprints (docs/model.md §4); φ̇ = θ̇1 and φ̈ = θ̈1.
 """
 
 from __future__ import annotations

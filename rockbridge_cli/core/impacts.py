@@ -1,12 +1,12 @@
 """Onset of rocking, impacts at the rocking interfaces, pounding and failure limits.
 
-* Onset (Eq. 8, MODEL.md §5): mode s starts when s·ü_g exceeds the static threshold at rest.
-* Impacts at the rocking interfaces (Eqs. 21–29, MODEL.md §6): the impulse–momentum balance of the
+* Onset (Eq. 8, docs/model.md §5): mode s starts when s·ü_g exceeds the static threshold at rest.
+* Impacts at the rocking interfaces (Eqs. 21–29, docs/model.md §6): the impulse–momentum balance of the
   three bodies with impulses at the new pivots, the abutment seats carrying L1/(L1 + L2) of the
   pier–deck impulses, solved as one linear system. The corrected closed form of Eq. (30) is kept
   as an independent check (`restitution_eq30`).
 * Pounding on the backwall (Eq. 20) is `geometry.pounding_ratio`.
-* Failure (MODEL.md §7): the abutment–backfill fails at |u_deck| = u_jo + u_ab, a pier overturns at
+* Failure (docs/model.md §7): the abutment–backfill fails at |u_deck| = u_jo + u_ab, a pier overturns at
   |u_pier| = B; `capacities` finds the tall pier's rotation at which each is reached.
 """
 
@@ -36,7 +36,7 @@ def onset_threshold(model: Model, s: float) -> float:
 def restitution(model: Model, s: float, abutment_seats: bool = True) -> float:
     """Coefficient of restitution η = φ̇_II/φ̇_I of an impact that ends mode s.
 
-    Solves the impulse–momentum balance of the three bodies at rest (MODEL.md §6): unknown
+    Solves the impulse–momentum balance of the three bodies at rest (docs/model.md §6): unknown
     impulses at the new base pivots (A, C), at the new pier–deck pivots (B, D) and, for a bridge,
     vertical impulses at the abutment seats E, E' with Λ_E = L1/(L1 + L2)·Λ_B,z and
     Λ_E' = L1/(L1 + L2)·Λ_D,z (Eqs. 21–22); the bodies move in mode s before and in mode −s after.
@@ -108,7 +108,7 @@ def _rest_jacobian(model: Model, s: float) -> np.ndarray:
 def restitution_eq30(model: Model, s: float) -> float:
     """Corrected closed form of Eq. (30): η of a bridge (with seats) for the impact ending mode s.
 
-    MODEL.md §6: the ∓2α6·b̄(h̄² − 1) and ±2α8·b̄(h̄² − 1) terms belong inside the preceding
+    docs/model.md §6: the ∓2α6·b̄(h̄² − 1) and ±2α8·b̄(h̄² − 1) terms belong inside the preceding
     B²(…) brackets; the upper signs (s = +1) give p→n, the lower (s = −1) n→p. Kept as an
     independent check of `restitution`.
     """

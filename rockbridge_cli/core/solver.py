@@ -1,6 +1,6 @@
 """Event-driven response-history integration of one bridge under one ground motion.
 
-The response is a chain of smooth segments cut by events (MODEL.md §5–7). The integrator is a
+The response is a chain of smooth segments cut by events (docs/model.md §5–7). The integrator is a
 small state machine:
 
 * **at rest** until the ground acceleration, linear between samples, crosses an onset threshold
