@@ -43,7 +43,8 @@ def eq18_terms(model, s, theta1):
     """T_f1, T_f2, V_inf, Q_inf, S, and the deck displacement, as printed after Eq. (18).
 
     I_pier,i^Pivot = 4m_i·R_i²/3 and I_deck^Pivot = I_deck^CG + m_deck·r_BD² (the square missing
-    from the printed text, docs/model.md §4). ψ', θ', ψ'', θ'' are the linkage's (tested separately).
+    from the printed text, docs/model.md §4). ψ', θ', ψ'', θ'' are the linkage's (tested
+    separately).
     """
     B, H1, H2, L2, h = model.B, model.H1, model.H2, model.L2, model.h
     m1, m2, md, Id = model.m1, model.m2, model.md, model.Id
@@ -172,7 +173,8 @@ def test_acceleration_equals_corrected_eq18_in_contact(any_bridge, s, compiled):
 
 
 def test_printed_sign_of_the_velocity_term_is_wrong_only_when_asymmetric():
-    # docs/model.md §4: the φ̇² sign error vanishes at h̄ = 1 (M' ≡ 0): only an asymmetric bridge sees it
+    # docs/model.md §4: the φ̇² sign error vanishes at h̄ = 1 (M' ≡ 0): only an asymmetric bridge
+    # sees it
     sym, asym = studied_bridge(1.0), studied_bridge(2.0)
     theta1, omega = 0.5 * sym.alpha1, 0.8
     assert coefficients(sym, 1.0, theta1, EXACT)[1] == pytest.approx(0.0, abs=1e-9 * sym.m1)

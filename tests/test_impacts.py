@@ -83,8 +83,8 @@ def test_onset_published_digits():
 
 
 def test_onset_of_the_fig3_bridge():
-    # docs/model.md §10: 0.336 g / 0.361 g at h̄ = 6.4; the paper's "0.35 g" lies between them, and the
-    # ratio to the symmetric bridge's 0.10 g is the paper's "3.5 times" (3.4–3.6)
+    # docs/model.md §10: 0.336 g / 0.361 g at h̄ = 6.4; the paper's "0.35 g" lies between them, and
+    # the ratio to the symmetric bridge's 0.10 g is the paper's "3.5 times" (3.4–3.6)
     m = studied_bridge(6.4)
     p = onset_threshold(m, 1.0) / m.g
     n = -onset_threshold(m, -1.0) / m.g
@@ -193,7 +193,8 @@ def test_eq30_as_printed_is_off():
 
 
 def paper_5x5(model, seats=True):
-    """η for p→n from the paper's Eqs. (25)–(29) with the corrected Eqs. (23)–(24) (docs/model.md §6).
+    """η for p→n from the paper's Eqs. (25)–(29) with the corrected Eqs. (23)–(24) (docs/model.md
+    §6).
 
     Unknowns Λ_A,x, Λ_A,z, Λ_C,x, Λ_C,z, φ̇_II with φ̇_I = 1; each equation is written as
     (coefficients)·(Λ) = c₋·(φ̇_I − φ̇_II) + c₊·(φ̇_I + φ̇_II), as printed.

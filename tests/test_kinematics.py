@@ -184,9 +184,9 @@ def test_at_rest_values(any_bridge):
 
 
 def test_deck_turns_with_the_mode():
-    # mode p: counter-clockwise pier rotation (θ1 > 0), deck to the left (docs/model.md §1). The short
-    # pier turns more (ψ' ≈ h̄) and its top rises more than the tall pier's in either mode, so the
-    # deck turns counter-clockwise in both modes: θ_deck ≈ θ'·θ1 with θ' = s·2b̄(h̄ − 1).
+    # mode p: counter-clockwise pier rotation (θ1 > 0), deck to the left (docs/model.md §1). The
+    # short pier turns more (ψ' ≈ h̄) and its top rises more than the tall pier's in either mode,
+    # so the deck turns counter-clockwise in both modes: θ_deck ≈ θ'·θ1 with θ' = s·2b̄(h̄ − 1).
     m = studied_bridge(2.0)
     t = 0.5 * m.alpha1
     u = displacements(m, 1.0, t, EXACT)
@@ -208,8 +208,8 @@ def test_symmetric_bridge_deck_does_not_turn(s):
 
 
 def test_deck_rotation_grows_like_2b_hbar_minus_1(any_bridge):
-    # docs/model.md §8: θ_deck ≈ 2b̄(h̄ − 1)·θ1 for small rotations (≈ 10⁻⁴ rad for the studied bridges)
-    # — in mode p. In mode n (θ1 < 0) θ' = −2b̄(h̄ − 1), so θ_deck ≈ 2b̄(h̄ − 1)·|θ1|: the deck
+    # docs/model.md §8: θ_deck ≈ 2b̄(h̄ − 1)·θ1 for small rotations (≈ 10⁻⁴ rad for the studied
+    # bridges) — in mode p. In mode n (θ1 < 0) θ' = −2b̄(h̄ − 1), so θ_deck ≈ 2b̄(h̄ − 1)·|θ1|: the deck
     # always turns counter-clockwise (the short pier's end rises more), never with the sign of θ1.
     m = any_bridge
     theta1 = 1e-4

@@ -1,9 +1,10 @@
 """The event-driven integrator against closed forms, conservation laws and independent solvers.
 
 Sources of the expected values are given test by test: Housner (1963) energy balance; an
-independent integration with scipy's DOP853; conservation of energy between impacts (docs/model.md §6);
-the dynamic equivalence of a symmetric frame and a single block (Makris & Vassiliou 2013; DeJong &
-Dimitrakopoulos 2014); Eq. (8) onset; mirror symmetry; and convergence of the scheme itself.
+independent integration with scipy's DOP853; conservation of energy between impacts
+(docs/model.md §6); the dynamic equivalence of a symmetric frame and a single block (Makris &
+Vassiliou 2013; DeJong & Dimitrakopoulos 2014); Eq. (8) onset; mirror symmetry; and convergence
+of the scheme itself.
 """
 
 from __future__ import annotations
@@ -16,10 +17,11 @@ from conftest import G, RefLinkage, make_bridge, ref_onset, studied_bridge, with
 from scipy.integrate import solve_ivp
 
 from rockbridge_cli.core import fidelity, impacts
-from rockbridge_cli.core.analysis import analyze, laws
+from rockbridge_cli.core.analysis import analyze, dcr_backfill, laws
 from rockbridge_cli.core.dynamics import acceleration, coefficients
 from rockbridge_cli.core.geometry import single_block
 from rockbridge_cli.core.kinematics import EXACT
+from rockbridge_cli.core.quantities import SIGNIFICANT_RATE
 from rockbridge_cli.core.solver import Laws, integrate
 
 DT = 0.01  # record sample interval [s]
@@ -294,7 +296,9 @@ def test_strong_motion_fails_the_abutment_first():
     response = analyze(bridge, ground_motion(pga=3.0 * G, seed=8), DT)
     assert response.failure_mode == "abutment"
     assert response.peaks["u_deck"][0] == pytest.approx(bridge.u_jo + bridge.u_ab, rel=1e-6)
-    assert response.dcr == pytest.approx(1.0, rel=1e-6)
+    # the backfill at its capacity: (|u_deck| − u_jo)/u_ab = u_ab/u_ab (docs/model.md §8)
+    assert response.dcr_backfill == pytest.approx(1.0, rel=1e-5)
+    assert response.dcr_overturning < 1.0
     assert np.all(np.isnan(response.histories["u_deck"][response.time > response.failure_time]))
 
 
@@ -303,7 +307,8 @@ def test_strong_pulse_overturns_a_frame():
     frame = studied_bridge(1.25, abutments=False)
     response = analyze(frame, half_sine(1.0 * G, period=4.0, duration=8.0), DT)
     assert response.failure_mode.startswith("overturning")
-    assert response.dcr == pytest.approx(1.0, rel=1e-6)
+    assert response.dcr_overturning == pytest.approx(1.0, rel=1e-6)  # |u_pier| = B
+    assert np.isnan(response.dcr_backfill)  # no abutments, no backfill
 
 
 # ---------------------------------------------------------------- bad input
@@ -365,3 +370,29 @@ def test_asymmetric_frame_half_cycle_against_scipy():
     assert response.t_onset == pytest.approx(onset / slope, abs=1e-12)
     assert first_impact == pytest.approx(part.t_events[0][0], abs=1e-8)
     assert response.peaks["theta1"][0] == pytest.approx(peak, rel=1e-8)
+
+
+# ---------------------------------------------------------------- the paper's ratio
+
+
+@pytest.mark.parametrize(
+    ("u_deck", "expected"),
+    [(0.17, 0.5), (0.12, 0.0), (0.10, 0.0), (0.22, 1.0)],  # u_jo = 0.12 m, u_ab = 0.10 m
+)
+def test_dcr_backfill_is_the_backfill_s_deformation_over_its_capacity(u_deck, expected):
+    """docs/model.md §8: max(0, |u_deck| − u_jo)/u_ab, by hand: (0.17 − 0.12)/0.10 = 0.5; 0 while
+    the gap stays open; 1 at failure."""
+    assert dcr_backfill(studied_bridge(1.25), u_deck) == pytest.approx(expected, abs=1e-15)
+
+
+def test_dcr_backfill_needs_abutments():
+    assert np.isnan(dcr_backfill(studied_bridge(1.25, abutments=False), 0.5))
+
+
+def test_significant_impacts_are_those_above_the_rate():
+    """n_impacts_significant counts the impact events whose |θ̇1| before exceeds the threshold."""
+    response = analyze(studied_bridge(2.0), ground_motion(pga=0.69 * G, seed=3), DT)
+    impact = response.events["kind"] == "impact"
+    rates = np.abs(response.events["rate_before"][impact])
+    assert response.n_impacts_significant == np.sum(rates > SIGNIFICANT_RATE)
+    assert 0 < response.n_impacts_significant <= response.n_impacts

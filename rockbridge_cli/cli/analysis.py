@@ -83,12 +83,21 @@ def _rows(bridge: str, record: str, s: dict) -> list[tuple[str, str]]:
     for name, unit in PEAK_UNITS.items():
         rows.append((f"max {name}", f"{s[name + '_max']:.5g} {unit} at {s[name + '_time']:.3f} s"))
     rows += [
-        ("impacts / poundings", f"{s['n_impacts']} / {s['n_poundings']}"),
+        (
+            "impacts (significant) / poundings",
+            f"{s['n_impacts']} ({s['n_impacts_significant']}) / {s['n_poundings']}",
+        ),
         ("failure", failure + ("" if failure == "none" else f" at {s['failure_time']:.3f} s")),
-        ("demand/capacity", f"{s['dcr']:.3f} ({s['dcr_mode']})"),
+        ("backfill demand/capacity", _ratio(s["dcr_backfill"], "(|u_deck| − u_jo)/u_ab")),
+        ("overturning demand/capacity", _ratio(s["dcr_overturning"], "|u_pier|/B")),
         ("status", s["status"]),
         ("solve time", f"{s['solve_time_s'] * 1e3:.1f} ms ({s['steps']} steps)"),
     ]
     if "output" in s:
         rows.append(("results", s["output"]))
     return rows
+
+
+def _ratio(value: float, definition: str) -> str:
+    """A demand/capacity ratio as a percentage with its definition; "-" where it means nothing."""
+    return "- (no abutments)" if math.isnan(value) else f"{100 * value:.1f} % = {definition}"

@@ -20,8 +20,13 @@ def describe(bridge: Path, as_json: bool) -> None:
     from ..core.summary import summarize  # the compiled core: loaded on use
 
     config = load_bridge(bridge)
-    summary = summarize(config.to_model(), mirrored=config.mirrored)
+    model = config.to_model()
+    summary = summarize(model, mirrored=config.mirrored)
     summary["rocking_restitution"] = config.rocking_restitution
+    # what the demand/capacity ratios divide by (docs/model.md §8) [m]
+    summary.update(gap=model.u_jo if model.has_abutments else None,
+                   backfill_capacity=model.u_ab if model.has_abutments else None,
+                   half_width=model.B)  # fmt: skip
     if as_json:
         echo_json({"name": config.label(bridge.stem), **summary})
         return
@@ -55,6 +60,14 @@ def _rows(name: str, s: dict) -> list[tuple[str, str]]:
         )
         rows.append((f"capacity {limit} (theta1)", text))
     rows.append(("governing failure", s["governing_failure"]))
+    if s["gap"] is not None:
+        rows.append(
+            (
+                "dcr_backfill = (|u_deck| − u_jo)/u_ab",
+                f"u_jo = {s['gap'] * 1e3:.0f} mm, u_ab = {s['backfill_capacity'] * 1e3:.0f} mm",
+            )
+        )
+    rows.append(("dcr_overturning = |u_pier|/B", f"B = {s['half_width']:.4g} m"))
     return rows
 
 

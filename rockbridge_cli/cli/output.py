@@ -1,10 +1,14 @@
-"""Printing helpers shared by the commands: JSON with SI values, aligned key–value tables."""
+"""Printing helpers shared by the commands: JSON with SI values, aligned tables, CSV.
+
+They need numpy only (no pandas), so that the commands that print results start quickly."""
 
 from __future__ import annotations
 
+import csv
 import json
 import math
-from typing import Any
+from collections.abc import Sequence
+from typing import IO, Any
 
 import click
 import numpy as np
@@ -35,3 +39,49 @@ def echo_table(rows: list[tuple[str, str]]) -> None:
     width = max(len(label) for label, _ in rows)
     for label, value in rows:
         click.echo(f"{label:<{width}}  {value}")
+
+
+def table_text(headers: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
+    """Columns under their headers: numbers right-aligned with 4 significant digits, text
+    left-aligned; NaN and missing counts (−1 is not used: pass None) as "-"."""
+    cells = [[_cell(value) for value in row] for row in rows]
+    widths = [max([len(h)] + [len(row[i]) for row in cells]) for i, h in enumerate(headers)]
+    numeric = [all(_is_number(row[i]) for row in rows) and rows for i in range(len(headers))]
+    lines = []
+    for row in [list(headers), *cells]:
+        lines.append(
+            "  ".join(
+                text.rjust(width) if right else text.ljust(width)
+                for text, width, right in zip(row, widths, numeric, strict=True)
+            ).rstrip()
+        )
+    return "\n".join(lines)
+
+
+def write_csv(stream: IO[str], columns: dict[str, np.ndarray]) -> None:
+    """One row per index of the columns, a header of their names; floats at full precision
+    (shortest round trip), NaN as an empty field."""
+    writer = csv.writer(stream, lineterminator="\n")
+    writer.writerow(columns)
+    for row in zip(*columns.values(), strict=True):
+        writer.writerow("" if _missing(v) else repr(float(v)) if _is_float(v) else v for v in row)
+
+
+def _cell(value: Any) -> str:
+    if _missing(value):
+        return "-"
+    if _is_float(value):
+        return f"{value:.4g}"
+    return str(value)
+
+
+def _missing(value: Any) -> bool:
+    return value is None or (_is_float(value) and math.isnan(value))
+
+
+def _is_float(value: Any) -> bool:
+    return isinstance(value, (float, np.floating))
+
+
+def _is_number(value: Any) -> bool:
+    return value is None or isinstance(value, (int, float, np.integer, np.floating))

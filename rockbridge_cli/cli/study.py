@@ -11,7 +11,7 @@ import click
 
 from ..core.fidelity import PRESETS
 from . import main, plot
-from .output import echo_json
+from .output import echo_json, table_text, write_csv
 
 _DISPLAY = (
     ("u_deck_max", "u_deck [mm]", 1e3),
@@ -156,7 +156,7 @@ def run(
         f"(summed over the {report.ran} analyses run now)"
     )
     click.echo("peaks, largest over the records:")
-    click.echo(_bridge_table(report.peaks))
+    click.echo(_bridge_table(_peak_columns(report.output)))
     problems = sum(counts.values()) - counts.get("ok", 0)
     if problems:
         click.echo(
@@ -179,30 +179,30 @@ def run(
 @click.option("--json", "as_json", is_flag=True, help="Print the units and the rows (SI) as JSON.")
 def peaks(results: Path, csv_file: str | None, as_json: bool) -> None:
     """Print the peak table of RESULTS (an HDF5 file written by 'rockbridge run')."""
-    from ..results import read_peaks
+    from ..results.reading import open_results, peak_columns, peak_units
 
-    frame = read_peaks(results)
+    with open_results(results) as file:
+        columns, units = _with_missing_counts(peak_columns(file)), peak_units(file)
     if csv_file is not None:
         from ..paths import writable
 
-        frame.to_csv(sys.stdout if csv_file == "-" else writable(csv_file), index=False)
-        if csv_file != "-":
-            click.echo(f"CSV: {csv_file}")
+        if csv_file == "-":
+            write_csv(sys.stdout, columns)
+            return
+        with open(writable(csv_file), "w", encoding="utf-8", newline="") as stream:
+            write_csv(stream, columns)
+        click.echo(f"CSV: {csv_file}")
         return
     if as_json:
-        rows = frame.astype(object).where(frame.notna(), None).to_dict("records")
-        echo_json({"units": frame.attrs["units"], "rows": rows})
+        rows = [dict(zip(columns, row, strict=True)) for row in zip(*columns.values(), strict=True)]
+        echo_json({"units": units, "rows": rows})
         return
-    table = frame[["bridge", "record"]].copy()
-    for column, header, scale in _DISPLAY:
-        table[header] = frame[column] * scale
-    table["onset [s]"] = frame["t_onset"]
-    table["impacts"] = frame["n_impacts"]
-    table["poundings"] = frame["n_poundings"]
-    table["failure"] = frame["failure_mode"]
-    table["dcr"] = frame["dcr"]
-    table["status"] = frame["status"]
-    click.echo(table.to_string(index=False, float_format="{:.4g}".format, na_rep="-"))
+    shown = [("bridge", "bridge", 1), ("record", "record", 1), *_DISPLAY,
+             ("t_onset", "onset [s]", 1), ("n_impacts_significant", "impacts", 1),
+             ("n_poundings", "poundings", 1), ("failure_mode", "failure", 1),
+             ("dcr_backfill", "backfill d/c", 1), ("status", "status", 1)]  # fmt: skip
+    rows = zip(*(_scaled(columns[name], scale) for name, _, scale in shown), strict=True)
+    click.echo(table_text([header for _, header, _ in shown], list(rows)))
 
 
 def _shard(shard: str | None, count: int | None) -> tuple[int, int] | None:
@@ -251,20 +251,53 @@ def _pairs(pairs: list[tuple[str, str]], shown: int = 5) -> str:
     return text + (f" and {len(pairs) - shown} more" if len(pairs) > shown else "")
 
 
-def _bridge_table(frame) -> str:
-    """Per bridge: analyses ok / all, the largest of each peak, the largest dcr, failures."""
-    groups = frame.groupby("bridge", sort=False)
-    table = groups["status"].agg(ok=lambda s: f"{(s == 'ok').sum()}/{len(s)}")
-    for column, header, scale in _DISPLAY:
-        table[header] = groups[column].max() * scale
-    table["dcr"] = groups["dcr"].max()
-    table["failures"] = groups["failure_mode"].agg(_failures)
-    return table.to_string(float_format="{:.4g}".format, na_rep="-")
+def _bridge_table(columns: dict) -> str:
+    """Per bridge: analyses ok / all, the largest of each peak and of the backfill's
+    demand/capacity ratio, and how many analyses ended in a failure of the bridge."""
+    import numpy as np
+
+    headers = ["bridge", "ok", *(header for _, header, _ in _DISPLAY), "backfill d/c", "failures"]
+    rows = []
+    for bridge in dict.fromkeys(columns["bridge"]):
+        mine = columns["bridge"] == bridge
+        ok = f"{int(np.sum(columns['status'][mine] == 'ok'))}/{int(np.sum(mine))}"
+        largest = [_largest(columns[name][mine]) * scale for name, _, scale in _DISPLAY]
+        failed = np.isin(columns["failure_mode"][mine], ("", "none"), invert=True)
+        rows.append([bridge, ok, *largest, _largest(columns["dcr_backfill"][mine]),
+                     int(np.sum(failed))])  # fmt: skip
+    return table_text(headers, rows)
 
 
-def _failures(modes) -> int:
-    """How many analyses ended with a failure of the bridge."""
-    return int((~modes.isin(("", "none"))).sum())
+def _peak_columns(results: Path) -> dict:
+    from ..results.reading import open_results, peak_columns
+
+    with open_results(results) as file:
+        return peak_columns(file)
+
+
+def _largest(values) -> float:
+    """The largest value that is not NaN; NaN if there is none."""
+    import numpy as np
+
+    finite = values[~np.isnan(values)]
+    return float(finite.max()) if finite.size else float("nan")
+
+
+def _with_missing_counts(columns: dict) -> dict:
+    """The count columns with None where the analysis could not run (stored as −1)."""
+    from ..results.layout import COUNT_COLUMNS
+
+    return {
+        name: [None if v < 0 else int(v) for v in values] if name in COUNT_COLUMNS else values
+        for name, values in columns.items()
+    }
+
+
+def _scaled(values, scale: float) -> list:
+    """A column for display: numbers times ``scale`` (text and missing values as they are)."""
+    if scale == 1:
+        return list(values)
+    return [None if v is None else v * scale for v in values]
 
 
 def _output(default: str):

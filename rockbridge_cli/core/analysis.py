@@ -12,7 +12,7 @@ from . import fidelity, impacts
 from ._jit import jit
 from .geometry import Model, kind, pounding_ratio
 from .kinematics import EXACT, displacements, simplified_fits
-from .quantities import PEAK_NAMES
+from .quantities import PEAK_NAMES, SIGNIFICANT_RATE
 from .solver import (
     ABUTMENT_FAILURE,
     EVENT_NAMES,
@@ -42,8 +42,11 @@ class Response:
     n_impacts, n_poundings : counts of impacts at the rocking interfaces and on the backwall [-]
     failure_mode : ``none``, ``abutment``, ``overturning_pier1`` or ``overturning_pier2``
     failure_time : time of failure, NaN without [s]
-    dcr : peak demand/capacity of the governing failure mode (|u_deck|/(u_jo + u_ab) or
-        |u_pier|/B, the larger) [-]; ``dcr_mode`` names it
+    n_impacts_significant : impacts whose |θ̇1| before the impact exceeds `SIGNIFICANT_RATE` [-]
+    dcr_backfill : the paper's demand/capacity ratio, the backfill's deformation over its
+        capacity, max(0, max|u_deck| − u_jo)/u_ab; NaN without abutments [-] (docs/model.md §8)
+    dcr_overturning : the largest |u| of a pier's centre of gravity over B, its overturning
+        limit [-]
     status : ``ok``, or the solver's error message
     solve_time_s : wall time of the integration alone [s]
     steps, rejected_steps : integrator statistics [-]
@@ -61,8 +64,9 @@ class Response:
     n_poundings: int
     failure_mode: str
     failure_time: float
-    dcr: float
-    dcr_mode: str
+    n_impacts_significant: int
+    dcr_backfill: float
+    dcr_overturning: float
     status: str
     solve_time_s: float
     steps: int
@@ -77,11 +81,27 @@ class Response:
             out[f"{name}_time"] = when
         out.update(
             t_onset=self.t_onset, n_impacts=self.n_impacts, n_poundings=self.n_poundings,
-            failure_mode=self.failure_mode, failure_time=self.failure_time, dcr=self.dcr,
-            dcr_mode=self.dcr_mode, status=self.status, model=self.model, fidelity=self.fidelity,
+            n_impacts_significant=self.n_impacts_significant, failure_mode=self.failure_mode,
+            failure_time=self.failure_time, dcr_backfill=self.dcr_backfill,
+            dcr_overturning=self.dcr_overturning, status=self.status, model=self.model,
+            fidelity=self.fidelity,
             solve_time_s=self.solve_time_s, steps=self.steps, rejected_steps=self.rejected_steps,
         )  # fmt: skip
         return out
+
+
+def dcr_backfill(model: Model, u_deck: float) -> float:
+    """The backfill's demand/capacity ratio, max(0, |u_deck| − u_jo)/u_ab: 0 while the gap stays
+    open, 1 at abutment failure; NaN for a bridge without abutments (docs/model.md §8).
+
+    Parameters
+    ----------
+    u_deck
+        The largest |u_deck| of the response [m].
+    """
+    if not model.has_abutments:
+        return float("nan")
+    return max(0.0, u_deck - model.u_jo) / model.u_ab
 
 
 _SOLVER_ERRORS = {
@@ -198,9 +218,7 @@ def analyze(
     kinds = events[:, 1].astype(int)
     failure = int(status[1])
     peak = {name: peaks[i, 0] for i, name in enumerate(PEAK_NAMES)}
-    demands = {"abutment": (peak["u_deck"], model.u_jo + model.u_ab)} if model.has_abutments else {}
-    demands["overturning"] = (max(peak["u_pier1"], peak["u_pier2"] if model.m2 else 0.0), model.B)
-    dcr_mode = max(demands, key=lambda name: demands[name][0] / demands[name][1])
+    impacts_at = kinds == IMPACT
     onsets = events[kinds == ONSET, 0]
     return Response(
         model=kind(model),
@@ -217,12 +235,13 @@ def analyze(
         },
         peaks={name: (float(peaks[i, 0]), float(peaks[i, 1])) for i, name in enumerate(PEAK_NAMES)},
         t_onset=float(onsets[0]) if onsets.size else float("nan"),
-        n_impacts=int(np.sum(kinds == IMPACT)),
+        n_impacts=int(np.sum(impacts_at)),
+        n_impacts_significant=int(np.sum(np.abs(events[impacts_at, 3]) > SIGNIFICANT_RATE)),
         n_poundings=int(np.sum(kinds == POUNDING)),
         failure_mode=_FAILURE_MODES[failure - ABUTMENT_FAILURE] if failure >= 0 else "none",
         failure_time=float(status[0]) if failure >= 0 else float("nan"),
-        dcr=float(demands[dcr_mode][0] / demands[dcr_mode][1]),
-        dcr_mode=dcr_mode,
+        dcr_backfill=dcr_backfill(model, peak["u_deck"]),
+        dcr_overturning=max(peak["u_pier1"], peak["u_pier2"] if model.m2 else 0.0) / model.B,
         status=_SOLVER_ERRORS.get(int(status[4]), "ok"),
         solve_time_s=solve_time,
         steps=int(status[2]),

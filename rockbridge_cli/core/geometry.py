@@ -95,8 +95,8 @@ def pier_inertia(mass: float, B: float, H: float) -> float:
 def deck_inertia(mass: float, length: float, depth: float) -> float:
     """Moment of inertia of a slender rectangular deck about its centre, m·(L² + d²)/12 [kg·m²].
 
-    docs/model.md §2: the paper gives no I_CG for the studied bridges; Fig. 7's 360·10⁷ kg·m² agrees with
-    m·L²/12, and the depth term adds less than 0.02 %.
+    docs/model.md §2: the paper gives no I_CG for the studied bridges; Fig. 7's 360·10⁷ kg·m²
+    agrees with m·L²/12, and the depth term adds less than 0.02 %.
     """
     return mass * (length * length + depth * depth) / 12.0
 
@@ -140,8 +140,8 @@ def ratios(model: Model) -> dict[str, float]:
     Returns
     -------
     dict with ``h_bar`` = H1/H2, ``b_bar`` = B/L2, ``L_bar`` = L1/L2, ``gamma`` = m_deck/(m1 + m2)
-    [-], and ``q`` = 4R1/(g·[m1 + m2 + 3m_deck]) [m/N] (docs/model.md §2: the parentheses the printed
-    form drops).
+    [-], and ``q`` = 4R1/(g·[m1 + m2 + 3m_deck]) [m/N] (docs/model.md §2: the parentheses the
+    printed form drops).
     """
     piers = model.m1 + model.m2
     return {

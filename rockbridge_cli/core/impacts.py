@@ -1,13 +1,13 @@
 """Onset of rocking, impacts at the rocking interfaces, pounding and failure limits.
 
 * Onset (Eq. 8, docs/model.md §5): mode s starts when s·ü_g exceeds the static threshold at rest.
-* Impacts at the rocking interfaces (Eqs. 21–29, docs/model.md §6): the impulse–momentum balance of the
-  three bodies with impulses at the new pivots, the abutment seats carrying L1/(L1 + L2) of the
-  pier–deck impulses, solved as one linear system. The corrected closed form of Eq. (30) is kept
+* Impacts at the rocking interfaces (Eqs. 21–29, docs/model.md §6): the impulse–momentum balance
+  of the three bodies with impulses at the new pivots, the abutment seats carrying L1/(L1 + L2) of
+  the pier–deck impulses, solved as one linear system. The corrected closed form of Eq. (30) is kept
   as an independent check (`restitution_eq30`).
 * Pounding on the backwall (Eq. 20) is `geometry.pounding_ratio`.
-* Failure (docs/model.md §7): the abutment–backfill fails at |u_deck| = u_jo + u_ab, a pier overturns at
-  |u_pier| = B; `capacities` finds the tall pier's rotation at which each is reached.
+* Failure (docs/model.md §7): the abutment–backfill fails at |u_deck| = u_jo + u_ab, a pier
+  overturns at |u_pier| = B; `capacities` finds the tall pier's rotation at which each is reached.
 """
 
 from __future__ import annotations

@@ -1,9 +1,9 @@
 """Kinematics of the rocking bridge: a four-bar linkage with one degree of freedom.
 
-Ground A–C, tall pier A–B, deck B–D and short pier C–D (docs/model.md §1, §3). In rocking mode s = +1
-("p", counter-clockwise) the base pivots are the piers' bottom-left corners and the deck pivots
-their top-right corners; in mode s = −1 ("n") the mirror corners. The degree of freedom is the
-tall pier's rotation θ1 = φ − φ1^s (Eq. 1), where φ is the angle of the pier's diagonal A→B
+Ground A–C, tall pier A–B, deck B–D and short pier C–D (docs/model.md §1, §3). In rocking mode
+s = +1 ("p", counter-clockwise) the base pivots are the piers' bottom-left corners and the deck
+pivots their top-right corners; in mode s = −1 ("n") the mirror corners. The degree of freedom is
+the tall pier's rotation θ1 = φ − φ1^s (Eq. 1), where φ is the angle of the pier's diagonal A→B
 from +x and φ1^s = π/2 − s·α1 its value at rest. Working in θ1 rather than φ keeps full
 precision near rest.
 

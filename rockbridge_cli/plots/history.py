@@ -14,7 +14,7 @@ from pathlib import Path
 from matplotlib.figure import Figure
 
 from ..errors import InputError
-from ..results import read_bridges, read_history
+from ..results.reading import bridge_attributes, history_arrays, open_results
 from .common import check_format, panel_label, save, style
 
 PANELS = (
@@ -49,17 +49,18 @@ def plot_history(
         An unknown bridge or record, or an analysis without the histories the figure needs.
     """
     output = check_format(output)
-    table = read_bridges(results)
-    chosen = list(bridges) or list(table.index)
-    unknown = [b for b in chosen if b not in table.index]
-    if unknown:
-        raise InputError(
-            results,
-            [("", f"no bridge {', '.join(unknown)}; the file has {', '.join(table.index)}")],
-        )
-    histories = {b: read_history(results, b, record) for b in chosen}
-    for bridge, frame in histories.items():
-        missing = [name for name, _, _ in PANELS if name not in frame]
+    with open_results(results) as file:
+        table = bridge_attributes(file)
+        chosen = list(bridges) or list(table)
+        unknown = [b for b in chosen if b not in table]
+        if unknown:
+            raise InputError(
+                results,
+                [("", f"no bridge {', '.join(unknown)}; the file has {', '.join(table)}")],
+            )
+        histories = {b: history_arrays(file, results, b, record) for b in chosen}
+    for bridge, arrays in histories.items():
+        missing = [name for name, _, _ in PANELS if name not in arrays]
         if missing:
             raise InputError(
                 results, [(f"analyses/{bridge}/{record}", f"no {', '.join(missing)} history")]
@@ -67,14 +68,14 @@ def plot_history(
     figure = Figure(figsize=(8.0, 11.0), layout="constrained")
     axes_list = figure.subplots(len(PANELS), 1, sharex=True)
     for (name, scale, label), axes, letter in zip(PANELS, axes_list, "ABCDE", strict=True):
-        for index, (bridge, frame) in enumerate(histories.items()):
-            axes.plot(frame.index, frame[name] * scale, linewidth=1.0, marker="none",
-                      label=table.loc[bridge, "name"],
+        for index, (bridge, arrays) in enumerate(histories.items()):
+            axes.plot(arrays["time"], arrays[name] * scale, linewidth=1.0, marker="none",
+                      label=table[bridge]["name"],
                       **{k: v for k, v in style(index).items() if "marker" not in k})  # fmt: skip
         axes.set_ylabel(label)
         axes.grid(True, color="0.9", linewidth=0.5)
         panel_label(axes, letter)
-    gaps = {table.loc[b, "model_u_jo"] for b in chosen} - {math.inf}
+    gaps = {table[b]["model_u_jo"] for b in chosen} - {math.inf}
     for gap in sorted(gaps):
         for sign in (1.0, -1.0):
             axes_list[0].axhline(sign * gap * 1e3, color="black", linestyle=":", linewidth=0.8)

@@ -1,7 +1,9 @@
 """Fig. 9 of Thomaidis, Camara & Kappos (2022): peak responses per record, one marker per bridge.
 
 (A) u_deck, with the end-joint gap u_jo (dotted) and the abutment–backfill failure u_jo + u_ab
-(dashed); (B) v_deck; (C) θ_deck; (D) θ1 (tall pier); (E) θ2 (short pier).
+(dashed); (B) v_deck; (C) θ_deck; (D) θ1 (tall pier); (E) θ2 (short pier); (F) the paper's
+demand/capacity ratio, the backfill's (|u_deck| − u_jo)/u_ab (docs/model.md §8), with failure at
+100 %.
 """
 
 from __future__ import annotations
@@ -12,7 +14,7 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-from ..results import read_bridges, read_peaks
+from ..results.reading import bridge_attributes, open_results, peak_columns
 from .common import check_format, panel_label, save, style
 
 PANELS = (
@@ -21,6 +23,7 @@ PANELS = (
     ("theta_deck_max", 1e3, r"$\theta_{deck}$ [mrad]"),
     ("theta1_max", 1e3, r"$\theta_1$ (tall pier) [mrad]"),
     ("theta2_max", 1e3, r"$\theta_2$ (short pier) [mrad]"),
+    ("dcr_backfill", 100.0, r"backfill demand/capacity [%]"),
 )
 """Column of the peak table, scale from SI to the axis unit, axis label."""
 
@@ -41,19 +44,21 @@ def plot_peaks(results: str | Path, output: str | Path) -> Path:
         The figure file.
     """
     output = check_format(output)
-    peaks = read_peaks(results)
-    bridges = read_bridges(results)
+    with open_results(results) as file:
+        peaks, bridges = peak_columns(file), bridge_attributes(file)
     records = list(dict.fromkeys(peaks["record"]))
-    figure = Figure(figsize=(10.0, 9.0), layout="constrained")
+    figure = Figure(figsize=(10.0, 9.6), layout="constrained")
     grid = figure.subplots(3, 2, sharex=True)
     width = 0.5 / max(len(bridges), 1)
-    for (column, scale, label), axes, letter in zip(PANELS, grid.flat, "ABCDE", strict=False):
-        for index, bridge in enumerate(bridges.index):
-            rows = peaks[peaks["bridge"] == bridge].set_index("record").reindex(records)
+    positions = {record: index for index, record in enumerate(records)}
+    for (column, scale, label), axes, letter in zip(PANELS, grid.flat, "ABCDEF", strict=True):
+        for index, (bridge, attributes) in enumerate(bridges.items()):
+            mine = peaks["bridge"] == bridge
             offset = (index - (len(bridges) - 1) / 2) * width
+            x = np.array([positions[record] for record in peaks["record"][mine]]) + offset
             axes.plot(
-                np.arange(len(records)) + offset, rows[column].to_numpy(float) * scale,
-                linestyle="none", markersize=6, label=bridges.loc[bridge, "name"],
+                x, peaks[column][mine] * scale, linestyle="none", markersize=6,
+                label=attributes["name"],
                 **{k: v for k, v in style(index).items() if k != "linestyle"},
             )  # fmt: skip
         axes.set_ylabel(label)
@@ -62,20 +67,20 @@ def plot_peaks(results: str | Path, output: str | Path) -> Path:
         axes.tick_params(labelbottom=True)
         panel_label(axes, letter)
     _limits(grid[0, 0], bridges)
-    for axes in grid.flat[: len(PANELS)]:
-        axes.set_ylim(bottom=0.0)
-    grid[-1, 0].set_xlabel("record")
-    legend = grid[-1, -1]
-    legend.axis("off")
+    grid[-1, -1].axhline(100.0, color="black", linestyle="--", linewidth=1.0)  # backfill failure
+    for axes in grid.flat:  # from zero, with the markers and limit lines clear of the top frame
+        axes.set_ylim(0.0, 1.08 * axes.get_ylim()[1])
+    for axes in grid[-1]:
+        axes.set_xlabel("record")
     handles, labels = grid[0, 0].get_legend_handles_labels()
-    legend.legend(handles, labels, loc="center", frameon=False)
+    figure.legend(handles, labels, loc="outside upper center", ncols=3, frameon=False)
     return save(figure, output)
 
 
-def _limits(axes, bridges) -> None:
+def _limits(axes, bridges: dict) -> None:
     """Horizontal lines of the end-joint gap and of abutment failure (bridges with abutments)."""
     seen = set()
-    for _, bridge in bridges.iterrows():
+    for bridge in bridges.values():
         gap, ultimate = bridge["model_u_jo"], bridge["model_u_ab"]
         if not math.isfinite(gap) or (gap, ultimate) in seen:
             continue

@@ -68,11 +68,21 @@ def _peak_columns() -> dict[str, tuple[str, str]]:
     columns.update(
         t_onset=("s", "first onset of rocking; NaN if the bridge never rocks"),
         n_impacts=("-", "impacts at the rocking interfaces; -1 without results"),
+        n_impacts_significant=(
+            "-",
+            "impacts at the rocking interfaces with |theta1_rate| above "
+            "the file's significant_impact_rate before them; -1 without "
+            "results",
+        ),
         n_poundings=("-", "deck-backwall poundings; -1 without results"),
         failure_mode=("-", "none, abutment, overturning_pier1 or overturning_pier2"),
         failure_time=("s", "time of failure; NaN without"),
-        dcr=("-", "peak demand/capacity of the governing failure mode"),
-        dcr_mode=("-", "the failure mode dcr refers to: abutment or overturning"),
+        dcr_backfill=(
+            "-",
+            "the paper's demand/capacity ratio: backfill deformation over its "
+            "capacity, max(0, u_deck_max - u_jo)/u_ab; NaN without abutments",
+        ),
+        dcr_overturning=("-", "largest |u| of a pier's centre of gravity over B (overturning)"),
         status=("-", "; ".join(f"{k}: {v}" for k, v in STATUSES.items())),
         message=("-", "why the analysis stopped early or could not run; empty if ok"),
         model=("-", "the model that ran (asymmetric-bridge, symmetric-frame, ...)"),
@@ -88,8 +98,15 @@ def _peak_columns() -> dict[str, tuple[str, str]]:
 PEAK_COLUMNS = _peak_columns()
 """Columns of the peak table: name → (unit, description)."""
 
-TEXT_COLUMNS = ("bridge", "record", "failure_mode", "dcr_mode", "status", "message", "model")
-COUNT_COLUMNS = ("n_impacts", "n_poundings", "steps", "rejected_steps", "n_events")
+TEXT_COLUMNS = ("bridge", "record", "failure_mode", "status", "message", "model")
+COUNT_COLUMNS = (
+    "n_impacts",
+    "n_impacts_significant",
+    "n_poundings",
+    "steps",
+    "rejected_steps",
+    "n_events",
+)
 
 COMPRESSION = {"compression": "gzip", "compression_opts": 4, "shuffle": True}
 """HDF5 filters of the compressed datasets (records, histories): byte shuffle, then deflate."""

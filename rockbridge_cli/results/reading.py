@@ -111,6 +111,26 @@ def stored_shard_of(file: h5py.File) -> tuple[int, int] | None:
     return int(file.attrs["shard_index"]), int(file.attrs["shard_count"])
 
 
+def history_arrays(
+    file: h5py.File, path: str | Path, bridge: str, record: str
+) -> dict[str, np.ndarray]:
+    """The stored histories of one analysis of an open results file, ``time`` first [SI].
+
+    Raises
+    ------
+    InputError
+        No such analysis, or the study kept no histories.
+    """
+    row = _row(file, path, bridge, record)
+    group = file.get(f"analyses/{bridge}/{record}/histories")
+    if group is None:
+        reason = file["peaks/message"].asstr()[row] or (
+            "the study kept no histories (output.histories)")  # fmt: skip
+        raise InputError(path, [(f"analyses/{bridge}/{record}", f"no histories: {reason}")])
+    names = ["time", *(name for name in HISTORY_UNITS if name in group)]
+    return {name: group[name][()] for name in names}
+
+
 def read_history(path: str | Path, bridge: str, record: str) -> pd.DataFrame:
     """The stored histories of one analysis, indexed by time [s]; units in ``DataFrame.attrs``.
 
@@ -122,18 +142,10 @@ def read_history(path: str | Path, bridge: str, record: str) -> pd.DataFrame:
     import pandas as pd
 
     with open_results(path) as file:
-        row = _row(file, path, bridge, record)
-        group = file.get(f"analyses/{bridge}/{record}/histories")
-        if group is None:
-            reason = file["peaks/message"].asstr()[row] or (
-                "the study kept no histories (output.histories)")  # fmt: skip
-            raise InputError(path, [(f"analyses/{bridge}/{record}", f"no histories: {reason}")])
-        names = [name for name in HISTORY_UNITS if name in group]
-        frame = pd.DataFrame(
-            {name: group[name][()] for name in names},
-            index=pd.Index(group["time"][()], name="time"),
-        )
-        frame.attrs["units"] = {name: group[name].attrs["units"] for name in ("time", *names)}
+        arrays = history_arrays(file, path, bridge, record)
+    time = arrays.pop("time")
+    frame = pd.DataFrame(arrays, index=pd.Index(time, name="time"))
+    frame.attrs["units"] = {"time": "s", **{name: HISTORY_UNITS[name] for name in arrays}}
     return frame
 
 
@@ -154,7 +166,7 @@ def stored_results(file: h5py.File) -> Iterator[AnalysisResult]:
     of the file (for a run that resumes and writes a new file from the old one)."""
     columns = peak_columns(file)
     starts = _event_starts(columns["n_events"])
-    for row, (bridge, record) in enumerate(zip(columns["bridge"], columns["record"])):
+    for row, (bridge, record) in enumerate(zip(columns["bridge"], columns["record"], strict=True)):
         values = {name: _item(values[row]) for name, values in columns.items()}
         del values["bridge"], values["record"]
         events = _events(file, starts, row)
@@ -168,17 +180,24 @@ def stored_results(file: h5py.File) -> Iterator[AnalysisResult]:
         )  # fmt: skip
 
 
+def bridge_attributes(file: h5py.File) -> dict[str, dict[str, Any]]:
+    """Per bridge of an open results file, in the study's order: its name, model constants and
+    summary values [SI] (the attributes of ``/bridges/<id>`` but its config and units)."""
+    order = [item["id"] for item in json.loads(file.attrs["config"])["bridges"]]
+    return {
+        bridge: {k: _item(v) for k, v in file["bridges"][bridge].attrs.items()
+                 if k not in ("config", "units")}
+        for bridge in order
+    }  # fmt: skip
+
+
 def read_bridges(path: str | Path) -> pd.DataFrame:
     """One row per bridge (index: id) with its name, model constants and summary values [SI]."""
     import pandas as pd
 
     with open_results(path) as file:
-        rows = {
-            bridge_id: {k: v for k, v in node.attrs.items() if k not in ("config", "units")}
-            for bridge_id, node in file["bridges"].items()
-        }
-        order = [item["id"] for item in json.loads(file.attrs["config"])["bridges"]]
-    return pd.DataFrame.from_dict(rows, orient="index").loc[order]
+        rows = bridge_attributes(file)
+    return pd.DataFrame.from_dict(rows, orient="index")
 
 
 def read_config_hash(path: str | Path) -> str:
@@ -192,7 +211,7 @@ def _row(file: h5py.File, path: str | Path, bridge: str, record: str) -> int:
     bridges, records = file["peaks/bridge"].asstr()[()], file["peaks/record"].asstr()[()]
     found = np.flatnonzero((bridges == bridge) & (records == record))
     if not found.size:
-        pairs = [f"{b}/{r}" for b, r in zip(bridges, records)]
+        pairs = [f"{b}/{r}" for b, r in zip(bridges, records, strict=True)]
         raise InputError(
             path,
             [("", f"no analysis {bridge}/{record}; the file has {', '.join(pairs) or 'none'}")],

@@ -17,7 +17,7 @@ import scipy
 
 from .. import __version__
 from ..core.geometry import Model
-from ..core.quantities import HISTORY_UNITS
+from ..core.quantities import HISTORY_UNITS, SIGNIFICANT_RATE
 from .layout import (
     COMPRESSION,
     COUNT_COLUMNS,
@@ -64,8 +64,8 @@ class ResultsWriter:
         self.file = file
         self.total = total
         self.added = 0
-        self.peaks = _table(file.create_group("peaks"), PEAK_COLUMNS, PEAK_ROWS, "one row per "
-                            "analysis that ran, in the study's order (bridge × record)")  # fmt: skip
+        text = "one row per analysis that ran, in the study's order (bridge × record)"
+        self.peaks = _table(file.create_group("peaks"), PEAK_COLUMNS, PEAK_ROWS, text)
         self.peaks["n_events"].attrs["sample_dimension"] = "events"
         self.events = _table(file.create_group("events"), EVENT_COLUMNS, EVENT_ROWS, "the events "
                              "of every analysis, in the order of /peaks; /peaks/n_events counts "
@@ -206,10 +206,15 @@ def _write_header(file: h5py.File, study: Study, created: str) -> None:
             "fidelity": study.preset,
             "knobs": json.dumps(knobs),
             "output_step": float(study.knobs["output_step"]),
+            "significant_impact_rate": SIGNIFICANT_RATE,
             "histories": json.dumps(list(study.histories)),
         }
     )
-    _describe_attrs(file, {"output_step": "s", "n_analyses": "-", "n_complete": "-"})
+    _describe_attrs(
+        file,
+        {"output_step": "s", "significant_impact_rate": "rad/s", "n_analyses": "-",
+         "n_complete": "-"},
+    )  # fmt: skip
 
 
 def _write_records(group: h5py.Group, study: Study) -> None:
