@@ -29,6 +29,7 @@ import scipy
 from . import __version__
 from .config.records import RecordSetConfig
 from .core import ec8, matching, spectra
+from .core.quantities import STANDARD_GRAVITY
 from .errors import InputError
 from .paths import writable
 
@@ -101,7 +102,6 @@ def read_record(
     path: str | Path,
     units: str | None = None,
     time_step: float | None = None,
-    gravity: float = 9.81,
 ) -> Record:
     """Read a record file (PEER ``.AT2``, rockbridge, two-column or one-column text).
 
@@ -114,8 +114,8 @@ def read_record(
         file when it does.
     time_step
         time step of a one-column file [s]; must agree with the file when it states one.
-    gravity
-        acceleration of gravity, to convert g to m/s² [m/s²].
+
+    Values in g are converted with `STANDARD_GRAVITY`.
 
     Raises
     ------
@@ -134,7 +134,7 @@ def read_record(
         file_format = "rockbridge" if header.get("format") == FORMAT_TAG else "text"
     resolved_units = _resolve_units(path, file_units, units)
     resolved_step = _resolve_time_step(path, step, time_step)
-    scale = gravity if resolved_units == "g" else 1.0
+    scale = STANDARD_GRAVITY if resolved_units == "g" else 1.0
     metadata = {**header, "format": file_format, "file_units": resolved_units}
     return Record(name, resolved_step, values * scale, str(path), metadata)
 

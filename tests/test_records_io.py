@@ -22,7 +22,7 @@ from rockbridge_cli.records import (
 
 DATA = Path(__file__).parent / "data" / "records"
 BUNDLED = Path(__file__).parents[1] / "records" / "ec8-type1-C-ag0.6g"
-G = 9.81
+G = 9.80665  # the unit g of a record file: standard gravity (docs/model.md §1)
 
 
 def test_reads_peer_at2():
@@ -48,8 +48,8 @@ def test_reads_two_columns_with_units():
     record = read_record(DATA / "two_columns.txt", units="m/s2")
     assert record.time_step == pytest.approx(0.01)
     np.testing.assert_allclose(record.acceleration, [0.0, 0.5, -0.25, 0.0])
-    in_g = read_record(DATA / "two_columns.txt", units="g", gravity=10.0)
-    np.testing.assert_allclose(in_g.acceleration, [0.0, 5.0, -2.5, 0.0])
+    in_g = read_record(DATA / "two_columns.txt", units="g")
+    np.testing.assert_array_equal(in_g.acceleration, 9.80665 * np.array([0.0, 0.5, -0.25, 0.0]))
 
 
 def test_reads_one_column_with_time_step():
@@ -155,7 +155,7 @@ def test_reads_the_bundled_set():
     assert all(r.time_step == 0.01 and r.acceleration.size == 3001 for r in records)
     target = read_set_target(BUNDLED)
     assert (target.spectrum_type, target.ground_type) == (1, "C")
-    assert target.surface_pga == pytest.approx(0.6 * 1.15 * G)
+    assert target.surface_pga == pytest.approx(0.6 * 1.15 * 9.81)  # the config's gravity
 
 
 def copy_set(tmp_path) -> Path:
@@ -201,3 +201,28 @@ def test_truncated_rockbridge_file(tmp_path):
     path.write_text("\n".join(path.read_text().splitlines()[:-3]) + "\n")  # 3 samples lost
     with pytest.raises(InputError, match="truncated: the header says 10 points but the file has 7"):
         read_record(path)
+
+
+def test_a_record_in_g_and_the_same_in_m_s2_give_identical_analyses(tmp_path):
+    """The unit g of a file is standard gravity, 9.80665 m/s², whatever the bridge's gravity:
+    a record written in g and the same record written in m/s² with 9.80665 analyse bit for bit
+    alike (issue 9: with 9.81 some peaks on recorded motions moved by up to 27 %)."""
+    from conftest import studied_bridge
+
+    from rockbridge_cli.core.analysis import analyze
+
+    rng = np.random.default_rng(5)
+    in_g = np.round(rng.normal(0.0, 0.2, 1500), 6)  # a "recorded" motion in g, 6 digits
+    (tmp_path / "g.txt").write_text(
+        "# units: g\n" + "".join(f"{0.01 * i:.2f} {a:.6f}\n" for i, a in enumerate(in_g))
+    )
+    (tmp_path / "si.txt").write_text(
+        "# units: m/s2\n"
+        + "".join(f"{0.01 * i:.2f} {float(a) * 9.80665!r}\n" for i, a in enumerate(in_g))
+    )
+    a, b = read_record(tmp_path / "g.txt"), read_record(tmp_path / "si.txt")
+    np.testing.assert_array_equal(a.acceleration, b.acceleration)
+    bridge = studied_bridge(2.0)
+    first, second = (analyze(bridge, r.acceleration, r.time_step) for r in (a, b))
+    assert first.summary()["u_deck_max"] == second.summary()["u_deck_max"]
+    np.testing.assert_array_equal(first.histories["theta1"], second.histories["theta1"])

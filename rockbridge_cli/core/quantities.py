@@ -18,3 +18,7 @@ SIGNIFICANT_RATE = 1e-3
 the paper's Fig. 9 study (1686 impacts): the rates before impacts are bimodal, chatter near rest at
 1e-5–3e-4 rad/s (446 impacts) and rocking at 3e-3–0.1 rad/s (1186), with 54 between 3e-4 and
 3e-3 rad/s."""
+
+STANDARD_GRAVITY = 9.80665
+"""The unit g of a record file [m/s²]: standard gravity (CGPM 1901; the g of PEER NGA AT2, ESM
+and COSMOS files), whatever gravity the structure is analysed with (docs/model.md §1, §9)."""

@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
+from ..core.quantities import STANDARD_GRAVITY
 from ..core.spectra import compute_psa
 from ..records import (
     MANIFEST,
@@ -55,7 +56,7 @@ def plot_record_spectra(
     """
     output = check_format(output)
     records, target, band = _load(paths, units, time_step)
-    gravity = 9.81
+    gravity = STANDARD_GRAVITY  # spectra in the unit g
     periods = np.geomspace(*band, 200)
     values = (
         np.array([compute_psa(r.acceleration, r.time_step, periods, damping) for r in records])

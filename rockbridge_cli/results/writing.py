@@ -17,7 +17,7 @@ import scipy
 
 from .. import __version__
 from ..core.geometry import Model
-from ..core.quantities import HISTORY_UNITS, SIGNIFICANT_RATE
+from ..core.quantities import HISTORY_UNITS, SIGNIFICANT_RATE, STANDARD_GRAVITY
 from .layout import (
     COMPRESSION,
     COUNT_COLUMNS,
@@ -233,9 +233,15 @@ def _write_records(group: h5py.Group, study: Study) -> None:
                 "n_samples": record.acceleration.size,
                 "duration": record.duration,
                 "pga": record.peak_acceleration,
+                "file_units": record.metadata.get("file_units", "m/s2"),
+                "standard_gravity": STANDARD_GRAVITY,  # what a file's g was converted with
             }
         )
-        _describe_attrs(node, {"time_step": "s", "n_samples": "-", "duration": "s", "pga": "m/s2"})
+        _describe_attrs(
+            node,
+            {"time_step": "s", "n_samples": "-", "duration": "s", "pga": "m/s2",
+             "file_units": "-", "standard_gravity": "m/s2"},
+        )  # fmt: skip
         if item.digest in written:
             node["acceleration"] = written[item.digest]
             continue
