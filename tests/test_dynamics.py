@@ -437,11 +437,11 @@ def test_compiled_and_python_agree():
 
 def test_simplified_kinematics_error_on_the_acceleration_is_measured():
     # the paper's simplified procedure changes θ̈1 by well under 1 % for the studied bridges
-    from rockbridge_cli.core.kinematics import simplified_fits
+    from rockbridge_cli.core.kinematics import simplified
 
     for h_bar in (1.25, 2.0):
         m = studied_bridge(h_bar)
-        fits = simplified_fits(m)
+        fits = simplified(m)
         for s in MODES:
             for f in (0.1, 0.5, 0.9):
                 theta1 = s * f * m.alpha1

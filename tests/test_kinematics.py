@@ -10,7 +10,14 @@ import pytest
 from conftest import BRIDGES, RefLinkage, make_bridge, python, studied_bridge
 
 from rockbridge_cli.core import kinematics
-from rockbridge_cli.core.kinematics import EXACT, centres, displacements, linkage, simplified_fits
+from rockbridge_cli.core.kinematics import (
+    EXACT,
+    centres,
+    displacements,
+    linkage,
+    simplified,
+    simplified_fits,
+)
 
 MODES = (1.0, -1.0)
 FRACTIONS = (0.0, 0.02, 0.3, 0.6, 0.9)  # s·θ1 as a fraction of α1 (overturning of the tall pier)
@@ -233,8 +240,8 @@ def test_compiled_and_python_agree():
                 assert np.allclose(part_a, part_b, rtol=1e-13, atol=1e-15)
 
 
-def test_exact_selector_is_empty():
-    assert kinematics.EXACT.shape[0] == 0
+def test_exact_selector_has_neither_fits_nor_tables():
+    assert kinematics.EXACT.fits.shape[0] == 0 and kinematics.EXACT.table.shape[0] == 0
 
 
 # Measured worst errors of the fitted ψ' (relative) and θ' (relative to 2b̄(h̄ − 1)) over
@@ -256,7 +263,7 @@ def test_simplified_fits_error_is_small_and_measured(name):
         for f in np.linspace(0.0, 1.0, 41):
             theta1 = s * f * m.alpha1
             exact = linkage(m, s, theta1, EXACT)
-            fitted = linkage(m, s, theta1, fits)
+            fitted = linkage(m, s, theta1, simplified(m))
             assert np.allclose(exact[:3], fitted[:3], rtol=0, atol=1e-15)
             worst = max(
                 worst, abs(fitted[3] - exact[3]) / exact[3], abs(fitted[4] - exact[4]) / scale

@@ -283,13 +283,15 @@ def test_without_dask_the_option_says_how_to_install_it(tmp_path, monkeypatch):
         return real_import(name, *args, **kwargs)
 
     monkeypatch.setattr(builtins, "__import__", no_dask)
-    result = invoke("run", write_study(tmp_path), "--scheduler", "tcp://127.0.0.1:1")
+    study = write_study(tmp_path)
+    result = invoke("run", study, "--scheduler", "tcp://127.0.0.1:1", "-o", tmp_path / "o.h5")
     assert result.exit_code == 2 and 'pip install "rockbridge[dask]"' in result.output
 
 
 def test_an_unreachable_scheduler_is_a_clear_error(tmp_path):
     pytest.importorskip("distributed")
-    result = invoke("run", write_study(tmp_path), "--scheduler", "tcp://127.0.0.1:9")
+    study = write_study(tmp_path)
+    result = invoke("run", study, "--scheduler", "tcp://127.0.0.1:9", "-o", tmp_path / "o.h5")
     assert result.exit_code == 2 and "cannot reach the Dask scheduler" in result.output
 
 

@@ -118,7 +118,11 @@ class Fidelity(StrictModel):
     name is short for ``{preset: <name>}``."""
 
     preset: str = Field("default", description=f"One of {', '.join(PRESETS)}")
-    kinematics: Literal["exact", "simplified"] | None = Field(None, description="Kinematics")
+    kinematics: Literal["exact", "tabulated", "simplified"] | None = Field(
+        None,
+        description="Kinematics: exact, tabulated (from cubics built once per bridge) or "
+        "simplified (the paper's fits)",
+    )
     scheme: Literal["rk4", "dopri5"] | None = Field(None, description="Integration scheme")
     step: PositiveFloat | None = Field(None, description="Fixed (rk4) or first (dopri5) step [s]")
     rtol: NonNegativeFloat | None = Field(None, description="Relative tolerance of dopri5 [-]")

@@ -11,3 +11,7 @@ from __future__ import annotations
 import numba
 
 jit = numba.njit(cache=True, nogil=True, fastmath=False, error_model="numpy")
+
+inlined = numba.njit(cache=True, nogil=True, fastmath=False, error_model="numpy", inline="always")
+"""`jit` for the tiny kernels of the innermost loop (a table lookup, a cubic): compiled into each
+caller, which saves the call and the reference counting of the arrays it is passed."""

@@ -11,7 +11,7 @@ import numpy as np
 from . import fidelity, impacts
 from ._jit import jit
 from .geometry import Model, kind, pounding_ratio
-from .kinematics import EXACT, displacements, simplified_fits
+from .kinematics import EXACT, Kinematics, displacements, simplified
 from .quantities import PEAK_NAMES, SIGNIFICANT_RATE
 from .solver import (
     ABUTMENT_FAILURE,
@@ -22,6 +22,7 @@ from .solver import (
     Laws,
     integrate,
 )
+from .tables import tabulated
 
 
 @dataclass
@@ -186,7 +187,7 @@ def analyze(
     if not (time_step > 0.0 and np.isfinite(time_step)):
         raise ValueError(f"the time step must be positive, got {time_step}")
     values = fidelity.knobs(preset, **overrides)
-    fits = simplified_fits(model) if values["kinematics"] == "simplified" else EXACT
+    kin = _kinematics(model, values["kinematics"])
     sign = -1.0 if mirrored else 1.0
     bridge_laws = laws(model, restitution)
 
@@ -194,7 +195,7 @@ def analyze(
     theta1, rate, mode, events, peaks, status = integrate(
         model,
         bridge_laws,
-        fits,
+        kin,
         sign * acc,
         float(time_step),
         fidelity.settings(values),
@@ -203,7 +204,7 @@ def analyze(
     )
     solve_time = time.perf_counter() - start
 
-    track = _observe(model, fits, theta1, mode)
+    track = _observe(model, kin, theta1, mode)
     histories = {
         "theta1": sign * theta1, "theta1_rate": sign * rate, "mode": sign * mode,
         "theta2": sign * track[:, 6], "theta_deck": sign * track[:, 7],
@@ -249,15 +250,22 @@ def analyze(
     )
 
 
+def _kinematics(model: Model, name: str) -> Kinematics:
+    """The kinematics a fidelity preset names: exact, tabulated or simplified (the paper's)."""
+    if name == "tabulated":
+        return tabulated(model)
+    return simplified(model) if name == "simplified" else EXACT
+
+
 @jit
-def _observe(model: Model, fits: np.ndarray, theta1: np.ndarray, mode: np.ndarray) -> np.ndarray:
+def _observe(model: Model, kin: Kinematics, theta1: np.ndarray, mode: np.ndarray) -> np.ndarray:
     """Displacements (see `kinematics.displacements`) at every sample, shape (n, 8)."""
     out = np.zeros((theta1.size, 8))
     for i in range(theta1.size):
         if not np.isfinite(theta1[i]):
             out[i, :] = np.nan
         elif mode[i] != 0:
-            values = displacements(model, float(mode[i]), theta1[i], fits)
+            values = displacements(model, float(mode[i]), theta1[i], kin)
             for j in range(8):
                 out[i, j] = values[j]
     return out

@@ -12,13 +12,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._jit import jit
+from ._jit import inlined, jit
 from .geometry import Model
-from .kinematics import centres
+from .kinematics import Kinematics, centres, cubic, table_piece
 
 
-@jit
-def coefficients(model: Model, s: float, theta1: float, fits: np.ndarray):
+@inlined
+def coefficients(model: Model, s: float, theta1: float, kin: Kinematics):
     """Configuration-dependent coefficients of the equation of motion in mode s.
 
     Parameters
@@ -29,8 +29,9 @@ def coefficients(model: Model, s: float, theta1: float, fits: np.ndarray):
         Rocking mode, +1 or −1 [-].
     theta1
         Rotation of the tall pier [rad].
-    fits
-        Kinematics selector (see `kinematics.linkage`).
+    kin
+        How to compute the linkage (`kinematics.Kinematics`): from its tables where it has them
+        and θ1 lies inside, else exactly (or with the paper's fits).
 
     Returns
     -------
@@ -41,7 +42,22 @@ def coefficients(model: Model, s: float, theta1: float, fits: np.ndarray):
     u_deck : horizontal displacement of the deck's centre of gravity [m]
     du_deck : ∂u_deck/∂φ [m]
     """
-    pos, d1, d2, ang = centres(model, s, theta1, fits)
+    piece, dx, mode = table_piece(kin, s, theta1)
+    if piece >= 0:
+        t = kin.table
+        return (
+            cubic(t, mode, piece, 0, dx), cubic(t, mode, piece, 1, dx),
+            cubic(t, mode, piece, 2, dx), cubic(t, mode, piece, 3, dx),
+            cubic(t, mode, piece, 4, dx), cubic(t, mode, piece, 5, dx),
+        )  # fmt: skip
+    return _linkage_coefficients(model, s, theta1, kin)
+
+
+@jit
+def _linkage_coefficients(model: Model, s: float, theta1: float, kin: Kinematics):
+    """`coefficients` from the linkage itself (exact, or with the paper's fits): compiled once,
+    not into every caller of `coefficients`."""
+    pos, d1, d2, ang = centres(model, s, theta1, kin)
     dpsi, dtheta, d2psi, d2theta = ang[0], ang[1], ang[2], ang[3]
     m1, m2, md = model.m1, model.m2, model.md
     mass = (
@@ -64,7 +80,7 @@ def coefficients(model: Model, s: float, theta1: float, fits: np.ndarray):
     return mass, dmass, gravity, inertia, pos[4] - 0.5 * model.L2, d1[4]
 
 
-@jit
+@inlined
 def acceleration(
     model: Model,
     s: float,
@@ -72,13 +88,13 @@ def acceleration(
     omega: float,
     ground: float,
     contact: bool,
-    fits: np.ndarray,
+    kin: Kinematics,
 ) -> float:
     """Angular acceleration θ̈1 of the tall pier.
 
     Parameters
     ----------
-    model, s, theta1, fits
+    model, s, theta1, kin
         As in `coefficients`.
     omega
         Angular velocity θ̇1 [rad/s].
@@ -91,7 +107,7 @@ def acceleration(
     -------
     θ̈1 [rad/s²]
     """
-    mass, dmass, gravity, inertia, u, du = coefficients(model, s, theta1, fits)
+    mass, dmass, gravity, inertia, u, du = coefficients(model, s, theta1, kin)
     force = -ground * inertia - gravity - 0.5 * dmass * omega * omega
     if contact:
         overlap = abs(u) - model.u_jo
@@ -100,10 +116,10 @@ def acceleration(
 
 
 @jit
-def energy(model: Model, s: float, theta1: float, omega: float, contact: bool, fits: np.ndarray):
+def energy(model: Model, s: float, theta1: float, omega: float, contact: bool, kin: Kinematics):
     """Mechanical energy above rest: ½·M·θ̇1² + ΔV_gravity (+ the spring's) [J]."""
-    mass = coefficients(model, s, theta1, fits)[0]
-    pos = centres(model, s, theta1, fits)[0]
+    mass = coefficients(model, s, theta1, kin)[0]
+    pos = centres(model, s, theta1, kin)[0]
     potential = model.g * (
         model.m1 * (pos[1] - model.H1)
         + model.m2 * (pos[3] - 2.0 * model.H1 + model.H2)

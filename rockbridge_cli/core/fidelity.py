@@ -3,8 +3,10 @@
 ``reference``  the yardstick: adaptive Dormand–Prince 5(4) at rtol 1e-12, events located to
                1e-13 s, every turning point located, exact kinematics.
 ``default``    the best trade measured by ``benchmarks/bench_fidelity.py``: the same scheme at
-               rtol 1e-7, events to 1e-11 s (Fig. 9 peaks within 3e-9 of ``reference``).
-``fast``       a looser tolerance still, for screening large parametric studies.
+               rtol 1e-7, events to 1e-11 s, tabulated kinematics (`tables`: piecewise cubics
+               within 1e-12 of the exact linkage); Fig. 9 peaks within 3e-9 of ``reference``.
+``fast``       for screening large studies: rtol 1e-5, events to 1e-7 s, peaks at the steps'
+               ends (no turning points located), tabulated kinematics.
 ``paper``      the paper's own scheme: fixed-step Runge–Kutta (order 4) at 1e-3 s, events refined
                by bisection to 5e-6 s, peaks sampled at the steps, simplified kinematics.
 """
@@ -21,12 +23,12 @@ PRESETS: dict[str, dict[str, Any]] = {
         "max_step": 0.01, "event_tol": 1e-13, "bisection": False, "turning_points": True,
     },
     "default": {
-        "kinematics": "exact", "scheme": "dopri5", "step": 1e-3, "rtol": 1e-7, "atol": 1e-10,
+        "kinematics": "tabulated", "scheme": "dopri5", "step": 1e-3, "rtol": 1e-7, "atol": 1e-10,
         "max_step": 0.01, "event_tol": 1e-11, "bisection": False, "turning_points": True,
     },
     "fast": {
-        "kinematics": "exact", "scheme": "dopri5", "step": 1e-3, "rtol": 1e-5, "atol": 1e-8,
-        "max_step": 0.01, "event_tol": 1e-7, "bisection": False, "turning_points": True,
+        "kinematics": "tabulated", "scheme": "dopri5", "step": 1e-3, "rtol": 1e-5, "atol": 1e-8,
+        "max_step": 0.01, "event_tol": 1e-7, "bisection": False, "turning_points": False,
     },
     "paper": {
         "kinematics": "simplified", "scheme": "rk4", "step": 1e-3, "rtol": 0.0, "atol": 0.0,

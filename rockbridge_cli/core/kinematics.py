@@ -11,21 +11,50 @@ Positions follow from the loop closure 2R1·e(φ) + L2·e(θ) − 2R2·e(ψ) = C
 φ_CD) the short pier's diagonal angle and θ the deck rotation (Eqs. 2–3), and their derivatives
 with respect to φ from the linkage's velocity and acceleration analysis (exact). The paper's
 "simplified procedure" replaces ψ', θ' by quadratic fits in θ1 (and ψ'', θ'' by the fits'
-derivatives); `simplified_fits` builds them and every kernel here accepts them in ``fits``
-(an empty array selects the exact kinematics).
+derivatives): `simplified` builds them. A third way, `tables.tabulated`, interpolates everything
+the integrator needs from piecewise cubics built once per bridge. Every kernel takes the choice as
+a `Kinematics`; `EXACT` selects the exact linkage.
 
 All kernels take plain floats and return tuples of floats so that numba compiles them lean.
 """
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
-from ._jit import jit
+from ._jit import inlined, jit
 from .geometry import Model
 
-EXACT = np.zeros((0, 2, 3))
-"""The ``fits`` argument that selects the exact kinematics."""
+COEFFICIENTS = 6
+"""Tabulated quantities 0–5: the equation of motion's coefficients (`dynamics.coefficients`)."""
+
+DISPLACEMENTS = 8
+"""Tabulated quantities 6–13: the displacements and rotations of `displacements`."""
+
+
+class Kinematics(NamedTuple):
+    """How the kernels compute the linkage.
+
+    Attributes
+    ----------
+    fits : the paper's simplified fits (`simplified`), shape (2, 2, 3), or empty
+    table : piecewise cubics per mode (p, n) over s·θ1, shape (2, intervals, 14, 4): for each
+        interval and quantity (`COEFFICIENTS`, then `DISPLACEMENTS`) the coefficients of
+        (x − x_i)³, (x − x_i)², (x − x_i), 1; or empty
+    step : width of the table's intervals [rad]
+    limit : the table covers 0 ≤ s·θ1 < limit [rad]; outside it the kernels compute exactly
+    """
+
+    fits: np.ndarray
+    table: np.ndarray
+    step: float
+    limit: float
+
+
+EXACT = Kinematics(np.zeros((0, 2, 3)), np.zeros((0, 0, COEFFICIENTS + DISPLACEMENTS, 4)), 1.0, 0.0)
+"""The exact kinematics (loop closure, velocity and acceleration analysis)."""
 
 
 @jit
@@ -35,7 +64,7 @@ def rest_angle(model: Model, s: float) -> float:
 
 
 @jit
-def linkage(model: Model, s: float, theta1: float, fits: np.ndarray):
+def linkage(model: Model, s: float, theta1: float, kin: Kinematics):
     """Angles of the linkage and their derivatives with respect to φ.
 
     Parameters
@@ -46,8 +75,8 @@ def linkage(model: Model, s: float, theta1: float, fits: np.ndarray):
         Rocking mode, +1 (p) or −1 (n) [-].
     theta1
         Rotation of the tall pier from rest, s·θ1 ≥ 0 while rocking [rad].
-    fits
-        `EXACT`, or the quadratic fits of `simplified_fits`.
+    kin
+        `EXACT`, or `simplified` (its fits replace the derivatives; tables play no part here).
 
     Returns
     -------
@@ -70,7 +99,7 @@ def linkage(model: Model, s: float, theta1: float, fits: np.ndarray):
     w = np.hypot(wx, wz)
     psi = np.arctan2(wz, wx) - np.arccos((w * w + 4.0 * R2 * R2 - L2 * L2) / (4.0 * R2 * w))
     theta = np.arctan2(cz + 2.0 * R2 * np.sin(psi) - bz, cx + 2.0 * R2 * np.cos(psi) - bx)
-    if fits.shape[0] == 0:
+    if kin.fits.shape[0] == 0:
         dtheta = -2.0 * R1 * np.sin(psi - phi) / (L2 * np.sin(psi - theta))
         dpsi = R1 * np.sin(theta - phi) / (R2 * np.sin(theta - psi))
         # r = 2R1·e(φ) + L2·θ'²·e(θ) − 2R2·ψ'²·e(ψ)
@@ -87,7 +116,7 @@ def linkage(model: Model, s: float, theta1: float, fits: np.ndarray):
         d2theta = (rx * np.cos(psi) + rz * np.sin(psi)) / (L2 * np.sin(psi - theta))
         d2psi = -(rx * np.cos(theta) + rz * np.sin(theta)) / (2.0 * R2 * np.sin(theta - psi))
     else:
-        f = fits[0 if s > 0 else 1]
+        f = kin.fits[0 if s > 0 else 1]
         dpsi = f[0, 0] + theta1 * (f[0, 1] + theta1 * f[0, 2])
         dtheta = f[1, 0] + theta1 * (f[1, 1] + theta1 * f[1, 2])
         d2psi = f[0, 1] + 2.0 * theta1 * f[0, 2]
@@ -109,7 +138,7 @@ def deck_arm(model: Model, s: float):
 
 
 @jit
-def centres(model: Model, s: float, theta1: float, fits: np.ndarray):
+def centres(model: Model, s: float, theta1: float, kin: Kinematics):
     """Positions of the three centres of gravity and their first and second φ-derivatives.
 
     Pier 1 at A + R1·e(φ), pier 2 at C + R2·e(ψ), deck at A + 2R1·e(φ) + r_BD·e(θ + ψ_BD)
@@ -122,7 +151,7 @@ def centres(model: Model, s: float, theta1: float, fits: np.ndarray):
     d2 : their second derivatives [m]
     ang : (dpsi, dtheta, d2psi, d2theta, psi, theta) as returned by `linkage`
     """
-    phi, psi, theta, dpsi, dtheta, d2psi, d2theta = linkage(model, s, theta1, fits)
+    phi, psi, theta, dpsi, dtheta, d2psi, d2theta = linkage(model, s, theta1, kin)
     R1 = np.hypot(model.H1, model.B)
     R2 = np.hypot(model.H2, model.B)
     r, arm = deck_arm(model, s)
@@ -151,11 +180,11 @@ def centres(model: Model, s: float, theta1: float, fits: np.ndarray):
     return pos, d1, d2, (dpsi, dtheta, d2psi, d2theta, psi, theta)
 
 
-@jit
-def displacements(model: Model, s: float, theta1: float, fits: np.ndarray):
+@inlined
+def displacements(model: Model, s: float, theta1: float, kin: Kinematics):
     """Displacements of the centres of gravity from rest, and the rotations (Eqs. 1, 4–6).
 
-    Parameters as in `linkage`.
+    Parameters as in `linkage`; from the tables where ``kin`` has them and θ1 lies inside.
 
     Returns
     -------
@@ -163,7 +192,22 @@ def displacements(model: Model, s: float, theta1: float, fits: np.ndarray):
         the short pier's and the deck's centres of gravity [m]
     theta2, theta_deck : rotations of the short pier and of the deck from rest [rad]
     """
-    pos, _, _, ang = centres(model, s, theta1, fits)
+    piece, dx, mode = table_piece(kin, s, theta1)
+    if piece >= 0:
+        t = kin.table
+        return (
+            cubic(t, mode, piece, 6, dx), cubic(t, mode, piece, 7, dx),
+            cubic(t, mode, piece, 8, dx), cubic(t, mode, piece, 9, dx),
+            cubic(t, mode, piece, 10, dx), cubic(t, mode, piece, 11, dx),
+            cubic(t, mode, piece, 12, dx), cubic(t, mode, piece, 13, dx),
+        )  # fmt: skip
+    return _linkage_displacements(model, s, theta1, kin)
+
+
+@jit
+def _linkage_displacements(model: Model, s: float, theta1: float, kin: Kinematics):
+    """`displacements` from the linkage itself (exact, or with the paper's fits)."""
+    pos, _, _, ang = centres(model, s, theta1, kin)
     psi_rest = 0.5 * np.pi - s * np.arctan2(model.B, model.H2)
     return (
         pos[0], pos[1] - model.H1,
@@ -171,6 +215,32 @@ def displacements(model: Model, s: float, theta1: float, fits: np.ndarray):
         pos[4] - 0.5 * model.L2, pos[5] - (2.0 * model.H1 + model.h),
         ang[4] - psi_rest, ang[5],
     )  # fmt: skip
+
+
+@inlined
+def table_piece(kin: Kinematics, s: float, theta1: float):
+    """Where θ1 falls in the tables of mode s: (interval, offset into it [rad], mode index), or
+    interval −1 where there are no tables or θ1 lies outside them."""
+    x = s * theta1
+    if kin.table.shape[0] == 0 or not 0.0 <= x < kin.limit:
+        return -1, 0.0, 0
+    piece = min(int(x / kin.step), kin.table.shape[1] - 1)
+    return piece, x - piece * kin.step, 0 if s > 0 else 1
+
+
+@inlined
+def cubic(table: np.ndarray, mode: int, piece: int, quantity: int, dx: float) -> float:
+    """The piecewise cubic of one tabulated quantity, ``dx`` into interval ``piece`` of ``mode``
+    (indexed in place: a view of the table would cost more than the cubic)."""
+    return (
+        (table[mode, piece, quantity, 0] * dx + table[mode, piece, quantity, 1]) * dx
+        + table[mode, piece, quantity, 2]
+    ) * dx + table[mode, piece, quantity, 3]
+
+
+def simplified(model: Model) -> Kinematics:
+    """The paper's simplified kinematics for a bridge (`simplified_fits`)."""
+    return EXACT._replace(fits=simplified_fits(model))
 
 
 def simplified_fits(model: Model, samples: int = 41) -> np.ndarray:

@@ -31,10 +31,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._jit import jit
+from ._jit import inlined, jit
 from .dynamics import acceleration
 from .geometry import Model
-from .kinematics import displacements
+from .kinematics import Kinematics, displacements
 
 RK4, DOPRI5 = 0, 1
 """Integration schemes."""
@@ -96,29 +96,29 @@ class Laws(NamedTuple):
     pounding: float
 
 
-@jit
+@inlined
 def _ground(acc: np.ndarray, dt: float, k: int, t: float) -> float:
     """Ground acceleration at time t inside sample interval k (linear between samples) [m/s²]."""
     return acc[k] + (acc[k + 1] - acc[k]) * (t / dt - k)
 
 
 @jit
-def _step(model, fits, s, contact, acc, dt, k, t, y, w, f0, h, scheme):
+def _step(model, kin, s, contact, acc, dt, k, t, y, w, f0, h, scheme):
     """One step of length h from (θ1, θ̇1) = (y, w) at time t, where θ̈1 = f0 (NaN: unknown).
 
     Returns the new (θ1, θ̇1), for DOPRI5 the local error estimates of both (zero for RK4), and
     θ̈1 at the new state (DOPRI5's last stage, which the next step reuses; NaN for RK4).
     """
     if not np.isfinite(f0):
-        f0 = acceleration(model, s, y, w, _ground(acc, dt, k, t), contact, fits)
+        f0 = acceleration(model, s, y, w, _ground(acc, dt, k, t), contact, kin)
     if scheme == RK4:
         f1 = f0
         y2, w2 = y + 0.5 * h * w, w + 0.5 * h * f1
-        f2 = acceleration(model, s, y2, w2, _ground(acc, dt, k, t + 0.5 * h), contact, fits)
+        f2 = acceleration(model, s, y2, w2, _ground(acc, dt, k, t + 0.5 * h), contact, kin)
         y3, w3 = y + 0.5 * h * w2, w + 0.5 * h * f2
-        f3 = acceleration(model, s, y3, w3, _ground(acc, dt, k, t + 0.5 * h), contact, fits)
+        f3 = acceleration(model, s, y3, w3, _ground(acc, dt, k, t + 0.5 * h), contact, kin)
         y4, w4 = y + h * w3, w + h * f3
-        f4 = acceleration(model, s, y4, w4, _ground(acc, dt, k, t + h), contact, fits)
+        f4 = acceleration(model, s, y4, w4, _ground(acc, dt, k, t + h), contact, kin)
         return (
             y + h / 6.0 * (w + 2.0 * w2 + 2.0 * w3 + w4),
             w + h / 6.0 * (f1 + 2.0 * f2 + 2.0 * f3 + f4),
@@ -131,20 +131,20 @@ def _step(model, fits, s, contact, acc, dt, k, t, y, w, f0, h, scheme):
     v1 = w
     y2 = y + h * (v1 / 5.0)
     v2 = w + h * (a1 / 5.0)
-    a2 = acceleration(model, s, y2, v2, _ground(acc, dt, k, t + h / 5.0), contact, fits)
+    a2 = acceleration(model, s, y2, v2, _ground(acc, dt, k, t + h / 5.0), contact, kin)
     y3 = y + h * (3.0 * v1 + 9.0 * v2) / 40.0
     v3 = w + h * (3.0 * a1 + 9.0 * a2) / 40.0
-    a3 = acceleration(model, s, y3, v3, _ground(acc, dt, k, t + 0.3 * h), contact, fits)
+    a3 = acceleration(model, s, y3, v3, _ground(acc, dt, k, t + 0.3 * h), contact, kin)
     y4 = y + h * (44.0 / 45.0 * v1 - 56.0 / 15.0 * v2 + 32.0 / 9.0 * v3)
     v4 = w + h * (44.0 / 45.0 * a1 - 56.0 / 15.0 * a2 + 32.0 / 9.0 * a3)
-    a4 = acceleration(model, s, y4, v4, _ground(acc, dt, k, t + 0.8 * h), contact, fits)
+    a4 = acceleration(model, s, y4, v4, _ground(acc, dt, k, t + 0.8 * h), contact, kin)
     y5 = y + h * (
         19372.0 / 6561.0 * v1 - 25360.0 / 2187.0 * v2 + 64448.0 / 6561.0 * v3 - 212.0 / 729.0 * v4
     )
     v5 = w + h * (
         19372.0 / 6561.0 * a1 - 25360.0 / 2187.0 * a2 + 64448.0 / 6561.0 * a3 - 212.0 / 729.0 * a4
     )
-    a5 = acceleration(model, s, y5, v5, _ground(acc, dt, k, t + 8.0 / 9.0 * h), contact, fits)
+    a5 = acceleration(model, s, y5, v5, _ground(acc, dt, k, t + 8.0 / 9.0 * h), contact, kin)
     y6 = y + h * (
         9017.0 / 3168.0 * v1 - 355.0 / 33.0 * v2 + 46732.0 / 5247.0 * v3
         + 49.0 / 176.0 * v4 - 5103.0 / 18656.0 * v5
@@ -153,7 +153,7 @@ def _step(model, fits, s, contact, acc, dt, k, t, y, w, f0, h, scheme):
         9017.0 / 3168.0 * a1 - 355.0 / 33.0 * a2 + 46732.0 / 5247.0 * a3
         + 49.0 / 176.0 * a4 - 5103.0 / 18656.0 * a5
     )  # fmt: skip
-    a6 = acceleration(model, s, y6, v6, _ground(acc, dt, k, t + h), contact, fits)
+    a6 = acceleration(model, s, y6, v6, _ground(acc, dt, k, t + h), contact, kin)
     y_new = y + h * (
         35.0 / 384.0 * v1 + 500.0 / 1113.0 * v3 + 125.0 / 192.0 * v4
         - 2187.0 / 6784.0 * v5 + 11.0 / 84.0 * v6
@@ -162,7 +162,7 @@ def _step(model, fits, s, contact, acc, dt, k, t, y, w, f0, h, scheme):
         35.0 / 384.0 * a1 + 500.0 / 1113.0 * a3 + 125.0 / 192.0 * a4
         - 2187.0 / 6784.0 * a5 + 11.0 / 84.0 * a6
     )  # fmt: skip
-    a7 = acceleration(model, s, y_new, w_new, _ground(acc, dt, k, t + h), contact, fits)
+    a7 = acceleration(model, s, y_new, w_new, _ground(acc, dt, k, t + h), contact, kin)
     # Difference of the 5th- and 4th-order solutions.
     e1, e3, e4 = 71.0 / 57600.0, -71.0 / 16695.0, 71.0 / 1920.0
     e5, e6, e7 = -17253.0 / 339200.0, 22.0 / 525.0, -1.0 / 40.0
@@ -171,14 +171,14 @@ def _step(model, fits, s, contact, acc, dt, k, t, y, w, f0, h, scheme):
     return y_new, w_new, err_y, err_w, a7
 
 
-@jit
-def _watch(model, s, contact, y, w, fits):
+@inlined
+def _watch(model, s, contact, y, w, kin):
     """Signed event functions at (θ1, θ̇1) = (y, w); an event fires when its function turns positive.
 
     Order: impact, gap (closure while open, reopening while closed), abutment failure, pier 1 and
     pier 2 overturning, turning point. Also returns the displacements (see `displacements`).
     """
-    disp = displacements(model, s, y, fits)
+    disp = displacements(model, s, y, kin)
     gap = abs(disp[4]) - model.u_jo
     functions = (
         -s * y,
@@ -191,7 +191,7 @@ def _watch(model, s, contact, y, w, fits):
     return functions, disp
 
 
-@jit
+@inlined
 def _fired(before, after, count, skip):
     """Index of the first of the first ``count`` events (other than ``skip``) whose function
     turned positive, or −1.
@@ -207,7 +207,7 @@ def _fired(before, after, count, skip):
 
 
 @jit
-def _locate(model, fits, s, contact, acc, dt, k, t, y, w, f0, h, kind, glo, ghi, y1, w1, f1, opts):
+def _locate(model, kin, s, contact, acc, dt, k, t, y, w, f0, h, kind, glo, ghi, y1, w1, f1, opts):
     """Length τ ≤ h of the step that ends just past event ``kind``, and the state there
     (θ1, θ̇1, θ̈1).
 
@@ -222,9 +222,9 @@ def _locate(model, fits, s, contact, acc, dt, k, t, y, w, f0, h, kind, glo, ghi,
         while hi > opts.event_tol:
             probe = 0.5 * hi
             yp, wp, _, _, fp = _step(
-                model, fits, s, contact, acc, dt, k, t, y, w, f0, probe, opts.scheme
+                model, kin, s, contact, acc, dt, k, t, y, w, f0, probe, opts.scheme
             )
-            gp = _watch(model, s, contact, yp, wp, fits)[0][kind]
+            gp = _watch(model, s, contact, yp, wp, kin)[0][kind]
             if gp < 0.0:
                 lo, glo = probe, gp
                 break
@@ -238,8 +238,8 @@ def _locate(model, fits, s, contact, acc, dt, k, t, y, w, f0, h, kind, glo, ghi,
         else:
             mid = hi - ghi * (hi - lo) / (ghi - glo)
             mid = min(max(mid, lo + 0.01 * (hi - lo)), hi - 0.01 * (hi - lo))
-        ym, wm, _, _, fm = _step(model, fits, s, contact, acc, dt, k, t, y, w, f0, mid, opts.scheme)
-        gm = _watch(model, s, contact, ym, wm, fits)[0][kind]
+        ym, wm, _, _, fm = _step(model, kin, s, contact, acc, dt, k, t, y, w, f0, mid, opts.scheme)
+        gm = _watch(model, s, contact, ym, wm, kin)[0][kind]
         if gm > 0.0:
             hi, ghi, y1, w1, f1 = mid, gm, ym, wm, fm
             if side == 1:
@@ -268,7 +268,7 @@ def _log(events, n, t, kind, s, before, after):
 def integrate(
     model: Model,
     laws: Laws,
-    fits: np.ndarray,
+    kin: Kinematics,
     acc: np.ndarray,
     dt: float,
     opts: Settings,
@@ -283,8 +283,8 @@ def integrate(
         The bridge (core frame: tall pier on the left).
     laws
         Onset thresholds and restitution coefficients.
-    fits
-        Kinematics selector (`kinematics.EXACT` or `kinematics.simplified_fits`).
+    kin
+        How to compute the linkage (`kinematics.Kinematics`: exact, the paper's fits, tables).
     acc
         Ground acceleration at uniform samples, positive to the right [m/s²].
     dt
@@ -320,7 +320,7 @@ def integrate(
     # (known = False after anything that changes the state other than a step).
     f0, g0, known = np.nan, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0), False
     s = np.sign(theta0) if theta0 != 0.0 else np.sign(omega0)
-    contact = model.u_jo <= 0.0 or abs(displacements(model, s, y, fits)[4]) > model.u_jo
+    contact = model.u_jo <= 0.0 or abs(displacements(model, s, y, kin)[4]) > model.u_jo
     theta1[0], omega[0], mode[0] = y, w, np.int8(s)
     if s != 0.0:
         n_events = _log(events, n_events, 0.0, ONSET, s, 0.0, w)
@@ -355,13 +355,13 @@ def integrate(
         # Rocking: one step, never past the end of the current sample interval. h is the step the
         # scheme asks for (fixed for RK4), h_step the one taken.
         if not known:
-            f0 = acceleration(model, s, y, w, _ground(acc, dt, k, t), contact, fits)
-            g0 = _watch(model, s, contact, y, w, fits)[0]
+            f0 = acceleration(model, s, y, w, _ground(acc, dt, k, t), contact, kin)
+            g0 = _watch(model, s, contact, y, w, kin)[0]
             known = True
         boundary = (k + 1) * dt
         h_step = min(h, opts.max_step, boundary - t)
         y1, w1, err_y, err_w, f1 = _step(
-            model, fits, s, contact, acc, dt, k, t, y, w, f0, h_step, opts.scheme
+            model, kin, s, contact, acc, dt, k, t, y, w, f0, h_step, opts.scheme
         )
         steps += 1
         if not (np.isfinite(y1) and np.isfinite(w1)):
@@ -383,7 +383,7 @@ def integrate(
                 continue
             grown = h_step * (min(5.0, 0.9 * scale**-0.2) if scale > 0.0 else 5.0)
             h = grown if h_step == h else max(h, grown)
-        g1, disp1 = _watch(model, s, contact, y1, w1, fits)
+        g1, disp1 = _watch(model, s, contact, y1, w1, kin)
         tau = h_step
         kind = _fired(g0, g1, count, -1)
         previous = -1
@@ -392,10 +392,10 @@ def integrate(
             # two events within the event tolerance of each other are simultaneous: the first in
             # the order of `_watch` is taken.
             located, y1, w1, f1 = _locate(
-                model, fits, s, contact, acc, dt, k, t, y, w, f0, tau, kind, g0[kind], g1[kind],
+                model, kin, s, contact, acc, dt, k, t, y, w, f0, tau, kind, g0[kind], g1[kind],
                 y1, w1, f1, opts,
             )  # fmt: skip
-            g1, disp1 = _watch(model, s, contact, y1, w1, fits)
+            g1, disp1 = _watch(model, s, contact, y1, w1, kin)
             if previous >= 0 and tau - located <= opts.event_tol:
                 tau, kind = located, min(kind, previous)
                 break
