@@ -4,6 +4,7 @@ file atomically."""
 from __future__ import annotations
 
 import os
+import stat
 from pathlib import Path
 
 from .errors import InputError
@@ -38,6 +39,52 @@ def writable(path: str | Path, folder: bool = False) -> Path:
     except OSError as exc:
         culprit = f" ({exc.filename})" if exc.filename else ""
         raise InputError(path, [("", f"cannot write here: {exc.strerror}{culprit}")]) from None
+    return path
+
+
+def read_input_text(path: str | Path, limit: int, what: str) -> str:
+    """The text of an input file, read only if it is a regular file of at most ``limit`` bytes.
+
+    A device (``/dev/urandom``), a pipe or a huge file would otherwise hang the command or
+    exhaust the memory.
+
+    Raises
+    ------
+    InputError
+        Missing, a folder, not a regular file, larger than ``limit``, or not UTF-8 text.
+    """
+    path = Path(path)
+    try:
+        info = path.stat()
+    except FileNotFoundError:
+        raise InputError(path, [("", "file not found")]) from None
+    except OSError as exc:
+        raise InputError(path, [("", f"cannot read the file ({exc.strerror})")]) from None
+    if stat.S_ISDIR(info.st_mode):
+        raise InputError(path, [("", f"is a folder, not {what}")])
+    if not stat.S_ISREG(info.st_mode):
+        raise InputError(path, [("", f"is not a regular file (a device or a pipe?), not {what}")])
+    if info.st_size > limit:
+        size = f"{info.st_size / 2**20:.0f} MiB"
+        raise InputError(path, [("", f"is {size}, more than {what} can be ({limit // 2**20} MiB)")])
+    try:
+        return path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(path, [("", f"cannot read the file as text ({exc})")]) from None
+
+
+def not_an_input(path: str | Path, *inputs: str | Path) -> Path:
+    """The output path, once it is checked not to be one of the inputs a command is reading.
+
+    Raises
+    ------
+    InputError
+        ``path`` is (a link to) one of ``inputs``: writing it would destroy what is being read.
+    """
+    path = Path(path)
+    for source in inputs:
+        if path.exists() and Path(source).exists() and path.samefile(source):
+            raise InputError(path, [("", "is the file being read: choose another output")])
     return path
 
 

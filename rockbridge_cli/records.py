@@ -31,10 +31,22 @@ from .config.records import RecordSetConfig
 from .core import ec8, matching, spectra
 from .core.quantities import STANDARD_GRAVITY
 from .errors import InputError
-from .paths import writable
+from .paths import read_input_text, writable
 
 #: Accepted spellings of the two units, mapped to their canonical names.
-UNIT_NAMES = {"g": "g", "m/s2": "m/s2", "m/s^2": "m/s2", "m/s**2": "m/s2", "m/s²": "m/s2"}
+UNIT_NAMES = {
+    "g": "g",
+    **dict.fromkeys(("m/s2", "m/s^2", "m/s**2", "m/s²", "m/s/s", "m/sec/sec", "m/sec2"), "m/s2"),
+    **dict.fromkeys(
+        ("cm/s2", "cm/s^2", "cm/s**2", "cm/s²", "cm/s/s", "cm/sec/sec", "cm/sec2", "gal"), "cm/s2"
+    ),
+}
+
+#: m/s² per unit of each canonical unit (g: standard gravity).
+UNIT_SCALES = {"g": STANDARD_GRAVITY, "m/s2": 1.0, "cm/s2": 0.01}
+
+#: Largest record file read [bytes] (a 3-component 200 Hz hour is ~100 MiB of text).
+MAX_RECORD_BYTES = 256 * 2**20
 
 #: Name of the file that describes a generated record set.
 MANIFEST = "manifest.json"
@@ -44,8 +56,12 @@ TIME_STEP_TOLERANCE = 1e-3
 
 FORMAT_TAG = "rockbridge-record 1"
 
-#: How line 3 of a PEER AT2 file states units of g.
-AT2_UNITS_OF_G = re.compile(r"UNITS\s+OF\s+G\b", re.IGNORECASE)
+#: How line 3 of a PEER AT2 file (or a COSMOS-like header) states its units: "UNITS OF G",
+#: "UNITS OF CM/S/S", "IN CM/SEC/SEC", "(CM/S^2)"…
+AT2_UNITS = re.compile(
+    r"(?:UNITS\s+OF|\bIN|\bUNITS?:?)\s+(G|GAL|C?M/S(?:EC)?(?:/S(?:EC)?|\^2|\*\*2|2|²))(?![\w/])",
+    re.IGNORECASE,
+)
 
 
 @dataclass(frozen=True, eq=False)
@@ -134,7 +150,7 @@ def read_record(
         file_format = "rockbridge" if header.get("format") == FORMAT_TAG else "text"
     resolved_units = _resolve_units(path, file_units, units)
     resolved_step = _resolve_time_step(path, step, time_step)
-    scale = STANDARD_GRAVITY if resolved_units == "g" else 1.0
+    scale = UNIT_SCALES[resolved_units]
     metadata = {**header, "format": file_format, "file_units": resolved_units}
     return Record(name, resolved_step, values * scale, str(path), metadata)
 
@@ -150,7 +166,7 @@ def read_stated_units(path: str | Path) -> str | None:
     path = Path(path)
     lines = _read_lines(path)
     if path.suffix.lower() == ".at2":
-        return "g" if len(lines) > 2 and AT2_UNITS_OF_G.search(lines[2]) else None
+        return _at2_units(lines[2]) if len(lines) > 2 else None
     for raw in lines:
         line = raw.strip()
         if line and not line.startswith("#"):
@@ -163,14 +179,7 @@ def read_stated_units(path: str | Path) -> str | None:
 
 
 def _read_lines(path: Path) -> list[str]:
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError(path, [("", "file not found")]) from None
-    except IsADirectoryError:
-        raise InputError(path, [("", "is a folder, not a record file")]) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(path, [("", f"cannot read the file ({exc})")]) from None
+    text = read_input_text(path, MAX_RECORD_BYTES, "a record file")
     if not text.strip():
         raise InputError(path, [("", "the file is empty")])
     return text.splitlines()
@@ -181,7 +190,7 @@ def _parse_at2(path: Path, lines: list[str]):
     if len(lines) < 4:
         raise InputError(path, [(f"line {len(lines)}", "an AT2 file needs four header lines")])
     points, step = _parse_at2_counts(path, lines[3])
-    units = "g" if AT2_UNITS_OF_G.search(lines[2]) else None
+    units = _at2_units(lines[2])
     values: list[float] = []
     for number, line in enumerate(lines[4:], start=5):
         values.extend(_parse_numbers(path, number, line.split()))
@@ -367,6 +376,12 @@ def _agree(first: float, second: float) -> bool:
     return abs(first - second) <= TIME_STEP_TOLERANCE * max(first, second)
 
 
+def _at2_units(line: str) -> str | None:
+    """The units line 3 of an AT2 file states (canonical name, see `UNIT_NAMES`), or None."""
+    found = AT2_UNITS.search(line)
+    return UNIT_NAMES.get(found.group(1).lower()) if found else None
+
+
 def _resolve_units(path: Path, in_file: str | None, given: str | None) -> str:
     file_units = None if in_file is None else _canonical_units(path, in_file, "the file's")
     given_units = None if given is None else _canonical_units(path, given, "the given")
@@ -381,8 +396,8 @@ def _resolve_units(path: Path, in_file: str | None, given: str | None) -> str:
             [
                 (
                     "units",
-                    "the file does not state its units: pass them (units='g' or 'm/s2'; "
-                    "--units on the command line)",
+                    "the file does not state its units: pass them (units='g', 'm/s2' or "
+                    "'cm/s2'; --units on the command line)",
                 )
             ],
         )
@@ -392,7 +407,8 @@ def _resolve_units(path: Path, in_file: str | None, given: str | None) -> str:
 def _canonical_units(path: Path, text: str, whose: str) -> str:
     name = UNIT_NAMES.get(text.strip().lower().replace(" ", ""))
     if name is None:
-        raise InputError(path, [("units", f"{whose} units {text!r} are unknown: use g or m/s2")])
+        reason = f"{whose} units {text!r} are unknown: use g, m/s2 or cm/s2"
+        raise InputError(path, [("units", reason)])
     return name
 
 

@@ -14,7 +14,7 @@ from rockbridge_cli.cli import main
 from rockbridge_cli.config.bridge import load_bridge
 from rockbridge_cli.core.analysis import analyze
 from rockbridge_cli.records import read_record
-from rockbridge_cli.results import read_events
+from rockbridge_cli.results import read_events, read_peaks
 
 REPO = Path(__file__).resolve().parents[1]
 BRIDGE = REPO / "configs" / "bridges" / "studied-hbar1.25.yaml"
@@ -92,3 +92,32 @@ def test_rocking_restitution_from_the_config_is_used(tmp_path):
     np.testing.assert_allclose(ratio, 0.9, rtol=1e-12)
     described = json.loads(invoke("describe", bridge, "--json").output)
     assert described["rocking_restitution"] == 0.9
+
+
+def test_a_solver_failure_exits_1_with_nan_peaks(tmp_path):
+    """A record of 1e300 m/s² makes the integrator give up at once: the analysis says so, its
+    peaks are NaN (never 0), and `analyze` exits 1, with or without a results file."""
+    t = np.arange(0.0, 2.0, 0.01)
+    path = tmp_path / "huge.txt"
+    path.write_text(
+        "# units: m/s2\n" + "".join(f"{x:.2f} {float(1e300 * np.sin(x))!r}\n" for x in t)
+    )
+    result = invoke("analyze", BRIDGE, path, "--json")
+    assert result.exit_code == 1
+    data = json.loads(result.output[: result.output.rindex("}") + 1])
+    assert data["status"] == "the step size fell below 1e-14 s"
+    assert data["u_deck_max"] is None and data["theta1_max"] is None  # NaN → null
+    out = tmp_path / "huge.h5"
+    stored = invoke("analyze", BRIDGE, path, "-o", out)
+    assert stored.exit_code == 1 and "the integrator stopped early" in stored.output
+    peaks = read_peaks(out)
+    assert peaks["status"][0] == "solver_error" and np.isnan(peaks["u_deck_max"][0])
+
+
+def test_non_finite_values_are_refused(tmp_path):
+    bridge = tmp_path / "bridge.yaml"
+    bridge.write_text(BRIDGE.read_text().replace("stiffness: 132.0e6", "stiffness: .inf"))
+    assert ".inf" in bridge.read_text()
+    result = invoke("describe", bridge)
+    assert result.exit_code == 2
+    assert "abutments.stiffness: Input should be a finite number" in result.output

@@ -193,3 +193,15 @@ def test_outputs_that_cannot_be_written_exit_2_before_any_work(tmp_path):
         result = invoke(*args)
         assert result.exit_code == 2 and "cannot write here" in result.output, result.output
         assert "Traceback" not in result.output
+
+
+def test_peaks_never_write_over_the_results_they_read(tmp_path):
+    """`rockbridge peaks R.h5 --csv R.h5` used to replace the results with the CSV (issue 14)."""
+    study = write_study(tmp_path)
+    assert invoke("run", study, "--workers", "1").exit_code == 0
+    output = tmp_path / "results" / "study.h5"
+    before = output.read_bytes()
+    assert_user_error(invoke("peaks", output, "--csv", output), "is the file being read")
+    (tmp_path / "link.h5").symlink_to(output)
+    assert_user_error(invoke("peaks", output, "--csv", tmp_path / "link.h5"), "being read")
+    assert output.read_bytes() == before

@@ -17,7 +17,7 @@ from .output import echo_json, echo_table
 @click.argument("record", type=click.Path(path_type=Path))
 @click.option(
     "--units",
-    type=click.Choice(["g", "m/s2"]),
+    type=click.Choice(["g", "m/s2", "cm/s2"]),
     help="Units of a record file that does not say them.",
 )
 @click.option("--time-step", type=float, help="Sample interval of a one-column record [s].")
@@ -30,7 +30,9 @@ from .output import echo_json, echo_table
     help="Also write the histories and events to this HDF5 results file (the layout of `run`).",
 )
 @click.option("--overwrite", is_flag=True, help="Replace an OUTPUT that holds other results.")
+@click.pass_context
 def analyze(
+    ctx: click.Context,
     bridge: Path,
     record: Path,
     units: str | None,
@@ -40,7 +42,10 @@ def analyze(
     output: Path | None,
     overwrite: bool,
 ) -> None:
-    """Analyse BRIDGE (a YAML file) under the ground motion in RECORD."""
+    """Analyse BRIDGE (a YAML file) under the ground motion in RECORD.
+
+    Exits 1 if the integrator stopped before the end of the record (its peaks are then NaN).
+    """
     from ..config.bridge import load_bridge  # pydantic: loaded on use
     from ..core.analysis import analyze as run_analysis  # the compiled core: loaded on use
     from ..records import read_record
@@ -65,8 +70,13 @@ def analyze(
         summary.update(fidelity=fidelity, output=str(report.output))
     if as_json:
         echo_json({**summary, "bridge": config.label(bridge.stem), "record": motion.name})
-        return
-    echo_table(_rows(config.label(bridge.stem), f"{motion.name} ({motion.duration:g} s)", summary))
+    else:
+        label = f"{motion.name} ({motion.duration:g} s)"
+        echo_table(_rows(config.label(bridge.stem), label, summary))
+    if summary["status"] != "ok":
+        reason = summary.get("message") or summary["status"]
+        click.echo(f"error: the integrator stopped early ({reason}); no peak is known", err=True)
+        ctx.exit(1)
 
 
 def _rows(bridge: str, record: str, s: dict) -> list[tuple[str, str]]:
@@ -99,5 +109,6 @@ def _rows(bridge: str, record: str, s: dict) -> list[tuple[str, str]]:
 
 
 def _ratio(value: float, definition: str) -> str:
-    """A demand/capacity ratio as a percentage with its definition; "-" where it means nothing."""
-    return "- (no abutments)" if math.isnan(value) else f"{100 * value:.1f} % = {definition}"
+    """A demand/capacity ratio as a percentage with its definition; "-" where it is not known
+    (no abutments, or the integrator stopped early)."""
+    return "-" if math.isnan(value) else f"{100 * value:.1f} % = {definition}"

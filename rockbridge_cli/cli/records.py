@@ -53,7 +53,7 @@ def generate_records(config: Path, out: Path | None, with_plot: bool) -> None:
 )
 @click.option(
     "--units",
-    type=click.Choice(["g", "m/s2"]),
+    type=click.Choice(["g", "m/s2", "cm/s2"]),
     default=None,
     help="Units of plain record files that do not state them.",
 )

@@ -184,8 +184,10 @@ def peaks(results: Path, csv_file: str | None, as_json: bool) -> None:
     with open_results(results) as file:
         columns, units = _with_missing_counts(peak_columns(file)), peak_units(file)
     if csv_file is not None:
-        from ..paths import writable
+        from ..paths import not_an_input, writable
 
+        if csv_file != "-":
+            not_an_input(csv_file, results)
         if csv_file == "-":
             write_csv(sys.stdout, columns)
             return

@@ -10,14 +10,18 @@ import yaml
 from pydantic import BaseModel, ConfigDict, ValidationError, ValidationInfo, field_validator
 
 from ..errors import InputError
+from ..paths import read_input_text
 
 ModelT = TypeVar("ModelT", bound=BaseModel)
 
 
 class StrictModel(BaseModel):
-    """Base of every config model: unknown keys are errors, a boolean is never read as a number."""
+    """Base of every config model: unknown keys are errors, a boolean is never read as a number,
+    and numbers are finite (YAML's .inf and .nan are refused)."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
+    model_config = ConfigDict(
+        extra="forbid", frozen=True, validate_default=True, allow_inf_nan=False
+    )
 
     @field_validator("*", mode="before")
     @classmethod
@@ -29,8 +33,24 @@ class StrictModel(BaseModel):
         return value
 
 
+MAX_CONFIG_BYTES = 16 * 2**20
+"""Largest config file read [bytes]: a study listing 100 000 records is about 10 MiB."""
+
+
 class _Loader(yaml.SafeLoader):
-    """PyYAML's safe loader with YAML 1.2 floats, so that ``132.0e6`` or ``1e-3`` are numbers."""
+    """PyYAML's safe loader with YAML 1.2 floats, so that ``132.0e6`` or ``1e-3`` are numbers, and
+    duplicate keys refused (YAML forbids them; PyYAML would keep the last one silently)."""
+
+    def construct_mapping(self, node, deep=False):
+        seen = set()
+        for key_node, _ in node.value:
+            key = self.construct_object(key_node, deep=deep)
+            if key in seen:
+                raise yaml.constructor.ConstructorError(
+                    None, None, f"duplicate key {key!r}", key_node.start_mark
+                )
+            seen.add(key)
+        return super().construct_mapping(node, deep=deep)
 
 
 _Loader.add_implicit_resolver(
@@ -53,17 +73,15 @@ def read_yaml(path: str | Path) -> dict[str, Any]:
     Raises
     ------
     InputError
-        The file is missing, unreadable, not valid YAML, empty or not a mapping.
+        The file is missing, not a regular file, too large, unreadable, not valid YAML (duplicate
+        keys included), nested too deeply, empty or not a mapping.
     """
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError(path, [("", "file not found")]) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(path, [("", f"cannot read the file ({exc})")]) from None
+    text = read_input_text(path, MAX_CONFIG_BYTES, "a config file")
     try:
         data = yaml.load(text, Loader=_Loader)  # noqa: S506 (a SafeLoader subclass)
+    except RecursionError:
+        raise InputError(path, [("", "invalid YAML: nested too deeply")]) from None
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f"line {mark.line + 1}, column {mark.column + 1}" if mark else ""

@@ -66,8 +66,8 @@ class RecordFile(StrictModel):
     """One record file."""
 
     path: Path = Field(description="Record file, relative to the study file")
-    units: Literal["g", "m/s2"] | None = Field(
-        None, description="Units of a file that does not state them (g or m/s2)"
+    units: Literal["g", "m/s2", "cm/s2"] | None = Field(
+        None, description="Units of a file that does not state them (g, m/s2 or cm/s2)"
     )
     time_step: PositiveFloat | None = Field(
         None, description="Sample interval, only for one-column files [s]"

@@ -3,6 +3,7 @@ out."""
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 
@@ -100,7 +101,7 @@ def dcr_backfill(model: Model, u_deck: float) -> float:
     u_deck
         The largest |u_deck| of the response [m].
     """
-    if not model.has_abutments:
+    if not model.has_abutments or not math.isfinite(u_deck):
         return float("nan")
     return max(0.0, u_deck - model.u_jo) / model.u_ab
 
@@ -218,6 +219,8 @@ def analyze(
             histories[name] = np.full_like(theta1, np.nan)
     kinds = events[:, 1].astype(int)
     failure = int(status[1])
+    if status[4] != 0:  # the integrator stopped early: no peak of the record is known
+        peaks[:] = np.nan
     peak = {name: peaks[i, 0] for i, name in enumerate(PEAK_NAMES)}
     impacts_at = kinds == IMPACT
     onsets = events[kinds == ONSET, 0]

@@ -1,0 +1,94 @@
+"""Inputs that used to hang, crash or be read wrongly (issue 14): each is now one readable
+message naming the file (and the field or line), exit 2, no traceback — or read correctly."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from rockbridge_cli.cli import main
+from rockbridge_cli.records import read_record
+
+BRIDGE = """\
+piers: {width: 2.6, heights: [26.0, 20.8]}
+deck: {depth: 1.7, area: 6.0}
+spans: {side: 38.0, central: 60.0}
+abutments: {gap: 0.12, stiffness: 132.0e6, damping: 48.0e6, ultimate_displacement: 0.10}
+"""
+
+
+def invoke(*args):
+    return CliRunner().invoke(main, [str(a) for a in args])
+
+
+def refused(result, *fragments: str) -> None:
+    assert result.exit_code == 2, result.output
+    assert result.output.startswith("error: ") and "Traceback" not in result.output
+    for fragment in fragments:
+        assert fragment in result.output, result.output
+
+
+def test_the_bridge_used_here_is_valid(tmp_path):
+    (tmp_path / "b.yaml").write_text(BRIDGE)
+    assert invoke("describe", tmp_path / "b.yaml").exit_code == 0
+
+
+def test_a_duplicate_key_names_the_key_and_its_line(tmp_path):
+    path = tmp_path / "b.yaml"
+    path.write_text(BRIDGE + "abutments: {gap: 0.5, stiffness: 1, damping: 1, "
+                    "ultimate_displacement: 0.1}\n")  # fmt: skip
+    refused(invoke("describe", path), "b.yaml: line 5", "duplicate key 'abutments'")
+
+
+def test_deep_nesting_is_refused_with_the_file_name(tmp_path):
+    path = tmp_path / "deep.yaml"
+    path.write_text("a: " + "[" * 5000 + "]" * 5000 + "\n")
+    refused(invoke("describe", path), "deep.yaml", "nested too deeply")
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/urandom"), reason="no /dev/urandom")
+def test_a_device_is_refused_at_once():
+    refused(invoke("describe", "/dev/urandom"), "/dev/urandom", "not a regular file")
+    refused(invoke("plot", "spectra", "/dev/urandom", "--units", "g"), "not a regular file")
+
+
+def test_a_huge_record_file_is_refused_before_it_is_read(tmp_path, monkeypatch):
+    from rockbridge_cli import records
+
+    monkeypatch.setattr(records, "MAX_RECORD_BYTES", 100)
+    path = tmp_path / "big.txt"
+    path.write_text("# units: g\n" + "0.00 0.1\n" * 50)
+    with pytest.raises(Exception, match="more than a record file can be"):
+        read_record(path)
+
+
+@pytest.mark.parametrize(
+    ("header", "scale"),
+    [
+        ("ACCELERATION TIME SERIES IN UNITS OF G", 9.80665),
+        ("ACCELERATION TIME SERIES IN UNITS OF CM/S/S", 0.01),
+        ("Acceleration in cm/sec/sec", 0.01),
+        ("UNITS: CM/S^2", 0.01),
+        ("ACCELERATION IN M/S/S", 1.0),
+        ("units of gal", 0.01),
+    ],
+)
+def test_at2_and_cosmos_unit_spellings(tmp_path, header, scale):
+    """PEER's line 3 states the units; cm/s² (= gal) was refused as "does not state its units"."""
+    path = tmp_path / "r.AT2"
+    path.write_text(f"PEER NGA STRONG MOTION DATABASE RECORD\nSOME EVENT\n{header}\n"
+                    "NPTS=    4, DT=   .0100 SEC\n  0.0  10.0  -20.0  0.0\n")  # fmt: skip
+    record = read_record(path)
+    np.testing.assert_allclose(record.acceleration, scale * np.array([0.0, 10.0, -20.0, 0.0]))
+
+
+def test_an_at2_without_units_still_asks_for_them(tmp_path):
+    path = tmp_path / "r.AT2"
+    path.write_text("PEER\nEVENT\nACCELERATION TIME SERIES\nNPTS=    2, DT=   .0100 SEC\n"
+                    "  0.0  0.1\n")  # fmt: skip
+    with pytest.raises(Exception, match="does not state its units"):
+        read_record(path)
+    assert read_record(path, units="cm/s2").acceleration[1] == pytest.approx(0.001)
