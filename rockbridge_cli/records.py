@@ -266,6 +266,9 @@ def _parse_text(path: Path, lines: list[str]):
                 ],
             )
         step = column_step if step is None else step
+        if abs(table[0, 0]) > TIME_STEP_TOLERANCE * step:
+            header["notices"] = [f"the time column starts at {table[0, 0]:g} s: the record is "
+                                 "read as starting at t = 0"]  # fmt: skip
     units = header.pop("units", None)
     return table[:, -1], header, step, None if units is None else str(units)
 

@@ -3,13 +3,16 @@ message naming the file (and the field or line), exit 2, no traceback — or rea
 
 from __future__ import annotations
 
+import json
 import os
 
+import h5py
 import numpy as np
 import pytest
 from click.testing import CliRunner
 
 from rockbridge_cli.cli import main
+from rockbridge_cli.plausibility import record_warnings
 from rockbridge_cli.records import read_record
 
 BRIDGE = """\
@@ -92,3 +95,55 @@ def test_an_at2_without_units_still_asks_for_them(tmp_path):
     with pytest.raises(Exception, match="does not state its units"):
         read_record(path)
     assert read_record(path, units="cm/s2").acceleration[1] == pytest.approx(0.001)
+
+
+@pytest.mark.parametrize(
+    ("change", "warning"),
+    [
+        (("gap: 0.12", "gap: 200.0"), "abutments.gap: 200 m is not an expansion joint"),
+        (("stiffness: 132.0e6", "stiffness: 132000.0"), "abutments.stiffness: 132000 N/m"),
+        (("heights: [26.0, 20.8]", "heights: [26.0, 3.6]"), "piers.heights.1: a pier 1.38"),
+    ],
+)
+def test_implausible_bridge_values_are_warnings_not_errors(tmp_path, change, warning):
+    """Units typed wrong (mm as m, kN as N) still validate: the command warns and goes on."""
+    path = tmp_path / "b.yaml"
+    path.write_text(BRIDGE.replace(*change))
+    assert change[1] in path.read_text()
+    result = invoke("describe", path)
+    assert result.exit_code == 0
+    assert f"warning: {path}: {warning}" in result.output
+
+
+@pytest.mark.parametrize(
+    ("values", "unit", "warning"),
+    [
+        ("0.0 350.0 -200.0 0.0", "m/s2", "peak 35.69 g is not an earthquake's"),  # cm/s² as m/s²
+        ("0.0 0.003 -0.002 0.0", "m/s2", "peak 0.0003059 g is not an earthquake's"),  # g as m/s²
+    ],
+)
+def test_implausible_records_are_warned_about_once(tmp_path, values, unit, warning):
+    record = tmp_path / "r.txt"
+    record.write_text(f"# units: {unit}\n" + "".join(
+        f"{0.01 * i:.2f} {v}\n" for i, v in enumerate(values.split())))  # fmt: skip
+    study = tmp_path / "s.yaml"
+    (tmp_path / "b.yaml").write_text(BRIDGE)
+    study.write_text(
+        "bridges: [b.yaml]\nrecords:\n  files: [{path: r.txt}, {path: r.txt, id: again}]\n"
+        f"output: {{path: {tmp_path / 'o.h5'}}}\n"
+    )
+    result = invoke("run", study, "--workers", "1")
+    assert result.output.count(f"warning: r.txt: {warning}") == 1  # once per input file
+
+    with h5py.File(tmp_path / "o.h5", "r") as file:
+        assert any(warning in w for w in json.loads(file.attrs["warnings"]))
+
+
+def test_a_time_column_that_does_not_start_at_zero_is_noticed(tmp_path):
+    path = tmp_path / "late.txt"
+    path.write_text("# units: g\n5.00 0.0\n5.01 0.1\n5.02 0.0\n")
+    record = read_record(path)
+    assert record.metadata["notices"] == [
+        "the time column starts at 5 s: the record is read as starting at t = 0"
+    ]
+    assert record_warnings(record)[0].startswith("the time column starts at 5 s")

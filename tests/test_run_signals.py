@@ -134,3 +134,42 @@ def test_a_second_run_on_the_same_output_is_refused(tmp_path, study):
         child.kill()
         child.wait()
     assert run_study(load_study(path), workers=1).total == 4  # the lock died with the run
+
+
+def test_a_full_disk_is_one_line_and_the_finished_analyses_stay(tmp_path, monkeypatch):
+    """The journal's disk fills up after the first batch: one line naming the journal, exit 1,
+    no temporary file left, and the next run resumes to the file an uninterrupted run writes."""
+    import sqlite3
+
+    from click.testing import CliRunner
+
+    from rockbridge_cli.cli import main
+    from rockbridge_cli.study.journal import Journal
+
+    path = write_study(tmp_path, extra=f"output: {{path: {tmp_path / 'out.h5'}}}\n")
+    reference = load_study(path, output=tmp_path / "ref.h5")
+    run_study(reference, workers=1)
+    add, calls = Journal.add, []
+
+    def fill_up(self, rows):
+        calls.append(1)
+        if len(calls) > 1:
+            raise OSError(f"{self.path}: cannot write the journal "
+                          f"({sqlite3.OperationalError('database or disk is full')})")  # fmt: skip
+        add(self, rows)
+
+    monkeypatch.setattr(Journal, "add", fill_up)
+    result = CliRunner().invoke(main, ["run", str(path), "--workers", "1"])
+    assert result.exit_code == 1
+    lines = [line for line in result.output.splitlines() if line.startswith("error")]
+    assert lines == [f"error: {tmp_path / 'out.h5.journal.db'}: cannot write the journal "
+                     "(database or disk is full)"]  # fmt: skip
+    assert "Traceback" not in result.output and not list(tmp_path.glob(".*.tmp"))
+    monkeypatch.setattr(Journal, "add", add)
+    resumed = run_study(load_study(path), workers=1)
+    assert resumed.ran == 4 - resumed.resumed and resumed.resumed >= 1
+    expected = contents(reference.output)
+    found = contents(tmp_path / "out.h5")
+    assert {k: v for k, v in found.items() if k != "/"} == {
+        k: v for k, v in expected.items() if k != "/"
+    }

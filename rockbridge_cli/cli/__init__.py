@@ -33,6 +33,11 @@ class _Group(click.Group):
         except KeyboardInterrupt:
             click.echo("interrupted", err=True)
             ctx.exit(130)
+        except OSError as exc:  # the system refused a file: its message names the file
+            if ctx.obj and ctx.obj.get("debug"):
+                raise
+            click.echo(f"error: {exc}", err=True)
+            ctx.exit(1)
         except Exception as exc:  # a runtime failure, not the user's input
             if ctx.obj and ctx.obj.get("debug"):
                 raise

@@ -48,10 +48,14 @@ def analyze(
     """
     from ..config.bridge import load_bridge  # pydantic: loaded on use
     from ..core.analysis import analyze as run_analysis  # the compiled core: loaded on use
+    from ..plausibility import bridge_warnings, record_warnings
     from ..records import read_record
 
     config = load_bridge(bridge)
     motion = read_record(record, units=units, time_step=time_step)
+    warnings = [f"{bridge}: {w}" for w in bridge_warnings(config)]
+    for warning in warnings + [f"{record}: {w}" for w in record_warnings(motion)]:
+        click.echo(f"warning: {warning}", err=True)
     if output is None:
         response = run_analysis(
             config.to_model(), motion.acceleration, motion.time_step, fidelity, config.mirrored,

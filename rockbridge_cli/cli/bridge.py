@@ -18,8 +18,11 @@ def describe(bridge: Path, as_json: bool) -> None:
     """Print the model used and the quantities a designer checks first for BRIDGE (a YAML file)."""
     from ..config.bridge import load_bridge  # pydantic: loaded on use
     from ..core.summary import summarize  # the compiled core: loaded on use
+    from ..plausibility import bridge_warnings
 
     config = load_bridge(bridge)
+    for warning in bridge_warnings(config):
+        click.echo(f"warning: {bridge}: {warning}", err=True)
     model = config.to_model()
     summary = summarize(model, mirrored=config.mirrored)
     summary["rocking_restitution"] = config.rocking_restitution

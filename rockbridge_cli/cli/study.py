@@ -113,6 +113,8 @@ def run(
 
     part = _shard(shard, shard_count)
     resolved = load_study(study, preset=fidelity, output=output)
+    for warning in resolved.warnings:
+        click.echo(f"warning: {warning}", err=True)
     if part is not None and output is None:
         stem = resolved.output.stem
         name = f"{stem}.part-{part[0] + 1}-of-{part[1]}{resolved.output.suffix}"

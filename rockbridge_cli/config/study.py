@@ -38,6 +38,7 @@ from pydantic import (
 from ..core.fidelity import PRESETS, knobs
 from ..core.quantities import HISTORY_UNITS
 from ..errors import InputError
+from ..plausibility import bridge_warnings, record_warnings
 from ..records import Record, read_manifest, read_record
 from . import loading
 from .bridge import BridgeConfig, load_bridge
@@ -249,6 +250,7 @@ class Study:
     overrides : the knobs the study changes (passed to `analyze`)
     histories : names of the histories to store
     output : the HDF5 file
+    warnings : legal but implausible inputs (`plausibility`), ``source: field: reason`` each
     """
 
     path: Path
@@ -260,6 +262,7 @@ class Study:
     overrides: dict[str, Any]
     histories: tuple[str, ...]
     output: Path
+    warnings: tuple[str, ...] = ()
 
     def resolved(self) -> dict[str, Any]:
         """Everything that determines the results, as JSON-ready data (stored in the file)."""
@@ -387,7 +390,20 @@ def study_from_data(
         overrides=overrides,
         histories=config.output.kept(),
         output=target,
+        warnings=_warnings(bridges, records),
     )
+
+
+def _warnings(bridges: list[StudyBridge], records: list[StudyRecord]) -> tuple[str, ...]:
+    """The plausibility warnings of every bridge and record, once per input file."""
+    found = [f"{b.source}: {w}" for b in bridges for w in bridge_warnings(b.config)]
+    found += [
+        f"{r.source}: {w}"
+        for r in records
+        if r.record is not None
+        for w in record_warnings(r.record)
+    ]
+    return tuple(dict.fromkeys(found))
 
 
 def _resolve(path: Path, info: ValidationInfo) -> Path:

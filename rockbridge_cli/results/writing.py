@@ -208,6 +208,7 @@ def _write_header(file: h5py.File, study: Study, created: str) -> None:
             "output_step": float(study.knobs["output_step"]),
             "significant_impact_rate": SIGNIFICANT_RATE,
             "histories": json.dumps(list(study.histories)),
+            "warnings": json.dumps(list(study.warnings)),
         }
     )
     _describe_attrs(

@@ -69,12 +69,21 @@ class Journal:
 
     def add(self, rows: Iterable[tuple[int, str, str, str, bytes]]) -> None:
         """Commit finished analyses: (cell, bridge, record, status, packed) each, in one
-        transaction (an analysis journalled again replaces the earlier entry)."""
-        with self.connection:
-            self.connection.execute("BEGIN")
-            self.connection.executemany(
-                "INSERT OR REPLACE INTO analyses VALUES (?, ?, ?, ?, ?)", rows
-            )
+        transaction (an analysis journalled again replaces the earlier entry).
+
+        Raises
+        ------
+        OSError
+            The journal cannot be written (a full disk, a removed folder): the message names it.
+        """
+        try:
+            with self.connection:
+                self.connection.execute("BEGIN")
+                self.connection.executemany(
+                    "INSERT OR REPLACE INTO analyses VALUES (?, ?, ?, ?, ?)", rows
+                )
+        except sqlite3.Error as exc:
+            raise OSError(f"{self.path}: cannot write the journal ({exc})") from None
 
     def statuses(self) -> dict[tuple[str, str], str]:
         """The status of each journalled analysis, by (bridge, record)."""

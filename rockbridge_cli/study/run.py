@@ -216,6 +216,10 @@ def _write(
                     assembly(written, len(cells))
             writer.close(_timestamp())
         replace_atomically(temporary, output)
+    except OSError as exc:  # a full disk, a removed folder: say which file, keep the journal
+        reason = exc.strerror or str(exc)
+        raise OSError(f"{output}: cannot write the results file ({reason}); the finished "
+                      "analyses stay in the journal: rerun to resume") from None  # fmt: skip
     finally:
         temporary.unlink(missing_ok=True)
 
