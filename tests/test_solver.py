@@ -396,3 +396,32 @@ def test_significant_impacts_are_those_above_the_rate():
     rates = np.abs(response.events["rate_before"][impact])
     assert response.n_impacts_significant == np.sum(rates > SIGNIFICANT_RATE)
     assert 0 < response.n_impacts_significant <= response.n_impacts
+
+
+# ---------------------------------------------------------------- after the record
+
+
+def test_a_failure_after_the_record_is_seen_with_a_tail():
+    """A 0.45 g half-sine pulse of 2 s period, cut at 2 s, leaves a frame rotating towards
+    overturning: the 2 s record alone ends with no failure; 10 s of free vibration (zero ground
+    motion) after it shows the piers overturn at 2.44 s (issue 9: failures after the record)."""
+    frame = studied_bridge(1.25, abutments=False)
+    ground = half_sine(0.45 * G, period=2.0, duration=2.0)
+    without = analyze(frame, ground, DT)
+    with_tail = analyze(frame, ground, DT, tail=10.0)
+    assert without.failure_mode == "none" and without.time[-1] == pytest.approx(2.0)
+    assert with_tail.failure_mode.startswith("overturning")
+    assert 2.0 < with_tail.failure_time < 12.0
+    assert with_tail.dcr_overturning == pytest.approx(1.0, rel=1e-6)
+
+
+def test_a_tail_lets_the_bridge_come_to_rest_and_changes_nothing_before():
+    bridge = studied_bridge(2.0)
+    ground = half_sine(0.3 * G, period=1.0, duration=3.0)
+    short, long = analyze(bridge, ground, DT), analyze(bridge, ground, DT, tail=30.0)
+    assert long.time[-1] == pytest.approx(33.0) and short.time[-1] == pytest.approx(3.0)
+    n = short.time.size
+    np.testing.assert_array_equal(long.histories["theta1"][:n], short.histories["theta1"][:n])
+    assert long.histories["mode"][-1] == 0  # at rest before the tail ends
+    with pytest.raises(ValueError, match="tail"):
+        analyze(bridge, ground, DT, tail=-1.0)

@@ -22,6 +22,13 @@ from .output import echo_json, echo_table
 )
 @click.option("--time-step", type=float, help="Sample interval of a one-column record [s].")
 @click.option("--fidelity", type=click.Choice(list(PRESETS)), default="default", show_default=True)
+@click.option(
+    "--tail",
+    type=click.FloatRange(min=0.0),
+    default=0.0,
+    show_default=True,
+    help="Free vibration after the record, with zero ground motion [s].",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object with SI values.")
 @click.option(
     "-o",
@@ -38,6 +45,7 @@ def analyze(
     units: str | None,
     time_step: float | None,
     fidelity: str,
+    tail: float,
     as_json: bool,
     output: Path | None,
     overwrite: bool,
@@ -59,14 +67,19 @@ def analyze(
     if output is None:
         response = run_analysis(
             config.to_model(), motion.acceleration, motion.time_step, fidelity, config.mirrored,
-            restitution=config.rocking_restitution,
+            restitution=config.rocking_restitution, tail=tail,
         )  # fmt: skip
         summary = response.summary()
     else:  # the same analysis, through the study runner, so that the file has run's layout
+        import dataclasses
+
         from ..config.study import single_analysis
         from ..study.run import run_study
 
         study = single_analysis(bridge, record, units, time_step, fidelity, output)
+        study = dataclasses.replace(
+            study, knobs={**study.knobs, "tail": tail}, overrides={**study.overrides, "tail": tail}
+        )
         report = run_study(study, workers=1, overwrite=overwrite)
         summary = report.peaks.iloc[0].to_dict()
         if summary["status"] == "error":

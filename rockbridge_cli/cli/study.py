@@ -65,6 +65,13 @@ EXIT_TERMINATED = 143
     help="Recompute the analyses already in the results file.",
 )
 @click.option(
+    "--tail",
+    type=click.FloatRange(min=0.0),
+    default=None,
+    help="Free vibration after each record, with zero ground motion, so that a bridge still "
+    "rocking when the record ends can come to rest or fail [s; default: the study's, else 0].",
+)
+@click.option(
     "--shard",
     default=None,
     metavar="K/N|auto",
@@ -96,6 +103,7 @@ def run(
     output: Path | None,
     overwrite: bool,
     resume: bool,
+    tail: float | None,
     shard: str | None,
     shard_count: int | None,
     scheduler: str | None,
@@ -113,6 +121,11 @@ def run(
 
     part = _shard(shard, shard_count)
     resolved = load_study(study, preset=fidelity, output=output)
+    if tail is not None:
+        resolved = dataclasses.replace(
+            resolved, knobs={**resolved.knobs, "tail": tail},
+            overrides={**resolved.overrides, "tail": tail},
+        )  # fmt: skip
     for warning in resolved.warnings:
         click.echo(f"warning: {warning}", err=True)
     if part is not None and output is None:

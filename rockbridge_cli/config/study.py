@@ -138,6 +138,9 @@ class Fidelity(StrictModel):
         None, description="Chatter guard: |θ̇1| below which an impact may end in rest [rad/s]"
     )
     max_events: PositiveInt | None = Field(None, description="Stop with a solver error beyond [-]")
+    tail: NonNegativeFloat | None = Field(
+        None, description="Free vibration after the record, with zero ground motion [s]"
+    )
 
     @model_validator(mode="before")
     @classmethod

@@ -173,7 +173,9 @@ def analyze(
         Initial rotation θ1 [rad] and angular velocity θ̇1 [rad/s] of the tall pier; non-zero
         values start the bridge rocking at t = 0 (free vibration).
     overrides
-        Fidelity knobs to change (`fidelity.knobs`).
+        Fidelity knobs to change (`fidelity.knobs`). ``tail`` [s] continues the analysis after
+        the record with zero ground acceleration, so that a bridge still rocking when the record
+        ends can come to rest, or fail, within that time.
 
     Raises
     ------
@@ -188,6 +190,9 @@ def analyze(
     if not (time_step > 0.0 and np.isfinite(time_step)):
         raise ValueError(f"the time step must be positive, got {time_step}")
     values = fidelity.knobs(preset, **overrides)
+    if not (values["tail"] >= 0.0 and math.isfinite(values["tail"])):
+        raise ValueError(f"the tail must be a finite time ≥ 0 s, got {values['tail']}")
+    acc = np.concatenate([acc, np.zeros(int(round(values["tail"] / time_step)))])
     kin = _kinematics(model, values["kinematics"])
     sign = -1.0 if mirrored else 1.0
     bridge_laws = laws(model, restitution)

@@ -15,7 +15,8 @@ from __future__ import annotations
 
 from typing import Any
 
-_COMMON = {"rest_velocity": 1e-5, "output_step": 0.01, "max_events": 200_000}
+_COMMON = {"rest_velocity": 1e-5, "output_step": 0.01, "max_events": 200_000, "tail": 0.0}
+"""Knobs every preset shares. ``tail``: free vibration after the record [s] (`analysis.analyze`)."""
 
 PRESETS: dict[str, dict[str, Any]] = {
     "reference": {
@@ -73,5 +74,5 @@ def settings(values: dict[str, Any]):
     """
     from .solver import Settings
 
-    solver_values = {**values, "scheme": SCHEMES.index(values["scheme"])}
+    solver_values = {**values, "scheme": SCHEMES.index(values["scheme"])}  # tail: not the solver's
     return Settings(**{name: solver_values[name] for name in Settings._fields})
