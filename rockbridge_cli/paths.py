@@ -42,6 +42,10 @@ def writable(path: str | Path, folder: bool = False) -> Path:
     return path
 
 
+HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
+"""The first bytes of every HDF5 file."""
+
+
 def read_input_text(path: str | Path, limit: int, what: str) -> str:
     """The text of an input file, read only if it is a regular file of at most ``limit`` bytes.
 
@@ -79,12 +83,18 @@ def not_an_input(path: str | Path, *inputs: str | Path) -> Path:
     Raises
     ------
     InputError
-        ``path`` is (a link to) one of ``inputs``: writing it would destroy what is being read.
+        ``path`` is (a link to) one of ``inputs``, or an HDF5 file (results of another study):
+        writing it would destroy what is being read, or a study's results.
     """
     path = Path(path)
     for source in inputs:
         if path.exists() and Path(source).exists() and path.samefile(source):
             raise InputError(path, [("", "is the file being read: choose another output")])
+    if path.is_file():
+        with open(path, "rb") as file:
+            if file.read(len(HDF5_SIGNATURE)) == HDF5_SIGNATURE:
+                reason = "is an HDF5 file (results?): not replaced; choose another output"
+                raise InputError(path, [("", reason)])
     return path
 
 

@@ -204,4 +204,7 @@ def test_peaks_never_write_over_the_results_they_read(tmp_path):
     assert_user_error(invoke("peaks", output, "--csv", output), "is the file being read")
     (tmp_path / "link.h5").symlink_to(output)
     assert_user_error(invoke("peaks", output, "--csv", tmp_path / "link.h5"), "being read")
-    assert output.read_bytes() == before
+    other = tmp_path / "other.h5"  # another study's results: a CSV never replaces them
+    other.write_bytes(before)
+    assert_user_error(invoke("peaks", output, "--csv", other), "is an HDF5 file")
+    assert output.read_bytes() == before == other.read_bytes()
