@@ -12,6 +12,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -148,12 +149,20 @@ def restitution_eq30(model: Model, s: float) -> float:
 def capacities(model: Model) -> dict[str, dict[str, float]]:
     """Rotation of the tall pier at which each failure limit is reached, per mode.
 
+    Computed once per bridge and process (the tables and the bridge's summary both ask); the
+    caller gets its own copy.
+
     Returns
     -------
     ``{limit: {"p": θ1 [rad], "n": θ1 [rad]}}`` for ``abutment`` (|u_deck| = u_jo + u_ab; absent
     without abutments), ``overturning_pier1`` and ``overturning_pier2`` (|u_pier| = B). A limit the
     linkage cannot reach below 1.5·α1 is ``inf``.
     """
+    return {name: dict(rotations) for name, rotations in _capacities(model).items()}
+
+
+@functools.lru_cache(maxsize=256)
+def _capacities(model: Model) -> dict[str, dict[str, float]]:
     limits = {
         "abutment": (4, model.u_jo + model.u_ab),
         "overturning_pier1": (0, model.B),

@@ -12,6 +12,7 @@ write an output (a lock), and the workers end with the parent however it ends.
 from __future__ import annotations
 
 import heapq
+import math
 import os
 import signal
 import threading
@@ -175,7 +176,8 @@ def run_study(
                         for o in batch
                     )
                     for outcome in batch:
-                        solve_time += np.nan_to_num(outcome.finished.solve_time_s)
+                        if math.isfinite(outcome.finished.solve_time_s):
+                            solve_time += outcome.finished.solve_time_s
                         done += 1
                         if progress is not None:
                             progress(outcome.finished, done, len(pending))
