@@ -31,6 +31,7 @@ VARIANTS = [  # (label, preset, knob overrides)
     ("default", "default", {}),
     ("default, exact kinematics", "default", {"kinematics": "exact"}),
     ("default rtol=1e-6", "default", {"rtol": 1e-6, "atol": 1e-9}),
+    ("default event_tol=1e-11", "default", {"event_tol": 1e-11}),
     ("default event_tol=1e-9", "default", {"event_tol": 1e-9}),
     ("default, peaks at steps", "default", {"turning_points": False}),
     ("fast", "fast", {}),

@@ -188,7 +188,7 @@ def responses() -> None:
             f"≈ {paper}",
             f"{ours:.2f}",
             verdict(paper, ours, 0.5),
-            "the paper gives no envelope: the bundled records build up in 2 s (docs/model.md §9)",
+            "no envelope in the paper; the bundled one is calibrated on these (docs/model.md §9)",
         )
     symmetric, asymmetric = histories[STUDIED[1.0]], histories[STUDIED[2.0]]
     at = np.searchsorted(symmetric["time"], 12.0)
