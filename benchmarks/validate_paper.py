@@ -22,9 +22,8 @@ import numpy as np
 from rockbridge_cli.config.bridge import load_bridge
 from rockbridge_cli.config.study import load_study
 from rockbridge_cli.core import impacts
-from rockbridge_cli.core.geometry import ratios
+from rockbridge_cli.core.geometry import ratios, with_short_pier
 from rockbridge_cli.core.summary import summarize
-from rockbridge_cli.plots.parametric import with_short_pier
 from rockbridge_cli.results import read_peaks
 from rockbridge_cli.results.reading import history_arrays, open_results
 from rockbridge_cli.study.run import run_study

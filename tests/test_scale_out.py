@@ -53,7 +53,8 @@ def test_the_paper_s_demand_capacity_ratio(paper):
     backfill's ratio. The worst of ten chaotic responses is an extreme, so the comparison is of
     the ensemble: every bridge's gaps close and its backfill holds (0 < ratio < 1), the mean over
     the records lies within 10 points of the paper's worst-record values from below (38.0 /
-    36.8 / 38.1 % measured), and the worst record within 10 points of them (43.7 / 43.0 / 50.6 %)."""
+    36.8 / 38.1 % measured), and the worst record within 10 points of them (43.7 / 43.0 /
+    50.6 %)."""
     study, _ = paper
     peaks = read_peaks(study.output)
     ratios = peaks.groupby("bridge", sort=False)["dcr_backfill"]

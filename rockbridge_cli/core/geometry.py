@@ -162,3 +162,12 @@ def pounding_ratio(model: Model) -> float:
     if not model.has_abutments:
         return 1.0
     return 1.0 - (1.0 + model.e) * model.m_abut / (model.m_abut + model.md)
+
+
+def with_short_pier(model: Model, h_bar: float) -> Model:
+    """The bridge with the short pier's height set by h̄ = H1/H2, same section and material (the
+    variable the paper's Figs. 3, 4 and 7 vary)."""
+    H2 = model.H1 / h_bar
+    density = model.m1 / pier_mass(1.0, model.B, model.H1)
+    m2 = pier_mass(density, model.B, H2)
+    return model._replace(H2=H2, m2=m2, I2=pier_inertia(m2, model.B, H2))

@@ -22,21 +22,13 @@ from matplotlib.figure import Figure
 
 from ..config.bridge import BridgeConfig, load_bridge
 from ..core import impacts
-from ..core.geometry import Model, pier_inertia, pier_mass, ratios
+from ..core.geometry import Model, ratios, with_short_pier
 from ..core.summary import user_modes
 from ..errors import InputError
 from .common import check_format, panel_label, save, style
 
 POINTS = 60
 """Points per curve [-]."""
-
-
-def with_short_pier(model: Model, h_bar: float) -> Model:
-    """The bridge with the short pier's height set by h̄ = H1/H2, same section and material."""
-    H2 = model.H1 / h_bar
-    density = model.m1 / pier_mass(1.0, model.B, model.H1)
-    m2 = pier_mass(density, model.B, H2)
-    return model._replace(H2=H2, m2=m2, I2=pier_inertia(m2, model.B, H2))
 
 
 def directions(config: BridgeConfig) -> tuple[float, float]:
