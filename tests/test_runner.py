@@ -269,3 +269,32 @@ def test_a_read_only_folder_is_refused(tmp_path):
             run_study(study, workers=1)
     finally:
         folder.chmod(0o755)
+
+
+def test_recheck_runs_near_a_capacity_again_at_reference(tmp_path):
+    """`fidelity.recheck`: an analysis at `fast` that ends in a failure (here a 3× stronger
+    burst fails the abutment) is run again at `reference`, whose result the row holds; the
+    analyses far from every capacity keep `fast`'s."""
+    from studies import RECORDS, burst
+
+    from rockbridge_cli.records import Record, write_record
+
+    write_record(tmp_path / "strong.txt", Record("strong", 0.01, 3.0 * burst(*RECORDS["R1"])))
+    path = write_study(
+        tmp_path, records=("R2",),
+        extra="    - {path: strong.txt}\nfidelity: {preset: fast, recheck: true}\n"
+        f"output: {{path: {tmp_path / 'o.h5'}}}\n",
+    )  # fmt: skip
+    study = load_study(path)
+    peaks = run_study(study, workers=1).peaks.set_index(["bridge", "record"])
+    for bridge in study.bridges:
+        strong, weak = peaks.loc[(bridge.id, "strong")], peaks.loc[(bridge.id, "R2")]
+        assert strong["failure_mode"] == "abutment" and strong["rechecked"] == 1
+        assert weak["failure_mode"] == "none" and weak["rechecked"] == 0
+        record = study.records[1].record
+        reference = analyze(
+            bridge.config.to_model(), record.acceleration, record.time_step, "reference",
+            mirrored=bridge.config.mirrored,
+        )  # fmt: skip
+        assert strong["u_deck_max"] == reference.peaks["u_deck"][0]
+        assert strong["failure_time"] == reference.failure_time

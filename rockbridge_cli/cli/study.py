@@ -72,6 +72,13 @@ EXIT_TERMINATED = 143
     "rocking when the record ends can come to rest or fail [s; default: the study's, else 0].",
 )
 @click.option(
+    "--recheck",
+    is_flag=True,
+    default=None,
+    help="Run again at the reference preset every analysis that ends in a failure of the bridge "
+    "or within 5 % of a capacity (a cheaper preset's verdict can be wrong there).",
+)
+@click.option(
     "--shard",
     default=None,
     metavar="K/N|auto",
@@ -104,6 +111,7 @@ def run(
     overwrite: bool,
     resume: bool,
     tail: float | None,
+    recheck: bool | None,
     shard: str | None,
     shard_count: int | None,
     scheduler: str | None,
@@ -121,10 +129,11 @@ def run(
 
     part = _shard(shard, shard_count)
     resolved = load_study(study, preset=fidelity, output=output)
-    if tail is not None:
+    changed = {k: v for k, v in (("tail", tail), ("recheck", recheck)) if v is not None}
+    if changed:
         resolved = dataclasses.replace(
-            resolved, knobs={**resolved.knobs, "tail": tail},
-            overrides={**resolved.overrides, "tail": tail},
+            resolved, knobs={**resolved.knobs, **changed},
+            overrides={**resolved.overrides, **changed},
         )  # fmt: skip
     for warning in resolved.warnings:
         click.echo(f"warning: {warning}", err=True)

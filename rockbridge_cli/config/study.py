@@ -141,6 +141,9 @@ class Fidelity(StrictModel):
     tail: NonNegativeFloat | None = Field(
         None, description="Free vibration after the record, with zero ground motion [s]"
     )
+    recheck: bool | None = Field(
+        None, description="Run again at the reference preset what ends near or beyond a capacity"
+    )
 
     @model_validator(mode="before")
     @classmethod

@@ -16,8 +16,16 @@ from __future__ import annotations
 
 from typing import Any
 
-_COMMON = {"rest_velocity": 1e-5, "output_step": 0.01, "max_events": 200_000, "tail": 0.0}
-"""Knobs every preset shares. ``tail``: free vibration after the record [s] (`analysis.analyze`)."""
+_COMMON = {
+    "rest_velocity": 1e-5, "output_step": 0.01, "max_events": 200_000, "tail": 0.0,
+    "recheck": False,
+}  # fmt: skip
+"""Knobs every preset shares. ``tail``: free vibration after the record [s] (`analysis.analyze`);
+``recheck``: a study runs again at ``reference`` every analysis that ends in a failure or comes
+within `RECHECK_MARGIN` of a capacity (`study.work.analyse`)."""
+
+RECHECK_MARGIN = 0.05
+"""A demand/capacity ratio above 1 − this is "within a few percent of a capacity" [-]."""
 
 PRESETS: dict[str, dict[str, Any]] = {
     "reference": {

@@ -91,6 +91,12 @@ def _peak_columns() -> dict[str, tuple[str, str]]:
         steps=("-", "accepted integration steps; -1 without results"),
         rejected_steps=("-", "rejected integration steps; -1 without results"),
         n_events=("-", "rows of the analysis in /events (CF count variable)"),
+        rechecked=(
+            "-",
+            "1 where the analysis ended in a failure or near a capacity and was run "
+            "again at the reference preset (fidelity.recheck), whose results the row "
+            "holds; 0 otherwise; -1 without results",
+        ),
     )
     return columns
 
@@ -106,6 +112,7 @@ COUNT_COLUMNS = (
     "steps",
     "rejected_steps",
     "n_events",
+    "rechecked",
 )
 
 COMPRESSION = {"compression": "gzip", "compression_opts": 4, "shuffle": True}

@@ -87,6 +87,7 @@ class AnalysisResult:
             message="" if ok else response.status,
             wall_time_s=wall_time,
             n_events=len(response.events["time"]),
+            rechecked=0,
         )
         events = {**response.events, "kind": response.events["kind"].astype(str)}
         histories = {name: response.histories[name] for name in keep}

@@ -52,6 +52,7 @@ class Grid:
     preset, overrides : fidelity preset and the knobs the study changes
     keep : names of the histories to store
     config_hash : the study's hash (`Study.config_hash`)
+    recheck : run again at ``reference`` what ends near or beyond a capacity (`fidelity`)
     """
 
     bridges: tuple[BridgeCase, ...]
@@ -60,6 +61,7 @@ class Grid:
     overrides: dict[str, Any]
     keep: tuple[str, ...]
     config_hash: str
+    recheck: bool = False
 
     @classmethod
     def of(cls, study: Study) -> Grid:
@@ -75,8 +77,9 @@ class Grid:
             for r in study.records
         )
         return cls(
-            bridges, records, study.preset, study.overrides, study.histories, study.config_hash
-        )
+            bridges, records, study.preset, study.overrides, study.histories, study.config_hash,
+            bool(study.knobs.get("recheck", False)),
+        )  # fmt: skip
 
     @property
     def cells(self) -> list[Cell]:

@@ -7,7 +7,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import NamedTuple
 
-from ..core.analysis import analyze
+from ..core.analysis import Response, analyze
+from ..core.fidelity import RECHECK_MARGIN
 from ..results.packing import AnalysisResult
 from .grid import Cell, Grid
 
@@ -53,8 +54,18 @@ def run_cells(grid: Grid, cells: Sequence[Cell]) -> list[Outcome]:
     return outcomes
 
 
+RECHECK_KEEPS = ("tail", "output_step")
+"""Knobs a recheck at ``reference`` keeps from the study (what is analysed and stored, not how
+precisely)."""
+
+
 def analyse(grid: Grid, cell: Cell) -> AnalysisResult:
-    """Run one analysis; any exception becomes a result with status ``error`` and its message."""
+    """Run one analysis; any exception becomes a result with status ``error`` and its message.
+
+    With ``grid.recheck``, an analysis at a cheaper preset that ends in a failure of the bridge,
+    or within `fidelity.RECHECK_MARGIN` of a capacity, is run again at ``reference``, and the
+    result is that one (``rechecked`` = 1): a cheap preset's verdict can be wrong near a limit.
+    """
     bridge, record = grid.bridges[cell.bridge], grid.records[cell.record]
     if record.acceleration is None:
         return AnalysisResult.failed(bridge.id, record.id, record.error)
@@ -64,10 +75,25 @@ def analyse(grid: Grid, cell: Cell) -> AnalysisResult:
             bridge.model, record.acceleration, record.time_step, grid.preset,
             mirrored=bridge.mirrored, restitution=bridge.restitution, **grid.overrides,
         )  # fmt: skip
+        rechecked = grid.recheck and grid.preset != "reference" and _near_a_limit(response)
+        if rechecked:
+            keep = {k: v for k, v in grid.overrides.items() if k in RECHECK_KEEPS}
+            response = analyze(
+                bridge.model, record.acceleration, record.time_step, "reference",
+                mirrored=bridge.mirrored, restitution=bridge.restitution, **keep,
+            )  # fmt: skip
     except Exception as exc:  # one failed analysis must not stop the others
         return AnalysisResult.failed(
             bridge.id, record.id, f"{type(exc).__name__}: {exc}", time.perf_counter() - start
         )
-    return AnalysisResult.from_response(
+    result = AnalysisResult.from_response(
         bridge.id, record.id, response, grid.keep, time.perf_counter() - start
     )
+    result.values["rechecked"] = int(rechecked)
+    return result
+
+
+def _near_a_limit(response: Response) -> bool:
+    """Whether an analysis ended in a failure or within `RECHECK_MARGIN` of a capacity."""
+    ratios = [r for r in (response.dcr_backfill, response.dcr_overturning) if r == r]  # not NaN
+    return response.failure_mode != "none" or any(r >= 1.0 - RECHECK_MARGIN for r in ratios)
