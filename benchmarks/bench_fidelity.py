@@ -6,6 +6,13 @@ the median and total wall time of the integration (`Response.solve_time_s`, no s
 median number of steps, and the maximum relative error of each Fig. 9 peak against ``reference``.
 With ``--plot FILE`` it also draws the work-precision diagram.
 
+A second table puts each preset on extreme geometries (h̄ = 8, very slender and very stocky
+piers, a frame without abutments) under the same records at twice their intensity, where
+failures happen: the share of analyses whose failure verdict differs from ``reference``, the
+median and worst per-analysis error of the tall pier's peak rotation θ1 where the verdicts agree,
+and the error of its mean over the analyses (what design uses). ``--records DIR`` runs any
+record set, recorded motions included (none are bundled: their licences vary).
+
     python benchmarks/bench_fidelity.py [--records DIR] [--plot docs/work-precision.png]
 """
 
@@ -110,6 +117,61 @@ def main() -> None:
         print(line)
     if args.plot:
         plot(rows, args.plot)
+    verdicts(records)
+
+
+EXTREMES = {  # name: (bridge config, changes to its YAML data)
+    "h̄ = 8": ("studied-hbar1.00", {"piers": {"width": 2.6, "heights": [26.0, 26.0 / 8]}}),
+    "slender, H/B = 26": ("studied-hbar1.25", {"piers": {"width": 1.0, "heights": [26.0, 20.8]}}),
+    "stocky, H/B = 4": ("studied-hbar1.25", {"piers": {"width": 6.5, "heights": [26.0, 20.8]}}),
+    "frame": ("studied-hbar1.25", {"abutments": None}),
+}
+"""Extreme geometries of the verdict table, made from the studied bridges."""
+
+PRESETS_COMPARED = ("default", "fast", "paper")
+
+
+def extreme_models():
+    import yaml
+
+    from rockbridge_cli.config.bridge import BridgeConfig
+
+    for name, (source, changes) in EXTREMES.items():
+        data = yaml.safe_load((REPO / "configs" / "bridges" / f"{source}.yaml").read_text())
+        data.update(changes)
+        yield name, BridgeConfig.model_validate({k: v for k, v in data.items() if v is not None})
+
+
+def verdicts(records, intensity: float = 2.0) -> None:
+    models = [(name, config.to_model()) for name, config in extreme_models()]
+    runs = {
+        preset: [
+            analyze(model, intensity * acc, dt, preset)
+            for _, model in models
+            for _, dt, acc in records
+        ]
+        for preset in ("reference", *PRESETS_COMPARED)
+    }
+    reference = runs["reference"]
+    failures = sum(r.failure_mode != "none" for r in reference)
+    print(f"\nextreme geometries ({', '.join(EXTREMES)}) × the records at {intensity:g}× "
+          f"({len(reference)} analyses, {failures} failures at reference)")  # fmt: skip
+    print(f"{'preset':<10}{'verdicts differ':>17}{'median err θ1':>15}{'worst err θ1':>14}"
+          f"{'err of mean θ1':>16}")  # fmt: skip
+    mean_reference = np.mean([r.peaks["theta1"][0] for r in reference])
+    for preset in PRESETS_COMPARED:
+        responses = runs[preset]
+        differ = sum(
+            a.failure_mode != b.failure_mode for a, b in zip(responses, reference, strict=True)
+        )
+        errors = [
+            abs(a.peaks["theta1"][0] - b.peaks["theta1"][0]) / b.peaks["theta1"][0]
+            for a, b in zip(responses, reference, strict=True)
+            if a.failure_mode == b.failure_mode and b.peaks["theta1"][0] > 0
+        ]
+        mean = np.mean([r.peaks["theta1"][0] for r in responses])
+        print(f"{preset:<10}{f'{differ}/{len(reference)}':>17}{np.median(errors):>15.1e}"
+              f"{max(errors):>14.1e}{abs(mean / mean_reference - 1):>16.1e}")  # fmt: skip
 
 
 def max_relative_error(responses, reference, peak: str) -> float:
