@@ -63,7 +63,7 @@ def plot() -> None:
 
 
 def _register() -> None:
-    from . import analysis, bridge, records, study  # noqa: F401  (each module adds its commands)
+    from . import analysis, bridge, fragility, records, study  # noqa: F401  (each adds commands)
 
 
 _register()

@@ -36,7 +36,8 @@ from pydantic import (
 )
 
 from ..core.fidelity import PRESETS, knobs
-from ..core.quantities import HISTORY_UNITS
+from ..core.quantities import HISTORY_UNITS, STANDARD_GRAVITY
+from ..core.spectra import compute_psa
 from ..errors import InputError
 from ..plausibility import bridge_warnings, record_warnings
 from ..records import Record, read_manifest, read_record
@@ -199,6 +200,28 @@ class Output(StrictModel):
         return tuple(name for name in HISTORY_UNITS if name in self.histories)
 
 
+class Intensity(StrictModel):
+    """Every record scaled to stated levels of an intensity measure (multiple-stripe analysis).
+
+    ``pga_g``: the scaled record's peak [g]; ``sa_g``: its 5 %-damped (or ``damping``) pseudo-
+    spectral acceleration at ``period`` [g]; ``scale``: the factor itself [-]. g is standard
+    gravity, as for record files.
+    """
+
+    measure: Literal["pga_g", "sa_g", "scale"] = Field(description="Intensity measure")
+    levels: list[PositiveFloat] = Field(min_length=1, description="Levels of the measure")
+    period: PositiveFloat | None = Field(None, description="Period of sa_g [s]")
+    damping: float = Field(0.05, gt=0.0, lt=1.0, description="Damping ratio of sa_g [-]")
+
+    @model_validator(mode="after")
+    def _period_for_sa(self) -> Intensity:
+        if (self.measure == "sa_g") != (self.period is not None):
+            raise ValueError("give period with measure sa_g, and only then")
+        if len(set(self.levels)) != len(self.levels):
+            raise ValueError("a level is listed twice")
+        return self
+
+
 class StudyConfig(StrictModel):
     """A study, as a YAML file describes it."""
 
@@ -209,6 +232,9 @@ class StudyConfig(StrictModel):
         "with an id",
     )
     records: Records = Field(description="The ground motions")
+    intensity: Intensity | None = Field(
+        None, description="Scale every record to levels of an intensity measure"
+    )
     fidelity: Fidelity = Field(default_factory=Fidelity, description="Numerical fidelity")
     output: Output = Field(default_factory=Output, description="The results file")
 
@@ -233,6 +259,9 @@ class StudyRecord:
     record : the record, None if it could not be read
     error : the reason, empty when ``record`` is there
     digest : SHA-256 of the record's samples (or of the file's bytes if unreadable)
+    base : id of the record before scaling (the same id without an intensity section)
+    level : the intensity level it is scaled to, in the study's measure; NaN without
+    scale : the factor applied to the file's samples [-]
     """
 
     id: str
@@ -240,6 +269,9 @@ class StudyRecord:
     record: Record | None
     error: str
     digest: str
+    base: str = ""
+    level: float = float("nan")
+    scale: float = 1.0
 
 
 @dataclass(frozen=True)
@@ -257,6 +289,7 @@ class Study:
     histories : names of the histories to store
     output : the HDF5 file
     warnings : legal but implausible inputs (`plausibility`), ``source: field: reason`` each
+    intensity : the intensity section (measure, levels, period, damping), None without
     """
 
     path: Path
@@ -269,6 +302,7 @@ class Study:
     histories: tuple[str, ...]
     output: Path
     warnings: tuple[str, ...] = ()
+    intensity: dict[str, Any] | None = None
 
     def resolved(self) -> dict[str, Any]:
         """Everything that determines the results, as JSON-ready data (stored in the file)."""
@@ -283,6 +317,7 @@ class Study:
                 "knobs": self.knobs,
             },
             "histories": list(self.histories),
+            **({"intensity": self.intensity} if self.intensity is not None else {}),
         }
 
     @property
@@ -372,6 +407,9 @@ def study_from_data(
     base = path.parent
     bridges = _resolve_bridges(config.bridges, path)
     records = _resolve_records(config.records, base)
+    warnings = _warnings(bridges, records)  # of the files, not of their scaled copies
+    if config.intensity is not None:
+        records = _scaled(records, config.intensity)
     problems = _check_ids("bridges", [b.id for b in bridges])
     problems += _check_ids("records", [r.id for r in records])
     problems += [("records", "holds no records to analyse")] if not records else []
@@ -396,8 +434,54 @@ def study_from_data(
         overrides=overrides,
         histories=config.output.kept(),
         output=target,
-        warnings=_warnings(bridges, records),
+        warnings=warnings,
+        intensity=None if config.intensity is None else config.intensity.model_dump(),
     )
+
+
+LEVEL_UNITS = {"pga_g": "g", "sa_g": "g", "scale": "x"}
+"""What follows the level in a scaled record's id: AR01+0.6g, AR01+1.5x."""
+
+
+def intensity_of(record: Record, intensity: Intensity) -> float:
+    """A record's intensity in the section's measure (1 for ``scale``)."""
+    if intensity.measure == "pga_g":
+        return record.peak_acceleration / STANDARD_GRAVITY
+    if intensity.measure == "sa_g":
+        assert intensity.period is not None
+        psa = compute_psa(record.acceleration, record.time_step, np.array([intensity.period]),
+                          intensity.damping)  # fmt: skip
+        return float(psa[0]) / STANDARD_GRAVITY
+    return 1.0
+
+
+def _scaled(records: list[StudyRecord], intensity: Intensity) -> list[StudyRecord]:
+    """Every record at every level, record by record (``<id>+<level><unit>``)."""
+    unit = LEVEL_UNITS[intensity.measure]
+    scaled = []
+    for item in records:
+        native = intensity_of(item.record, intensity) if item.record is not None else 1.0
+        for level in intensity.levels:
+            scale = level / native
+            record = None
+            if item.record is not None:
+                record = dataclasses.replace(
+                    item.record, acceleration=scale * item.record.acceleration
+                )
+            digest = hashlib.sha256(f"{item.digest} x{scale!r}".encode()).hexdigest()
+            scaled.append(
+                StudyRecord(
+                    f"{item.id}+{level:g}{unit}",
+                    item.source,
+                    record,
+                    item.error,
+                    digest,
+                    base=item.id,
+                    level=level,
+                    scale=scale,
+                )  # fmt: skip
+            )
+    return scaled
 
 
 def _warnings(bridges: list[StudyBridge], records: list[StudyRecord]) -> tuple[str, ...]:

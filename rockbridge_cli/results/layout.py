@@ -60,7 +60,14 @@ EVENT_COLUMNS = {
 
 
 def _peak_columns() -> dict[str, tuple[str, str]]:
-    columns = {"bridge": ("-", "bridge id"), "record": ("-", "record id")}
+    columns = {
+        "bridge": ("-", "bridge id"),
+        "record": ("-", "record id (with its intensity level when the study scales records)"),
+        "base_record": ("-", "the record before scaling"),
+        "intensity": ("-", "intensity level of the scaled record, in the measure of the root "
+                      "attribute intensity (g for pga_g and sa_g); NaN without scaling"),
+        "scale": ("-", "factor applied to the record's samples"),
+    }  # fmt: skip
     for name, unit in PEAK_UNITS.items():
         how = "largest" if name == "v_deck" else "largest absolute"
         columns[f"{name}_max"] = (unit, f"{how} {name}: {HISTORY_TEXT[name]}")
@@ -104,7 +111,7 @@ def _peak_columns() -> dict[str, tuple[str, str]]:
 PEAK_COLUMNS = _peak_columns()
 """Columns of the peak table: name → (unit, description)."""
 
-TEXT_COLUMNS = ("bridge", "record", "failure_mode", "status", "message", "model")
+TEXT_COLUMNS = ("bridge", "record", "base_record", "failure_mode", "status", "message", "model")
 COUNT_COLUMNS = (
     "n_impacts",
     "n_impacts_significant",

@@ -88,6 +88,9 @@ class AnalysisResult:
             wall_time_s=wall_time,
             n_events=len(response.events["time"]),
             rechecked=0,
+            base_record=record,
+            intensity=float("nan"),
+            scale=1.0,
         )
         events = {**response.events, "kind": response.events["kind"].astype(str)}
         histories = {name: response.histories[name] for name in keep}

@@ -209,6 +209,7 @@ def _write_header(file: h5py.File, study: Study, created: str) -> None:
             "significant_impact_rate": SIGNIFICANT_RATE,
             "histories": json.dumps(list(study.histories)),
             "warnings": json.dumps(list(study.warnings)),
+            "intensity": json.dumps(study.intensity),
         }
     )
     _describe_attrs(

@@ -26,12 +26,16 @@ class BridgeCase(NamedTuple):
 
 
 class RecordCase(NamedTuple):
-    """A ground motion [m/s²] at ``time_step`` [s], or why it could not be read."""
+    """A ground motion [m/s²] at ``time_step`` [s], or why it could not be read; with the
+    record it was scaled from, the intensity level and the factor (`config.study.Intensity`)."""
 
     id: str
     acceleration: np.ndarray | None
     time_step: float
     error: str
+    base: str
+    level: float
+    scale: float
 
 
 class Cell(NamedTuple):
@@ -71,11 +75,13 @@ class Grid:
             for b in study.bridges
         )
         records = tuple(
-            RecordCase(r.id, r.record.acceleration, r.record.time_step, "")
-            if r.record is not None
-            else RecordCase(r.id, None, float("nan"), r.error)
+            RecordCase(
+                r.id, r.record.acceleration if r.record else None,
+                r.record.time_step if r.record else float("nan"), r.error, r.base or r.id,
+                r.level, r.scale,
+            )
             for r in study.records
-        )
+        )  # fmt: skip
         return cls(
             bridges, records, study.preset, study.overrides, study.histories, study.config_hash,
             bool(study.knobs.get("recheck", False)),

@@ -10,7 +10,7 @@ from typing import NamedTuple
 from ..core.analysis import Response, analyze
 from ..core.fidelity import RECHECK_MARGIN
 from ..results.packing import AnalysisResult
-from .grid import Cell, Grid
+from .grid import BridgeCase, Cell, Grid, RecordCase
 
 
 @dataclass(frozen=True)
@@ -67,6 +67,12 @@ def analyse(grid: Grid, cell: Cell) -> AnalysisResult:
     result is that one (``rechecked`` = 1): a cheap preset's verdict can be wrong near a limit.
     """
     bridge, record = grid.bridges[cell.bridge], grid.records[cell.record]
+    result = _analyse(grid, bridge, record)
+    result.values.update(base_record=record.base, intensity=record.level, scale=record.scale)
+    return result
+
+
+def _analyse(grid: Grid, bridge: BridgeCase, record: RecordCase) -> AnalysisResult:
     if record.acceleration is None:
         return AnalysisResult.failed(bridge.id, record.id, record.error)
     start = time.perf_counter()

@@ -1,0 +1,121 @@
+"""Intensity as a study dimension (multiple stripes) and the fragility fits on top of it.
+
+Expected values: a scaled record's PGA or Sa(T) is its level exactly (both are linear in the
+scale factor); the maximum-likelihood fit of Baker (2015) recovers the parameters of the
+lognormal that generated the counts.
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from scipy.stats import norm
+from studies import write_study
+
+from rockbridge_cli.cli import main
+from rockbridge_cli.config.study import load_study
+from rockbridge_cli.core.quantities import STANDARD_GRAVITY
+from rockbridge_cli.core.spectra import compute_psa
+from rockbridge_cli.errors import InputError
+from rockbridge_cli.fragility import fit_lognormal
+from rockbridge_cli.results import read_peaks
+from rockbridge_cli.study.run import run_study
+
+
+@pytest.fixture(autouse=True)
+def _in_tmp(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # default outputs (results/<stem>.h5) land in tmp_path
+
+
+def invoke(*args):
+    return CliRunner().invoke(main, [str(a) for a in args])
+
+
+def test_pga_stripes_scale_every_record_to_every_level(tmp_path):
+    path = write_study(tmp_path, extra="intensity: {measure: pga_g, levels: [0.2, 0.5]}\n")
+    study = load_study(path)
+    assert [r.id for r in study.records] == ["R1+0.2g", "R1+0.5g", "R2+0.2g", "R2+0.5g"]
+    for item in study.records:
+        pga = np.abs(item.record.acceleration).max() / STANDARD_GRAVITY
+        assert pga == pytest.approx(item.level, rel=1e-12) and item.base in ("R1", "R2")
+    plain = load_study(write_study(tmp_path, name="plain.yaml"))
+    assert study.config_hash != plain.config_hash
+    run_study(study, workers=1)
+    peaks = read_peaks(study.output)
+    assert list(peaks["base_record"]) == ["R1", "R1", "R2", "R2"] * 2
+    assert list(peaks["intensity"]) == [0.2, 0.5] * 4
+    # R1 peaks at 5.0 m/s², so its 0.5 g copy is scaled by 0.5·9.80665/5.0
+    assert peaks["scale"][1] == pytest.approx(0.5 * STANDARD_GRAVITY / 5.0, rel=1e-12)
+
+
+def test_sa_stripes_hit_the_spectral_level(tmp_path):
+    extra = "intensity: {measure: sa_g, levels: [0.3], period: 1.0}\n"
+    study = load_study(write_study(tmp_path, extra=extra))
+    for item in study.records:
+        sa = compute_psa(item.record.acceleration, item.record.time_step, np.array([1.0]))[0]
+        assert sa / STANDARD_GRAVITY == pytest.approx(0.3, rel=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("section", "message"),
+    [
+        ("{measure: sa_g, levels: [0.3]}", "give period with measure sa_g"),
+        ("{measure: pga_g, levels: [0.3], period: 1.0}", "give period with measure sa_g"),
+        ("{measure: pga_g, levels: [0.3, 0.3]}", "a level is listed twice"),
+        ("{measure: pga_g, levels: []}", "intensity.levels"),
+        ("{measure: pgv, levels: [0.3]}", "intensity.measure"),
+    ],
+)
+def test_bad_intensity_sections(tmp_path, section, message):
+    with pytest.raises(InputError, match=message):
+        load_study(write_study(tmp_path, extra=f"intensity: {section}\n"))
+
+
+def test_the_fit_recovers_a_known_lognormal():
+    """Counts drawn exactly from θ = 0.8 g, β = 0.35 at eight levels, 10⁵ records each."""
+    levels = np.array([0.2, 0.4, 0.6, 0.8, 1.0, 1.3, 1.6, 2.0])
+    tried = np.full(levels.size, 100_000)
+    reached = np.round(tried * norm.cdf(np.log(levels / 0.8) / 0.35))
+    median, beta = fit_lognormal(levels, reached, tried)
+    assert median == pytest.approx(0.8, rel=1e-4) and beta == pytest.approx(0.35, rel=1e-3)
+
+
+def test_the_fit_says_what_the_data_cannot_fix():
+    levels = np.array([0.1, 0.3, 0.5])
+    tried = np.array([10, 10, 10])
+    assert fit_lognormal(levels, np.array([0, 0, 0]), tried) is None  # never reached
+    assert fit_lognormal(levels, tried, tried) is None  # reached at the lowest level already
+    median, beta = fit_lognormal(levels, np.array([0, 10, 10]), tried)  # all change at once
+    assert median == pytest.approx(np.sqrt(0.1 * 0.3)) and beta is None
+
+
+def test_fragility_from_a_stripe_study(tmp_path):
+    extra = "intensity: {measure: pga_g, levels: [0.05, 0.2, 0.4, 0.8, 1.6]}\n"
+    study = load_study(write_study(tmp_path, extra=extra))
+    run_study(study, workers=1)
+    result = invoke("fragility", study.output, "--json")
+    assert result.exit_code == 0, result.output
+    rows = json.loads(result.output)
+    assert {r["limit_state"] for r in rows} >= {"gap_closure", "abutment_failure", "overturning"}
+    peaks = read_peaks(study.output)
+    for row in rows:
+        assert set(row) >= {"bridge", "limit_state", "measure", "median", "beta", "capacities"}
+        assert row["measure"] == "pga_g" and set(row["capacities"]) == {"R1", "R2"}
+        if row["limit_state"] != "gap_closure":
+            continue
+        for record, capacity in row["capacities"].items():  # the first level that closes the gap
+            mine = peaks[(peaks["bridge"] == row["bridge"]) & (peaks["base_record"] == record)]
+            closed = mine[mine["dcr_backfill"] > 0]["intensity"]
+            assert capacity == (closed.min() if len(closed) else None)
+    table = invoke("fragility", study.output)
+    assert table.exit_code == 0 and "gap_closure" in table.output
+
+
+def test_fragility_needs_stripes(tmp_path):
+    study = load_study(write_study(tmp_path))
+    run_study(study, workers=1)
+    result = invoke("fragility", study.output)
+    assert result.exit_code == 2 and "no intensity section" in result.output
