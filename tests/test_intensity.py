@@ -112,6 +112,9 @@ def test_fragility_from_a_stripe_study(tmp_path):
             assert capacity == (closed.min() if len(closed) else None)
     table = invoke("fragility", study.output)
     assert table.exit_code == 0 and "gap_closure" in table.output
+    figure = invoke("plot", "fragility", study.output, "-o", tmp_path / "fragility.png")
+    assert figure.exit_code == 0, figure.output
+    assert (tmp_path / "fragility.png").stat().st_size > 10_000
 
 
 def test_fragility_needs_stripes(tmp_path):

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from . import main
+from . import main, plot
 from .output import echo_json, table_text
 
 
@@ -33,3 +33,19 @@ def fragility(results: Path, as_json: bool) -> None:
                      f"{reaching}/{len(item.capacities)}"])  # fmt: skip
     click.echo(f"measure: {found[0].measure if found else '-'}")
     click.echo(table_text(headers, rows))
+
+
+@plot.command("fragility")
+@click.argument("results", type=click.Path(path_type=Path))
+@click.option(
+    "-o", "--output", type=click.Path(dir_okay=False, path_type=Path), default=None,
+    help="Figure file, .png, .pdf or .svg [default: <results stem>-fragility.png beside RESULTS].",
+)  # fmt: skip
+def plot_fragility(results: Path, output: Path | None) -> None:
+    """Fragility curves of RESULTS (a study with an intensity section): the share of records
+    reaching each limit state per level and the fitted lognormal, one style per bridge."""
+    from ..plots.fragility import plot_fragility as draw
+
+    click.echo(
+        f"Figure: {draw(results, output or results.with_name(f'{results.stem}-fragility.png'))}"
+    )

@@ -1,0 +1,55 @@
+"""Fragility curves of a multiple-stripe study: per limit state, the share of records that reach
+it at each intensity level (markers) and the fitted lognormal (lines), one style per bridge."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from matplotlib.figure import Figure
+from scipy.stats import norm
+
+from ..fragility import LIMIT_STATES, fragilities
+from .common import check_format, panel_label, save, style
+
+MEASURE_LABELS = {"pga_g": "PGA [g]", "sa_g": "Sa(T) [g]", "scale": "scale factor [-]"}
+
+
+def plot_fragility(results: str | Path, output: str | Path) -> Path:
+    """Draw one panel per limit state from a results file with an intensity section.
+
+    Returns
+    -------
+    pathlib.Path
+        The figure file.
+    """
+    output = check_format(output)
+    found = fragilities(results)
+    bridges = list(dict.fromkeys(item.bridge for item in found))
+    figure = Figure(figsize=(9.0, 7.0), layout="constrained")
+    grid = figure.subplots(2, 2, sharex=True, sharey=True)
+    letters = "ABCD"
+    for axes, state, letter in zip(grid.flat, LIMIT_STATES, letters, strict=True):
+        for index, bridge in enumerate(bridges):
+            item = next(f for f in found if f.bridge == bridge and f.limit_state == state)
+            look = style(index)
+            axes.plot(item.levels, item.fractions, linestyle="none", color=look["color"],
+                      marker=look["marker"], markerfacecolor=look["markerfacecolor"],
+                      markeredgecolor=look["markeredgecolor"], label=bridge)  # fmt: skip
+            if item.median is not None and item.beta is not None:
+                x = np.geomspace(min(item.levels) / 2, max(item.levels) * 1.5, 200)
+                axes.plot(x, norm.cdf(np.log(x / item.median) / item.beta),
+                          color=look["color"], linestyle=look["linestyle"])  # fmt: skip
+        axes.set_title(state.replace("_", " "))
+        axes.set_xscale("log")
+        axes.set_ylim(-0.03, 1.03)
+        axes.grid(True, color="0.9", linewidth=0.5)
+        panel_label(axes, letter)
+    for axes in grid[-1]:
+        axes.set_xlabel(MEASURE_LABELS.get(found[0].measure, found[0].measure) if found else "")
+    for axes in grid[:, 0]:
+        axes.set_ylabel("share of records reaching it [-]")
+    handles, labels = grid[0, 0].get_legend_handles_labels()
+    figure.legend(handles, labels, loc="outside upper center", ncols=min(len(labels), 3),
+                  frameon=False)  # fmt: skip
+    return save(figure, output)
