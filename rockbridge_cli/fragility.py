@@ -99,16 +99,20 @@ def fit_lognormal(levels: np.ndarray, reached: np.ndarray, tried: np.ndarray):
         return math.sqrt(levels[above - 1] * levels[above]), None
     logs = np.log(levels)
 
-    def negative_log_likelihood(parameters: np.ndarray) -> float:
+    def negative_log_likelihood(parameters: np.ndarray) -> tuple[float, np.ndarray]:
+        """−ln L and its gradient in (ln θ, ln β)."""
         log_median, log_beta = parameters
-        p = norm.cdf((logs - log_median) / math.exp(log_beta))
-        p = np.clip(p, 1e-300, 1.0 - 1e-16)
-        return -float(np.sum(reached * np.log(p) + (tried - reached) * np.log1p(-p)))
+        beta = math.exp(log_beta)
+        u = (logs - log_median) / beta
+        p = np.clip(norm.cdf(u), 1e-300, 1.0 - 1e-16)
+        value = -float(np.sum(reached * np.log(p) + (tried - reached) * np.log1p(-p)))
+        slope = -norm.pdf(u) * (reached / p - (tried - reached) / (1.0 - p))  # ∂(−ln L)/∂u
+        return value, np.array([-np.sum(slope) / beta, -np.sum(slope * u)])
 
     start = np.array([np.average(logs, weights=tried), math.log(0.4)])
     bounds = [(logs.min() - 5.0, logs.max() + 5.0), (math.log(1e-3), math.log(5.0))]
-    fit = minimize(negative_log_likelihood, start, method="L-BFGS-B", bounds=bounds,
-                   options={"ftol": 1e-13, "gtol": 1e-10})  # fmt: skip
+    fit = minimize(negative_log_likelihood, start, jac=True, method="L-BFGS-B", bounds=bounds,
+                   options={"ftol": 1e-11, "gtol": 1e-7})  # fmt: skip
     return math.exp(fit.x[0]), math.exp(fit.x[1])
 
 
