@@ -14,8 +14,13 @@ entries (the ten bundled records, each listed several times under its own id) an
 
 The kernels are compiled (or loaded from numba's cache) before the rows are timed.
 
+A second table times the bundled intensity studies end to end, as README runs them: the
+multiple-stripe study and the IDA of the paper's bridges (``rockbridge run``, then
+``rockbridge fragility``), each in a fresh process.
+
     python benchmarks/bench_study.py [--sizes 30 300 3000 10000] [--workers 1 2]
                                      [--fidelity default] [--histories none all]
+                                     [--bundled paper-stripes paper-ida]
 """
 
 from __future__ import annotations
@@ -27,6 +32,7 @@ import platform
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
@@ -80,12 +86,32 @@ def measure(analyses: int, histories: str, workers: int, fidelity: str) -> dict:
     return json.loads(done.stdout)
 
 
+def measure_bundled(name: str, workers: int) -> dict:
+    """A bundled study run as README runs it, in a fresh folder: the run, then its fragility."""
+    with tempfile.TemporaryDirectory() as folder:
+        study = REPO / "configs" / "studies" / f"{name}.yaml"
+        done = subprocess.run(
+            [sys.executable, "-c", ROW, str(study), str(workers)],
+            capture_output=True, text=True, check=True, cwd=folder,
+        )  # fmt: skip
+        row = json.loads(done.stdout)
+        started = time.perf_counter()
+        subprocess.run(
+            [sys.executable, "-c", "from rockbridge_cli.cli import main; main()", "fragility",
+             f"results/{name}.h5"],
+            capture_output=True, check=True, cwd=folder,
+        )  # fmt: skip
+        row["fragility"] = time.perf_counter() - started
+    return row
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--sizes", type=int, nargs="+", default=[30, 300, 3000, 10000])
+    parser.add_argument("--sizes", type=int, nargs="*", default=[30, 300, 3000, 10000])
     parser.add_argument("--workers", type=int, nargs="+", default=[1, 2])
     parser.add_argument("--histories", nargs="+", default=["none", "all"])
     parser.add_argument("--fidelity", default="default")
+    parser.add_argument("--bundled", nargs="*", default=["paper-stripes", "paper-ida"])
     options = parser.parse_args()
 
     measure(3, "none", 1, options.fidelity)  # compile the kernels into numba's cache
@@ -112,6 +138,18 @@ def main() -> None:
                     f"{row['rss_worker']:7.0f} {row['size']:7.1f}",
                     flush=True,
                 )
+    if options.bundled:
+        print(f"\n{'bundled study':<14} {'wrk':>3} | {'analyses':>8} {'run':>7} {'solve':>7} "
+              f"{'ms/an.':>7} | {'fragility':>9}")  # fmt: skip
+        print(f"{'':<14} {'':>3} | {'':>8} {'s':^15} {'':>7} | {'s':^9}")
+    for name in options.bundled:
+        for workers in options.workers:
+            row = measure_bundled(name, workers)
+            print(
+                f"{name:<14} {workers:>3} | {row['n']:>8} {row['e2e']:7.2f} {row['solve']:7.2f} "
+                f"{1e3 * row['e2e'] * workers / row['n']:7.2f} | {row['fragility']:9.2f}",
+                flush=True,
+            )
 
 
 if __name__ == "__main__":

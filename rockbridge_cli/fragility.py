@@ -1,36 +1,37 @@
-"""Fragility functions from a multiple-stripe study: for each bridge and limit state, the
-lognormal probability of reaching the state against the intensity measure.
+"""Fragility functions: for each bridge and limit state, the lognormal probability of reaching
+the state against the intensity measure, from a study with an intensity section.
 
-The fit is Baker's (2015, Earthquake Spectra 31(1)): at each intensity level x_j, z_j of the n_j
-records reach the state; the median θ and the log-standard deviation β maximise the binomial
-likelihood Π_j Φ((ln x_j − ln θ)/β)^z_j · (1 − Φ(…))^(n_j − z_j). Its uncertainty is a bootstrap
-over the records (the same record at every level is one draw). This module reads a results file
-and computes; it never changes the file.
+From multiple stripes, the fit is Baker's (2015, Earthquake Spectra 31(1)): at each intensity
+level x_j, z_j of the n_j records reach the state; the median θ and the log-standard deviation β
+maximise the binomial likelihood Π_j Φ((ln x_j − ln θ)/β)^z_j · (1 − Φ(…))^(n_j − z_j).
+
+From an IDA, each record has a capacity (`study.ida`); ln θ and β are the mean and standard
+deviation (1/n, the maximum-likelihood estimate) of the log-capacities. Records that reach the
+state at the first level already, or never up to the last, are censored there (their likelihood
+is Φ or 1 − Φ at that level), not dropped: dropping them would bias θ.
+
+The uncertainty of θ is a bootstrap over the records (the same record at every level is one
+draw). A run stores the fits in its results file (`/fragility`, `store`); `fragilities` computes
+them from the peak table and never changes the file.
 """
 
 from __future__ import annotations
 
 import json
 import math
-from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
+import h5py
 import numpy as np
 from scipy.optimize import minimize
-from scipy.stats import norm
+from scipy.special import log_ndtr, ndtr
 
+from . import limit_states
+from .config.study import scaled_id
 from .errors import InputError
+from .limit_states import Verdict
 from .results.reading import open_results, peak_columns
-
-LIMIT_STATES: dict[str, Callable[[dict[str, np.ndarray]], np.ndarray]] = {
-    "gap_closure": lambda c: c["dcr_backfill"] > 0.0,
-    "backfill_50": lambda c: c["dcr_backfill"] >= 0.5,
-    "abutment_failure": lambda c: c["failure_mode"] == "abutment",
-    "overturning": lambda c: np.char.startswith(c["failure_mode"].astype(str), "overturning"),
-}
-"""Limit states: the end joint closes (the backfill is loaded), the backfill reaches half its
-capacity, the abutment–backfill fails, a pier overturns (docs/model.md §7–8)."""
 
 BOOTSTRAP = 100
 """Resamplings of the records for the interval of the median."""
@@ -104,66 +105,172 @@ def fit_lognormal(levels: np.ndarray, reached: np.ndarray, tried: np.ndarray):
         log_median, log_beta = parameters
         beta = math.exp(log_beta)
         u = (logs - log_median) / beta
-        p = np.clip(norm.cdf(u), 1e-300, 1.0 - 1e-16)
+        p = np.clip(ndtr(u), 1e-300, 1.0 - 1e-16)
         value = -float(np.sum(reached * np.log(p) + (tried - reached) * np.log1p(-p)))
-        slope = -norm.pdf(u) * (reached / p - (tried - reached) / (1.0 - p))  # ∂(−ln L)/∂u
+        density = np.exp(-0.5 * u * u) / math.sqrt(2.0 * math.pi)  # the standard normal's
+        slope = -density * (reached / p - (tried - reached) / (1.0 - p))  # ∂(−ln L)/∂u
         return value, np.array([-np.sum(slope) / beta, -np.sum(slope * u)])
 
-    start = np.array([np.average(logs, weights=tried), math.log(0.4)])
+    crossing = np.interp(0.5, np.maximum.accumulate(fractions), logs)  # where half reach it
+    start = np.array([crossing, math.log(0.3)])
     bounds = [(logs.min() - 5.0, logs.max() + 5.0), (math.log(1e-3), math.log(5.0))]
     fit = minimize(negative_log_likelihood, start, jac=True, method="L-BFGS-B", bounds=bounds,
                    options={"ftol": 1e-11, "gtol": 1e-7})  # fmt: skip
     return math.exp(fit.x[0]), math.exp(fit.x[1])
 
 
-def fragilities(path: str | Path, bootstrap: int = BOOTSTRAP, seed: int = 0) -> list[Fragility]:
-    """Every bridge's fragility for every limit state, from a multiple-stripe results file.
+def fit_capacities(
+    capacities: np.ndarray, start: float, top: float
+) -> tuple[float, float | None] | None:
+    """Lognormal fragility of IDA capacities, by maximum likelihood with censoring.
 
-    Analyses that did not end ok are left out of the counts.
+    Parameters
+    ----------
+    capacities
+        Per record: the capacity; 0 where the state is reached at ``start`` already (capacity at
+        most ``start``), +inf where it is not reached up to ``top`` (capacity above ``top``).
+    start, top
+        The first and the last scan level.
+
+    Returns
+    -------
+    (median θ, β), or None when no record has a capacity between the two. Without censoring θ is
+    the geometric mean and β the standard deviation (1/n) of the log-capacities; β is None when
+    the data cannot fix it (a single capacity, or all equal).
+    """
+    capacities = np.asarray(capacities, dtype=float)
+    known = np.log(capacities[np.isfinite(capacities) & (capacities > 0.0)])
+    below, above = int(np.sum(capacities == 0.0)), int(np.sum(np.isinf(capacities)))
+    if known.size == 0:
+        return None
+    if below == 0 and above == 0 or known.size == capacities.size:
+        beta = float(np.std(known))
+        return math.exp(float(np.mean(known))), beta if beta > 0.0 else None
+    low, high = math.log(start), math.log(top)
+
+    def negative_log_likelihood(parameters: np.ndarray) -> float:
+        mean, beta = parameters[0], math.exp(parameters[1])
+        value = -0.5 * np.sum(((known - mean) / beta) ** 2) - known.size * math.log(beta)
+        value += below * log_ndtr((low - mean) / beta) + above * log_ndtr((mean - high) / beta)
+        return -float(value)
+
+    spread = float(np.std(known)) if known.size > 1 else 0.3
+    start_point = np.array([float(np.mean(known)), math.log(max(spread, 0.05))])
+    bounds = [(low - 5.0, high + 5.0), (math.log(1e-3), math.log(5.0))]
+    fit = minimize(negative_log_likelihood, start_point, method="L-BFGS-B", bounds=bounds,
+                   options={"ftol": 1e-12, "gtol": 1e-8})  # fmt: skip
+    return math.exp(fit.x[0]), math.exp(fit.x[1])
+
+
+def fragilities(path: str | Path, bootstrap: int = BOOTSTRAP, seed: int = 0) -> list[Fragility]:
+    """Every bridge's fragility for every limit state, from a results file with an intensity
+    section (stripes or IDA). Analyses that could not run are left out.
 
     Raises
     ------
     InputError
-        The file's study has no intensity section (no stripes to fit).
+        The file's study has no intensity section (nothing to fit).
     """
     with open_results(path) as file:
         intensity = json.loads(file.attrs.get("intensity", "null"))
         columns = peak_columns(file)
     if intensity is None:
         raise InputError(path, [("", "the study has no intensity section: nothing to fit")])
-    ok = columns["status"] == "ok"
+    return fragilities_of(columns, intensity, bootstrap, seed)
+
+
+def fragilities_of(
+    columns: dict[str, np.ndarray], intensity: dict, bootstrap: int = BOOTSTRAP, seed: int = 0
+) -> list[Fragility]:
+    """`fragilities` of a peak table's columns and the study's intensity section."""
+    ok = columns["status"] != "error"
     columns = {name: values[ok] for name, values in columns.items()}
-    levels = np.array(sorted(set(columns["intensity"].tolist())))
     rng = np.random.default_rng(seed)
+    fit = _ida_fragility if intensity.get("ida") else _stripe_fragility
+    return [
+        item
+        for bridge in dict.fromkeys(columns["bridge"])
+        for item in fit(bridge, {name: values[columns["bridge"] == bridge]
+                                 for name, values in columns.items()}, intensity, rng, bootstrap)
+    ]  # fmt: skip
+
+
+def _stripe_fragility(bridge, mine, intensity, rng, bootstrap) -> list[Fragility]:
+    levels = np.array(sorted(set(mine["intensity"].tolist())))
+    records = list(dict.fromkeys(mine["base_record"]))
     found = []
-    for bridge in dict.fromkeys(columns["bridge"]):
-        mine = {name: values[columns["bridge"] == bridge] for name, values in columns.items()}
-        records = list(dict.fromkeys(mine["base_record"]))
-        for state, test in LIMIT_STATES.items():
-            table = _reached(mine, test(mine), records, levels)  # records × levels, NaN: missing
-            fit = fit_lognormal(levels, *_counts(table))
-            interval = None
-            if fit is not None and fit[1] is not None and bootstrap:
-                draws = [
-                    fit_lognormal(levels, *_counts(table[rng.integers(0, len(records),
-                                                                       len(records))]))
-                    for _ in range(bootstrap)
-                ]  # fmt: skip
-                medians = [d[0] for d in draws if d is not None and d[1] is not None]
-                if medians:
-                    low, high = np.percentile(medians, [5.0, 95.0])
-                    interval = (float(low), float(high))
-            reached_at = {
-                record: next((float(x) for x, r in zip(levels, row, strict=True) if r == 1), None)
-                for record, row in zip(records, table, strict=True)
-            }
-            counts = _counts(table)
-            found.append(Fragility(
-                bridge, state, intensity["measure"], fit[0] if fit else None,
-                fit[1] if fit else None, interval, levels.tolist(),
-                (counts[0] / np.maximum(counts[1], 1)).tolist(), reached_at,
-            ))  # fmt: skip
+    for state in limit_states.DEFAULT:
+        table = _reached(mine, limit_states.reached(state, mine), records, levels)
+        counts = _counts(table)  # records × levels above, NaN where not analysed
+        fit = fit_lognormal(levels, *counts)
+        interval = _interval(
+            fit, table, rng, bootstrap, lambda t: fit_lognormal(levels, *_counts(t))
+        )
+        reached_at = {
+            record: next((float(x) for x, r in zip(levels, row, strict=True) if r == 1), None)
+            for record, row in zip(records, table, strict=True)
+        }
+        found.append(Fragility(
+            bridge, state, intensity["measure"], *(fit or (None, None)), interval,
+            levels.tolist(), (counts[0] / np.maximum(counts[1], 1)).tolist(), reached_at,
+        ))  # fmt: skip
     return found
+
+
+def _ida_fragility(bridge, mine, intensity, rng, bootstrap) -> list[Fragility]:
+    from .study.ida import Lattice, Walk, walk
+
+    lattice = Lattice.of(intensity["ida"])
+    states = tuple(intensity["ida"]["limit_states"])
+    verdicts = {
+        record: Verdict(status, mode, ratio)
+        for record, status, mode, ratio in zip(
+            mine["record"], mine["status"], mine["failure_mode"], mine["dcr_backfill"], strict=True
+        )
+    }
+    walks: dict[str, Walk] = {}
+    for base in dict.fromkeys(mine["base_record"]):
+
+        def reaches(n: int, base=base) -> frozenset[str] | None:
+            verdict = verdicts.get(scaled_id(base, lattice.level(n), intensity["measure"]))
+            return None if verdict is None else verdict.reaches(states)
+
+        walks[base] = walk(lattice, intensity["ida"]["tolerance"], states, reaches)
+    top = lattice.level(lattice.count - 1)
+    found = []
+    for state in states:
+        indices = {base: steps.capacities[state] for base, steps in walks.items()}
+        capacities = {
+            base: None if n is None else lattice.level(n) for base, (_, n) in indices.items()
+        }
+        coded = np.array([
+            np.inf if n is None else 0.0 if below < 0 else lattice.level(n)
+            for below, n in indices.values()
+        ])  # fmt: skip
+        fit = fit_capacities(coded, lattice.start, top)
+        interval = _interval(fit, coded, rng, bootstrap,
+                             lambda c: fit_capacities(c, lattice.start, top))  # fmt: skip
+        reached = np.array([c for c in capacities.values() if c is not None])
+        levels = sorted(set(reached.tolist()))
+        fractions = [float(np.sum(reached <= level)) / len(coded) for level in levels]
+        found.append(Fragility(
+            bridge, state, intensity["measure"], *(fit or (None, None)), interval, levels,
+            fractions, capacities,
+        ))  # fmt: skip
+    return found
+
+
+def _interval(fit, data: np.ndarray, rng, bootstrap: int, refit) -> tuple[float, float] | None:
+    """5 % and 95 % percentiles of the median over ``bootstrap`` resamplings of the records (rows
+    of ``data``), None without a fit."""
+    if fit is None or fit[1] is None or not bootstrap:
+        return None
+    draws = [refit(data[rng.integers(0, len(data), len(data))]) for _ in range(bootstrap)]
+    medians = [d[0] for d in draws if d is not None and d[1] is not None]
+    if not medians:
+        return None
+    low, high = np.percentile(medians, [5.0, 95.0])
+    return float(low), float(high)
 
 
 def _reached(mine: dict, reached: np.ndarray, records: list[str], levels: np.ndarray):
@@ -179,3 +286,56 @@ def _reached(mine: dict, reached: np.ndarray, records: list[str], levels: np.nda
 def _counts(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Records reaching the state, and records analysed, at each level."""
     return np.nansum(table, axis=0), np.sum(~np.isnan(table), axis=0)
+
+
+def store(file: h5py.File) -> None:
+    """Write the fragilities of an open results file into it, as the table ``/fragility``: one
+    row per bridge × limit state (median, beta, the 90 % interval of the median) and, per row,
+    each record's capacity (``capacities``, rows × records, NaN where not reached)."""
+    intensity = json.loads(file.attrs.get("intensity", "null"))
+    if intensity is None:
+        return
+    found = fragilities_of(peak_columns(file), intensity)
+    records = list(dict.fromkeys(record for item in found for record in item.capacities))
+    group = file.create_group("fragility")
+    group.attrs["description"] = (
+        "lognormal fragility per bridge and limit state (rockbridge_cli.fragility), as the run "
+        "computed it; rockbridge fragility RESULTS.h5 prints the same"
+    )
+    group.attrs["measure"] = intensity["measure"]
+    group.attrs["records"] = json.dumps(records)
+    columns = {
+        "bridge": ("-", [item.bridge for item in found]),
+        "limit_state": ("-", [item.limit_state for item in found]),
+        "median": (MEASURE_UNITS[intensity["measure"]], [_number(item.median) for item in found]),
+        "beta": ("-", [_number(item.beta) for item in found]),
+        "median_05": (MEASURE_UNITS[intensity["measure"]],
+                      [_number(item.median_90 and item.median_90[0]) for item in found]),
+        "median_95": (MEASURE_UNITS[intensity["measure"]],
+                      [_number(item.median_90 and item.median_90[1]) for item in found]),
+    }  # fmt: skip
+    for name, (unit, values) in columns.items():
+        text = isinstance(values[0], str) if values else False
+        dataset = group.create_dataset(
+            name, data=np.array(values, dtype=object if text else float),
+            dtype=h5py.string_dtype() if text else float,
+        )  # fmt: skip
+        dataset.attrs["units"] = unit
+    capacities = np.array(
+        [[_number(item.capacities.get(record)) for record in records] for item in found],
+        dtype=float,
+    ).reshape(len(found), len(records))
+    dataset = group.create_dataset("capacities", data=capacities)
+    dataset.attrs["units"] = MEASURE_UNITS[intensity["measure"]]
+    dataset.attrs["description"] = (
+        "rows as the other columns, columns as the records attribute: the lowest level at which "
+        "the record reaches the state (NaN: not within the levels run)"
+    )
+
+
+MEASURE_UNITS = {"pga_g": "g", "sa_g": "g", "scale": "-"}
+"""Units of the intensity measures (g: standard gravity)."""
+
+
+def _number(value: float | None) -> float:
+    return float("nan") if value is None else float(value)

@@ -146,7 +146,11 @@ def test_progress_display(capsys, terminal):
     display = ProgressDisplay(terminal=terminal)
     for done in range(1, 31):
         status = "error" if done == 7 else "ok"
-        display(Finished("b", f"AR{done:02d}", status, "boom" if done == 7 else "", 0.01), done, 30)
+        display(
+            Finished("b", f"AR{done:02d}", status, "boom" if done == 7 else "", 0.01, "none", 0.0),
+            done,
+            30,
+        )
     display.close()
     err = capsys.readouterr().err
     assert "b × AR07: error: boom" in err
@@ -164,7 +168,9 @@ def test_progress_stays_short_for_a_big_study(capsys, terminal):
     for done in range(1, 10_001):
         status = "solver_error" if done % 20 == 0 else "ok"
         display(
-            Finished("b", f"R{done}", status, "x" if status != "ok" else "", 0.001), done, 10_000
+            Finished("b", f"R{done}", status, "x" if status != "ok" else "", 0.001, "none", 0.0),
+            done,
+            10_000,
         )
     for written in range(1, 10_001):
         display.assembling(written, 10_000)

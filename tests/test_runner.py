@@ -17,6 +17,7 @@ from rockbridge_cli import results
 from rockbridge_cli.config.study import load_study
 from rockbridge_cli.core.analysis import analyze
 from rockbridge_cli.errors import InputError
+from rockbridge_cli.limit_states import Verdict
 from rockbridge_cli.results import AnalysisResult, read_history, read_peaks
 from rockbridge_cli.study import work
 from rockbridge_cli.study.journal import Journal, journal_path
@@ -169,7 +170,7 @@ def test_sigkill_loses_only_what_was_in_flight(tmp_path):
     _killed(study, "analyses")
     assert not study.output.exists()
     journal = Journal(study.output, study.config_hash)
-    journalled = journal.statuses()
+    journalled = journal.verdicts()
     journal.close()
     assert sorted(journalled) == PAIRS[:2]
     resumed = Recorder()
@@ -232,7 +233,15 @@ def test_a_journal_of_another_study_is_refused(tmp_path):
     study.output.parent.mkdir(parents=True)
     journal = Journal(study.output, "another study's hash")
     journal.add(
-        [(0, "studied-hbar1.00", "R1", "error", AnalysisResult.failed("b", "r", "x").pack())]
+        [
+            (
+                0,
+                "studied-hbar1.00",
+                "R1",
+                Verdict("error", "", float("nan")),
+                AnalysisResult.failed("b", "r", "x").pack(),
+            )
+        ]  # fmt: skip
     )
     journal.close()
     with pytest.raises(InputError, match="journal.db: holds analyses of a different study"):

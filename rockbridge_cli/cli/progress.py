@@ -16,7 +16,8 @@ class ProgressDisplay:
 
     On a terminal it redraws one line, ``[#####-----] 12/30  0:03 elapsed  0:05 left``; otherwise
     (a log, CI) it prints a line at every tenth of the run. Analyses that did not end ``ok`` are
-    reported on a line of their own in both cases.
+    reported on a line of their own in both cases. An IDA learns its analyses as it runs: the
+    total grows round by round, and the tenths count from the latest total.
 
     Parameters
     ----------
@@ -40,6 +41,7 @@ class ProgressDisplay:
         self.terminal = sys.stderr.isatty() if terminal is None else terminal
         self.start = time.monotonic()
         self.shown = 0  # tenths of the run reported (plain lines)
+        self.total = 0  # analyses the tenths are of
         self.bar_open = False  # a bar drawn without its final newline (terminal)
         self.drawn = -math.inf  # when the bar was last drawn
 
@@ -67,7 +69,10 @@ class ProgressDisplay:
                 f"{_clock(left)} left",
                 err=True, nl=not self.bar_open,
             )  # fmt: skip
-        elif 10 * done // total > self.shown:
+            return
+        if total != self.total:  # the start, or a new round of an IDA
+            self.total, self.shown = total, 10 * (done - 1) // total
+        if 10 * done // total > self.shown:
             self.shown = 10 * done // total
             click.echo(
                 f"{done}/{total} analyses ({100 * done // total}%), {elapsed:.1f} s elapsed, "

@@ -150,6 +150,8 @@ def run(
         heading = f"workers: {workers} (--workers)"
     if part is not None:
         heading += f"; shard {shard_label(part)}"
+    if (resolved.intensity or {}).get("ida"):
+        heading += "\nIDA: each round runs the levels the verdicts so far call for; the total grows"
     display = ProgressDisplay(heading=heading)
     try:
         report = run_study(

@@ -35,6 +35,7 @@ from pydantic import (
     model_validator,
 )
 
+from .. import limit_states
 from ..core.fidelity import PRESETS, knobs
 from ..core.quantities import HISTORY_UNITS, STANDARD_GRAVITY
 from ..core.spectra import compute_psa
@@ -200,8 +201,46 @@ class Output(StrictModel):
         return tuple(name for name in HISTORY_UNITS if name in self.histories)
 
 
+class Ida(StrictModel):
+    """Incremental dynamic analysis: for each bridge × record and limit state, the lowest level at
+    which the state is reached (`study.ida`). Levels are in the section's measure."""
+
+    start: PositiveFloat = Field(description="First level of the upward scan")
+    step: PositiveFloat = Field(description="Increment of the scan")
+    max: PositiveFloat = Field(description="Last level the scan may reach")
+    tolerance: float = Field(
+        0.02, gt=0.0, lt=1.0, description="Bisect to this width relative to the capacity [-]"
+    )
+    limit_states: list[str] = Field(
+        default_factory=lambda: list(limit_states.DEFAULT),
+        min_length=1,
+        description="Limit states: gap_closure, backfill_<p>, abutment_failure, overturning",
+    )
+
+    @field_validator("limit_states")
+    @classmethod
+    def _known_states(cls, names: list[str]) -> list[str]:
+        if len(set(names)) != len(names):
+            raise ValueError("a limit state is listed twice")
+        return [limit_states.check(name) for name in names]
+
+    @model_validator(mode="after")
+    def _scan(self) -> Ida:
+        if self.max < self.start:
+            raise ValueError("max must not be below start")
+        if self.step / (self.tolerance * self.start) > 2.0**MAX_BISECTIONS:
+            raise ValueError(f"step / (tolerance · start) must be at most 2^{MAX_BISECTIONS}: "
+                             "raise start or tolerance")  # fmt: skip
+        return self
+
+
+MAX_BISECTIONS = 20
+"""Most halvings of the scan step an IDA may need (`Ida`)."""
+
+
 class Intensity(StrictModel):
-    """Every record scaled to stated levels of an intensity measure (multiple-stripe analysis).
+    """Every record scaled to stated levels of an intensity measure (multiple-stripe analysis), or
+    to the levels an incremental dynamic analysis finds (``ida``). Give one of the two.
 
     ``pga_g``: the scaled record's peak [g]; ``sa_g``: its 5 %-damped (or ``damping``) pseudo-
     spectral acceleration at ``period`` [g]; ``scale``: the factor itself [-]. g is standard
@@ -209,7 +248,10 @@ class Intensity(StrictModel):
     """
 
     measure: Literal["pga_g", "sa_g", "scale"] = Field(description="Intensity measure")
-    levels: list[PositiveFloat] = Field(min_length=1, description="Levels of the measure")
+    levels: list[PositiveFloat] | None = Field(
+        None, min_length=1, description="Levels of the measure (multiple stripes)"
+    )
+    ida: Ida | None = Field(None, description="Incremental dynamic analysis")
     period: PositiveFloat | None = Field(None, description="Period of sa_g [s]")
     damping: float = Field(0.05, gt=0.0, lt=1.0, description="Damping ratio of sa_g [-]")
 
@@ -217,7 +259,9 @@ class Intensity(StrictModel):
     def _period_for_sa(self) -> Intensity:
         if (self.measure == "sa_g") != (self.period is not None):
             raise ValueError("give period with measure sa_g, and only then")
-        if len(set(self.levels)) != len(self.levels):
+        if (self.levels is None) == (self.ida is None):
+            raise ValueError("give exactly one of levels (stripes) and ida")
+        if self.levels is not None and len(set(self.levels)) != len(self.levels):
             raise ValueError("a level is listed twice")
         return self
 
@@ -289,7 +333,9 @@ class Study:
     histories : names of the histories to store
     output : the HDF5 file
     warnings : legal but implausible inputs (`plausibility`), ``source: field: reason`` each
-    intensity : the intensity section (measure, levels, period, damping), None without
+    intensity : the intensity section (measure, levels or ida, period, damping), None without;
+        with ``ida``, ``records`` are the records as read, and the levels are found as the study
+        runs (`study.ida`)
     """
 
     path: Path
@@ -408,7 +454,7 @@ def study_from_data(
     bridges = _resolve_bridges(config.bridges, path)
     records = _resolve_records(config.records, base)
     warnings = _warnings(bridges, records)  # of the files, not of their scaled copies
-    if config.intensity is not None:
+    if config.intensity is not None and config.intensity.levels is not None:
         records = _scaled(records, config.intensity)
     problems = _check_ids("bridges", [b.id for b in bridges])
     problems += _check_ids("records", [r.id for r in records])
@@ -435,7 +481,11 @@ def study_from_data(
         histories=config.output.kept(),
         output=target,
         warnings=warnings,
-        intensity=None if config.intensity is None else config.intensity.model_dump(),
+        intensity=None
+        if config.intensity is None
+        else config.intensity.model_dump(
+            exclude={"ida"} if config.intensity.ida is None else set()
+        ),
     )
 
 
@@ -455,33 +505,29 @@ def intensity_of(record: Record, intensity: Intensity) -> float:
     return 1.0
 
 
+def scaled_id(base: str, level: float, measure: str) -> str:
+    """The id of a record scaled to an intensity level: ``AR01+0.6g``, ``AR01+1.5x``."""
+    return f"{base}+{level:.10g}{LEVEL_UNITS[measure]}"
+
+
+def scaled_record(item: StudyRecord, level: float, intensity: Intensity) -> StudyRecord:
+    """A record scaled to ``level`` of the intensity measure."""
+    native = intensity_of(item.record, intensity) if item.record is not None else 1.0
+    scale = level / native
+    record = None
+    if item.record is not None:
+        record = dataclasses.replace(item.record, acceleration=scale * item.record.acceleration)
+    digest = hashlib.sha256(f"{item.digest} x{scale!r}".encode()).hexdigest()
+    return StudyRecord(
+        scaled_id(item.id, level, intensity.measure), item.source, record, item.error, digest,
+        base=item.id, level=level, scale=scale,
+    )  # fmt: skip
+
+
 def _scaled(records: list[StudyRecord], intensity: Intensity) -> list[StudyRecord]:
-    """Every record at every level, record by record (``<id>+<level><unit>``)."""
-    unit = LEVEL_UNITS[intensity.measure]
-    scaled = []
-    for item in records:
-        native = intensity_of(item.record, intensity) if item.record is not None else 1.0
-        for level in intensity.levels:
-            scale = level / native
-            record = None
-            if item.record is not None:
-                record = dataclasses.replace(
-                    item.record, acceleration=scale * item.record.acceleration
-                )
-            digest = hashlib.sha256(f"{item.digest} x{scale!r}".encode()).hexdigest()
-            scaled.append(
-                StudyRecord(
-                    f"{item.id}+{level:g}{unit}",
-                    item.source,
-                    record,
-                    item.error,
-                    digest,
-                    base=item.id,
-                    level=level,
-                    scale=scale,
-                )  # fmt: skip
-            )
-    return scaled
+    """Every record at every level, record by record."""
+    assert intensity.levels is not None
+    return [scaled_record(item, level, intensity) for item in records for level in intensity.levels]
 
 
 def _warnings(bridges: list[StudyBridge], records: list[StudyRecord]) -> tuple[str, ...]:

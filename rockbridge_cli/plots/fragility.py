@@ -1,5 +1,6 @@
-"""Fragility curves of a multiple-stripe study: per limit state, the share of records that reach
-it at each intensity level (markers) and the fitted lognormal (lines), one style per bridge."""
+"""Fragility curves of a study with an intensity section: per limit state, the share of records
+that reach it at each intensity level (markers; from an IDA, at or below each capacity) and the
+fitted lognormal (lines), one style per bridge."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from scipy.stats import norm
 
-from ..fragility import LIMIT_STATES, fragilities
+from ..fragility import fragilities
 from .common import check_format, panel_label, save, style
 
 MEASURE_LABELS = {"pga_g": "PGA [g]", "sa_g": "Sa(T) [g]", "scale": "scale factor [-]"}
@@ -26,10 +27,13 @@ def plot_fragility(results: str | Path, output: str | Path) -> Path:
     output = check_format(output)
     found = fragilities(results)
     bridges = list(dict.fromkeys(item.bridge for item in found))
-    figure = Figure(figsize=(9.0, 7.0), layout="constrained")
-    grid = figure.subplots(2, 2, sharex=True, sharey=True)
-    letters = "ABCD"
-    for axes, state, letter in zip(grid.flat, LIMIT_STATES, letters, strict=True):
+    states = list(dict.fromkeys(item.limit_state for item in found))
+    rows = max(1, -(-len(states) // 2))
+    figure = Figure(figsize=(9.0, 3.5 * rows), layout="constrained")
+    grid = figure.subplots(rows, 2, sharex=True, sharey=True, squeeze=False)
+    for axes in grid.flat[len(states) :]:
+        axes.set_visible(False)
+    for axes, state, letter in zip(grid.flat, states, "ABCDEFGHIJKL", strict=False):
         for index, bridge in enumerate(bridges):
             item = next(f for f in found if f.bridge == bridge and f.limit_state == state)
             look = style(index)

@@ -6,6 +6,7 @@ they are called, so that a command printing a table starts quickly.
 
 from __future__ import annotations
 
+import itertools
 import json
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -17,6 +18,7 @@ import numpy as np
 
 from ..core.quantities import HISTORY_UNITS
 from ..errors import InputError
+from ..limit_states import Verdict
 from .layout import COUNT_COLUMNS, EVENT_COLUMNS, FORMAT, FORMAT_VERSION
 from .packing import AnalysisResult
 
@@ -97,11 +99,15 @@ def read_peaks(path: str | Path) -> pd.DataFrame:
     return frame
 
 
-def stored_statuses(file: h5py.File) -> dict[tuple[str, str], str]:
-    """The status of each analysis an open results file holds, by (bridge, record)."""
+def stored_verdicts(file: h5py.File) -> dict[tuple[str, str], Verdict]:
+    """The verdict of each analysis an open results file holds, by (bridge, record)."""
     group = file["peaks"]
     pairs = zip(group["bridge"].asstr()[()], group["record"].asstr()[()], strict=True)
-    return dict(zip(pairs, group["status"].asstr()[()], strict=True))
+    verdicts = zip(
+        group["status"].asstr()[()], group["failure_mode"].asstr()[()],
+        group["dcr_backfill"][()].tolist(), strict=True,
+    )  # fmt: skip
+    return dict(zip(pairs, itertools.starmap(Verdict, verdicts), strict=True))
 
 
 def stored_shard_of(file: h5py.File) -> tuple[int, int] | None:

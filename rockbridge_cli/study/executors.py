@@ -17,8 +17,9 @@ import multiprocessing
 import os
 import signal
 import sys
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from contextlib import contextmanager
 
 from ..errors import InputError
 from .grid import Cell, Grid
@@ -44,44 +45,46 @@ def batch_size(cells: int, workers: int) -> int:
     return max(1, min(MAX_BATCH, math.ceil(cells / (workers * BATCHES_PER_WORKER))))
 
 
-def execute(
-    grid: Grid, cells: Sequence[Cell], workers: int, scheduler: str | None = None
-) -> Iterator[list[Outcome]]:
-    """Run the cells on local workers (`run_local`) or on a Dask cluster (`run_dask`)."""
-    if scheduler is None:
-        return run_local(grid, cells, workers)
-    return run_dask(grid, cells, scheduler)
+Run = Callable[[Sequence[Cell]], Iterator[list[Outcome]]]
+"""Runs cells of the grid and yields their outcomes, a batch at a time, as the batches finish."""
 
 
-def run_local(grid: Grid, cells: Sequence[Cell], workers: int) -> Iterator[list[Outcome]]:
-    """Run the cells and yield their outcomes, a batch at a time, as the batches finish.
+@contextmanager
+def executor(grid: Grid, workers: int, scheduler: str | None = None) -> Iterator[Run]:
+    """Workers for the cells of ``grid``, for as many calls as a run needs (an IDA's rounds):
+    local worker processes (`local_workers`) or a Dask cluster (`dask_workers`)."""
+    with (
+        local_workers(grid, workers) if scheduler is None else dask_workers(grid, scheduler) as run
+    ):
+        yield run
+
+
+@contextmanager
+def local_workers(grid: Grid, workers: int) -> Iterator[Run]:
+    """Worker processes on this machine, started when cells first come.
 
     With one worker everything runs in this process. With more, this process only sends
     batches and receives outcomes: each worker loads the compiled kernels itself (from numba's
-    disk cache, ~0.3 s, in parallel), which keeps the parent's share of the work small.
-
-    Parameters
-    ----------
-    grid
-        The study.
-    cells
-        The cells to run.
-    workers
-        Worker processes; 1 runs everything in this process.
+    disk cache, ~0.3 s, in parallel), which keeps the parent's share of the work small. The pool
+    has ``workers`` processes, or as many as the first cells if fewer.
     """
-    count = min(workers, len(cells))
-    size = batch_size(len(cells), max(count, 1))
-    batches = (list(cells[start : start + size]) for start in range(0, len(cells), size))
-    if count <= 1:
-        yield from (run_cells(grid, batch) for batch in batches)
-        return
-    context = multiprocessing.get_context("fork") if hasattr(os, "fork") else None
-    with ProcessPoolExecutor(
-        count, mp_context=context, initializer=_start_worker, initargs=(grid, os.getpid())
-    ) as pool:
+    pool: ProcessPoolExecutor | None = None
+    count = 1
+
+    def run(cells: Sequence[Cell]) -> Iterator[list[Outcome]]:
+        nonlocal pool, count
+        if workers <= 1 or (pool is None and len(cells) <= 1):
+            yield from (run_cells(grid, batch) for batch in _batches(cells, 1))
+            return
+        if pool is None:
+            count = min(workers, len(cells))
+            context = multiprocessing.get_context("fork") if hasattr(os, "fork") else None
+            pool = ProcessPoolExecutor(
+                count, mp_context=context, initializer=_start_worker, initargs=(grid, os.getpid())
+            )
         in_flight: set[Future] = set()
         try:
-            for batch in batches:
+            for batch in _batches(cells, count):
                 if len(in_flight) >= 2 * count:
                     done, in_flight = wait(in_flight, return_when=FIRST_COMPLETED)
                     yield from (future.result() for future in done)
@@ -89,8 +92,20 @@ def run_local(grid: Grid, cells: Sequence[Cell], workers: int) -> Iterator[list[
             while in_flight:
                 done, in_flight = wait(in_flight, return_when=FIRST_COMPLETED)
                 yield from (future.result() for future in done)
-        finally:  # interrupted: drop the batches not started, wait for the few in flight
+        finally:  # interrupted: drop the batches not started
+            for future in in_flight:
+                future.cancel()
+
+    try:
+        yield run
+    finally:  # wait for the few batches in flight
+        if pool is not None:
             pool.shutdown(cancel_futures=True)
+
+
+def _batches(cells: Sequence[Cell], workers: int) -> Iterator[list[Cell]]:
+    size = batch_size(len(cells), workers)
+    return (list(cells[start : start + size]) for start in range(0, len(cells), size))
 
 
 def _start_worker(grid: Grid, parent: int) -> None:
@@ -111,8 +126,9 @@ def _run_batch(cells: list[Cell]) -> list[Outcome]:
     return run_cells(_grid, cells)
 
 
-def run_dask(grid: Grid, cells: Sequence[Cell], scheduler: str) -> Iterator[list[Outcome]]:
-    """Run the cells on a Dask distributed cluster and yield their outcomes, a batch at a time.
+@contextmanager
+def dask_workers(grid: Grid, scheduler: str) -> Iterator[Run]:
+    """The workers of a Dask distributed cluster.
 
     The grid is sent to every worker once (``scatter``); batches are submitted as earlier ones
     come back, at most two per worker thread in flight. Dask runs a batch again elsewhere if its
@@ -128,17 +144,20 @@ def run_dask(grid: Grid, cells: Sequence[Cell], scheduler: str) -> Iterator[list
     except ImportError:
         reason = 'needs Dask: pip install "rockbridge[dask]"'
         raise InputError(scheduler, [("", reason)]) from None
-    if not cells:
-        return
     try:
         client = Client(scheduler, timeout="10s")
     except (OSError, TimeoutError) as exc:
         raise InputError(scheduler, [("", f"cannot reach the Dask scheduler ({exc})")]) from None
-    with client:
+    shared = None
+
+    def run(cells: Sequence[Cell]) -> Iterator[list[Outcome]]:
+        nonlocal shared
+        if not cells:
+            return
+        if shared is None:
+            shared = client.scatter(grid, broadcast=True)
         threads = max(sum(client.nthreads().values()), 1)
-        size = batch_size(len(cells), threads)
-        batches = (list(cells[start : start + size]) for start in range(0, len(cells), size))
-        shared = client.scatter(grid, broadcast=True)
+        batches = _batches(cells, threads)
         running = as_completed()
         try:
             for batch in itertools.islice(batches, 2 * threads):
@@ -149,3 +168,6 @@ def run_dask(grid: Grid, cells: Sequence[Cell], scheduler: str) -> Iterator[list
                     running.add(client.submit(run_cells, shared, batch, pure=False))
         finally:  # interrupted: nothing more is needed from the cluster
             client.cancel(list(running.futures))
+
+    with client:
+        yield run

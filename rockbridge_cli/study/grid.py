@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
+from ..config.study import scaled_id
 from ..core.geometry import Model
 
 if TYPE_CHECKING:
@@ -39,11 +40,15 @@ class RecordCase(NamedTuple):
 
 
 class Cell(NamedTuple):
-    """One analysis: its position in the results and the bridge and record it combines."""
+    """One analysis: its position in the results, the bridge and record it combines, and the
+    intensity level and factor the record is scaled by for this analysis alone (an IDA's; NaN
+    and 1 when the record is analysed as listed)."""
 
     index: int
     bridge: int
     record: int
+    level: float = float("nan")
+    scale: float = 1.0
 
 
 @dataclass(frozen=True)
@@ -57,6 +62,8 @@ class Grid:
     keep : names of the histories to store
     config_hash : the study's hash (`Study.config_hash`)
     recheck : run again at ``reference`` what ends near or beyond a capacity (`fidelity`)
+    measure : the intensity measure of the study, empty without
+    listed : the cells, when not every bridge × record (an IDA's)
     """
 
     bridges: tuple[BridgeCase, ...]
@@ -66,10 +73,13 @@ class Grid:
     keep: tuple[str, ...]
     config_hash: str
     recheck: bool = False
+    measure: str = ""
+    listed: tuple[Cell, ...] | None = None
 
     @classmethod
-    def of(cls, study: Study) -> Grid:
-        """The grid of a resolved study."""
+    def of(cls, study: Study, cells: tuple[Cell, ...] | None = None) -> Grid:
+        """The grid of a resolved study: every bridge × record, or the ``cells`` listed (an
+        IDA's, `ida.Plan`)."""
         bridges = tuple(
             BridgeCase(b.id, b.config.to_model(), b.config.mirrored, b.config.rocking_restitution)
             for b in study.bridges
@@ -82,20 +92,37 @@ class Grid:
             )
             for r in study.records
         )  # fmt: skip
+        measure = study.intensity["measure"] if study.intensity else ""
         return cls(
             bridges, records, study.preset, study.overrides, study.histories, study.config_hash,
-            bool(study.knobs.get("recheck", False)),
+            bool(study.knobs.get("recheck", False)), measure, cells,
         )  # fmt: skip
 
     @property
     def cells(self) -> list[Cell]:
-        """Every analysis, bridge by bridge, record by record: the order of the results."""
+        """Every analysis in the order of the results: those listed, or bridge by bridge,
+        record by record."""
+        if self.listed is not None:
+            return list(self.listed)
         count = len(self.records)
         return [Cell(b * count + r, b, r) for b in range(len(self.bridges)) for r in range(count)]
 
     def ids(self, cell: Cell) -> tuple[str, str]:
         """(bridge id, record id) of a cell."""
-        return self.bridges[cell.bridge].id, self.records[cell.record].id
+        record = self.records[cell.record]
+        if cell.level != cell.level:  # NaN: as listed
+            return self.bridges[cell.bridge].id, record.id
+        return self.bridges[cell.bridge].id, scaled_id(record.id, cell.level, self.measure)
+
+    def record_of(self, cell: Cell) -> RecordCase:
+        """The record a cell analyses, scaled as the cell says."""
+        record = self.records[cell.record]
+        if cell.level != cell.level:
+            return record
+        acceleration = None if record.acceleration is None else cell.scale * record.acceleration
+        return record._replace(
+            id=self.ids(cell)[1], acceleration=acceleration, level=cell.level, scale=cell.scale
+        )
 
     def cost(self, cell: Cell) -> int:
         """The expected cost of a cell: the samples of its record (an analysis steps through

@@ -15,6 +15,7 @@ from collections.abc import Iterable, Iterator
 from pathlib import Path
 
 from ..errors import InputError
+from ..limit_states import Verdict
 
 _CHECKPOINT_PAGES = 16384
 """Pages (4 KiB) the write-ahead log may hold before SQLite copies it into the database, the
@@ -27,6 +28,8 @@ CREATE TABLE IF NOT EXISTS analyses (
     bridge TEXT NOT NULL,
     record TEXT NOT NULL,
     status TEXT NOT NULL,       -- ok, solver_error or error
+    failure_mode TEXT NOT NULL, -- with dcr_backfill, what decides the limit states (an IDA's)
+    dcr_backfill REAL,
     packed BLOB NOT NULL        -- `results.packing.AnalysisResult.pack`
 );
 """
@@ -67,8 +70,8 @@ class Journal:
             reason = "holds analyses of a different study or different inputs (an interrupted run)"
             raise InputError(self.path, [("", f"{reason}; {hint}")])
 
-    def add(self, rows: Iterable[tuple[int, str, str, str, bytes]]) -> None:
-        """Commit finished analyses: (cell, bridge, record, status, packed) each, in one
+    def add(self, rows: Iterable[tuple[int, str, str, Verdict, bytes]]) -> None:
+        """Commit finished analyses: (cell, bridge, record, verdict, packed) each, in one
         transaction (an analysis journalled again replaces the earlier entry).
 
         Raises
@@ -80,15 +83,22 @@ class Journal:
             with self.connection:
                 self.connection.execute("BEGIN")
                 self.connection.executemany(
-                    "INSERT OR REPLACE INTO analyses VALUES (?, ?, ?, ?, ?)", rows
-                )
+                    "INSERT OR REPLACE INTO analyses VALUES (?, ?, ?, ?, ?, ?, ?)",
+                    ((cell, bridge, record, *verdict, packed)
+                     for cell, bridge, record, verdict, packed in rows),
+                )  # fmt: skip
         except sqlite3.Error as exc:
             raise OSError(f"{self.path}: cannot write the journal ({exc})") from None
 
-    def statuses(self) -> dict[tuple[str, str], str]:
-        """The status of each journalled analysis, by (bridge, record)."""
-        rows = self.connection.execute("SELECT bridge, record, status FROM analyses")
-        return {(bridge, record): status for bridge, record, status in rows}
+    def verdicts(self) -> dict[tuple[str, str], Verdict]:
+        """The verdict of each journalled analysis, by (bridge, record)."""
+        rows = self.connection.execute(
+            "SELECT bridge, record, status, failure_mode, dcr_backfill FROM analyses"
+        )
+        return {
+            (bridge, record): Verdict(status, mode, float("nan") if ratio is None else ratio)
+            for bridge, record, status, mode, ratio in rows
+        }
 
     def packed(self) -> Iterator[tuple[int, str, str, bytes]]:
         """The journalled analyses in the order of the results: (cell, bridge, record, packed)."""

@@ -21,9 +21,10 @@ from pathlib import Path
 import h5py
 
 from ..errors import InputError
+from ..fragility import store as store_fragilities
 from ..paths import replace_atomically, writable
 from ..results.packing import AnalysisResult
-from ..results.reading import open_results, stored_results, stored_statuses
+from ..results.reading import open_results, stored_results, stored_verdicts
 from ..results.writing import ResultsWriter, copy_description
 
 PROVENANCE = (
@@ -84,16 +85,15 @@ def merge_results(output: Path, parts: list[Path], overwrite: bool = False) -> M
         with ExitStack() as stack:
             files = [stack.enter_context(open_results(part)) for part in parts]
             flags = _check(parts, files)
-            order = _study_order(files[0])
             holders: dict[tuple[str, str], int] = {}
             duplicated = []
             for number, file in enumerate(files):
-                for pair in stored_statuses(file):
+                for pair in stored_verdicts(file):
                     if pair in holders:
                         duplicated.append(pair)
                     else:
                         holders[pair] = number
-            missing = [pair for pair in order if pair not in holders]
+            order, missing = _study_order(files, holders)
             file = stack.enter_context(h5py.File(temporary, "w"))
             copy_description(file, files[0], skip=(*PROVENANCE[:5], "complete", "n_complete"))
             file.attrs.update(
@@ -107,6 +107,7 @@ def merge_results(output: Path, parts: list[Path], overwrite: bool = False) -> M
             for result in _in_order(files, holders, order):
                 writer.add(result)
             writer.close(max(str(part.attrs["finished"]) for part in files))
+            store_fragilities(file)
         replace_atomically(temporary, output)
     finally:
         temporary.unlink(missing_ok=True)
@@ -132,10 +133,30 @@ def _check(parts: list[Path], files: list[h5py.File]) -> list[str]:
     return flags
 
 
-def _study_order(file: h5py.File) -> list[tuple[str, str]]:
-    """(bridge, record) of every analysis of the study, in the order of the results."""
-    config = json.loads(file.attrs["config"])
-    return [(b["id"], r["id"]) for b in config["bridges"] for r in config["records"]]
+def _study_order(
+    files: list[h5py.File], holders: dict[tuple[str, str], int]
+) -> tuple[list[tuple[str, str]], list[tuple[str, str]]]:
+    """(bridge, record) of every analysis of the study in the order of the results, and of those
+    no part holds.
+
+    An IDA's analyses are not known beforehand: they are those its parts ran, ordered by bridge,
+    record and level; what is missing then is a bridge × record (as read) of which no part holds
+    any level.
+    """
+    config = json.loads(files[0].attrs["config"])
+    bridges = [b["id"] for b in config["bridges"]]
+    records = [r["id"] for r in config["records"]]
+    pairs = [(b, r) for b in bridges for r in records]
+    if not (config.get("intensity") or {}).get("ida"):
+        return pairs, [pair for pair in pairs if pair not in holders]
+    keys = {}
+    for file in files:
+        peaks = file["peaks"]
+        columns = (peaks[name].asstr()[()] for name in ("bridge", "record", "base_record"))
+        for bridge, record, base, level in zip(*columns, peaks["intensity"][()], strict=True):
+            keys[(bridge, record)] = (bridges.index(bridge), records.index(base), float(level))
+    curves = {(bridges[b], records[r]) for b, r, _ in keys.values()}
+    return sorted(keys, key=keys.__getitem__), [pair for pair in pairs if pair not in curves]
 
 
 def _in_order(

@@ -11,6 +11,7 @@ write an output (a lock), and the workers end with the parent however it ends.
 
 from __future__ import annotations
 
+import dataclasses
 import heapq
 import math
 import os
@@ -29,6 +30,8 @@ import numpy as np
 
 from ..cpus import usable_cpus
 from ..errors import InputError
+from ..fragility import store as store_fragilities
+from ..limit_states import Verdict
 from ..paths import replace_atomically, writable
 from ..results.packing import AnalysisResult, Packed
 from ..results.reading import (
@@ -36,11 +39,12 @@ from ..results.reading import (
     peak_columns,
     stored_results,
     stored_shard_of,
-    stored_statuses,
+    stored_verdicts,
 )
 from ..results.writing import ResultsWriter, describe_study
-from .executors import execute
+from .executors import executor
 from .grid import Cell, Grid
+from .ida import Plan
 from .journal import Journal, remove_journal
 from .shards import shard_label
 from .work import Finished
@@ -149,6 +153,7 @@ def run_study(
     output = writable(study.output)
     grid = Grid.of(study)
     cells = grid.cells if shard is None else grid.shard(*shard)
+    plan = Plan(study, grid, cells) if _is_ida(study) else None
     scope = grid.config_hash if shard is None else f"{grid.config_hash} shard {shard[0]}/{shard[1]}"
     with _exclusive(output), _sigterm_interrupts():
         for stale in output.parent.glob(f".{output.name}.*.tmp"):  # a killed run's
@@ -162,26 +167,34 @@ def run_study(
             if not resume:  # recompute everything; what is stored stays until it is replaced
                 journal.remove()
                 journal = Journal(output, scope)
-            journalled = journal.statuses()
-            stored = earlier | journalled
-            pending = [
-                cell for cell in cells
-                if not resume or stored.get(grid.ids(cell)) in (None, "error")
-            ]  # fmt: skip
-            solve_time, done = 0.0, 0
+            journalled = journal.verdicts()
+            verdicts = {  # what need not run again; analyses that could not run are retried
+                ids: verdict
+                for ids, verdict in ((earlier if resume else {}) | journalled).items()
+                if verdict.status != "error"
+            }
+            resumed = len(verdicts)
+            solve_time, done, total = 0.0, 0, 0
             try:
-                for batch in execute(grid, pending, workers, scheduler):
-                    journal.add(
-                        (o.cell.index, *grid.ids(o.cell), o.finished.status, o.packed)
-                        for o in batch
-                    )
-                    for outcome in batch:
-                        if math.isfinite(outcome.finished.solve_time_s):
-                            solve_time += outcome.finished.solve_time_s
-                        done += 1
-                        if progress is not None:
-                            progress(outcome.finished, done, len(pending))
+                with executor(grid, workers, scheduler) as run:
+                    for pending in _rounds(grid, cells, plan, verdicts):
+                        total += len(pending)
+                        for batch in run(pending):
+                            journal.add(
+                                (o.cell.index, *grid.ids(o.cell), o.finished.verdict, o.packed)
+                                for o in batch
+                            )
+                            for outcome in batch:
+                                verdicts[grid.ids(outcome.cell)] = outcome.finished.verdict
+                                if math.isfinite(outcome.finished.solve_time_s):
+                                    solve_time += outcome.finished.solve_time_s
+                                done += 1
+                                if progress is not None:
+                                    progress(outcome.finished, done, total)
             finally:
+                if plan is not None:  # the IDA as far as it got
+                    cells = plan.ran(verdicts)
+                    grid = dataclasses.replace(grid, listed=tuple(cells))
                 if done or journalled or not output.exists():
                     _write(output, study, grid, cells, shard, journal, created, assembly)
                 journal.remove()
@@ -191,7 +204,7 @@ def run_study(
     return RunReport(
         output=output,
         total=len(cells),
-        resumed=len(cells) - len(pending),
+        resumed=min(resumed, len(cells)),
         ran=done,
         workers=workers,
         wall_time_s=time.perf_counter() - started,
@@ -199,6 +212,23 @@ def run_study(
         statuses=statuses,
         failures=failures,
     )
+
+
+def _rounds(
+    grid: Grid, cells: list[Cell], plan: Plan | None, verdicts: dict[tuple[str, str], Verdict]
+) -> Iterator[list[Cell]]:
+    """The analyses to run, a round at a time: the cells without a verdict; for an IDA, the
+    levels its rule calls for next, until it calls for none (the verdicts grow as the analyses
+    of a round finish)."""
+    if plan is None:
+        yield [cell for cell in cells if grid.ids(cell) not in verdicts]
+        return
+    while pending := plan.round(verdicts):
+        yield pending
+
+
+def _is_ida(study: Study) -> bool:
+    return study.intensity is not None and study.intensity.get("ida") is not None
 
 
 def _write(
@@ -217,6 +247,8 @@ def _write(
                 if assembly is not None:
                     assembly(written, len(cells))
             writer.close(_timestamp())
+            if shard is None:
+                store_fragilities(file)
         replace_atomically(temporary, output)
     except OSError as exc:  # a full disk, a removed folder: say which file, keep the journal
         reason = exc.strerror or str(exc)
@@ -247,14 +279,18 @@ def _earlier_results(output: Path, grid: Grid) -> Iterator[Iterator[tuple[int, A
         yield iter(())
         return
     cells = {grid.ids(cell): cell.index for cell in grid.cells}
-    with open_results(output) as file:
-        yield ((cells[(r.bridge, r.record)], r) for r in stored_results(file))
+    with open_results(output) as file:  # an analysis the grid does not hold is left out
+        yield (
+            (cells[(r.bridge, r.record)], r)
+            for r in stored_results(file)
+            if (r.bridge, r.record) in cells
+        )
 
 
 def _stored_in_output(
     output: Path, config_hash: str, shard: tuple[int, int] | None
-) -> dict[tuple[str, str], str]:
-    """The status of each analysis an earlier results file of the same study (and shard) holds.
+) -> dict[tuple[str, str], Verdict]:
+    """The verdict of each analysis an earlier results file of the same study (and shard) holds.
 
     Raises
     ------
@@ -268,7 +304,7 @@ def _stored_in_output(
         with open_results(output) as file:
             same = file.attrs.get("config_hash") == config_hash
             stored_shard = stored_shard_of(file)
-            stored = stored_statuses(file) if same and stored_shard == shard else {}
+            stored = stored_verdicts(file) if same and stored_shard == shard else {}
     except InputError as exc:  # unreadable or not a results file
         raise InputError(output, [("", f"{exc.problems[0][1]}; {hint}")]) from None
     if not same:

@@ -9,6 +9,7 @@ from typing import NamedTuple
 
 from ..core.analysis import Response, analyze
 from ..core.fidelity import RECHECK_MARGIN
+from ..limit_states import Verdict
 from ..results.packing import AnalysisResult
 from .grid import BridgeCase, Cell, Grid, RecordCase
 
@@ -23,6 +24,8 @@ class Finished:
     status : ``ok``, ``solver_error`` or ``error`` (`results.STATUSES`)
     message : why it stopped early or could not run; empty if ok
     solve_time_s : integration time, NaN if it could not run [s]
+    failure_mode : how the bridge failed (``none`` if it did not, empty if it could not run)
+    dcr_backfill : peak backfill demand/capacity ratio [-]
     """
 
     bridge: str
@@ -30,6 +33,13 @@ class Finished:
     status: str
     message: str
     solve_time_s: float
+    failure_mode: str
+    dcr_backfill: float
+
+    @property
+    def verdict(self) -> Verdict:
+        """What decides its limit states."""
+        return Verdict(self.status, self.failure_mode, self.dcr_backfill)
 
 
 class Outcome(NamedTuple):
@@ -48,7 +58,7 @@ def run_cells(grid: Grid, cells: Sequence[Cell]) -> list[Outcome]:
         values = result.values
         finished = Finished(
             result.bridge, result.record, values["status"], values["message"],
-            values["solve_time_s"],
+            values["solve_time_s"], values["failure_mode"], values["dcr_backfill"],
         )  # fmt: skip
         outcomes.append(Outcome(cell, finished, result.pack()))
     return outcomes
@@ -66,7 +76,7 @@ def analyse(grid: Grid, cell: Cell) -> AnalysisResult:
     or within `fidelity.RECHECK_MARGIN` of a capacity, is run again at ``reference``, and the
     result is that one (``rechecked`` = 1): a cheap preset's verdict can be wrong near a limit.
     """
-    bridge, record = grid.bridges[cell.bridge], grid.records[cell.record]
+    bridge, record = grid.bridges[cell.bridge], grid.record_of(cell)
     result = _analyse(grid, bridge, record)
     result.values.update(base_record=record.base, intensity=record.level, scale=record.scale)
     return result

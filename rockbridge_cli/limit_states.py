@@ -1,0 +1,80 @@
+"""Limit states: what an analysis's peaks say the bridge reached.
+
+An analysis reaches
+
+- ``gap_closure`` when an end joint closes and loads the backfill (``dcr_backfill`` > 0);
+- ``backfill_<p>`` when the backfill deforms to p % of its capacity (``dcr_backfill`` ≥ p/100),
+  for any whole p from 1 to 100 (``backfill_50``: half its capacity);
+- ``abutment_failure`` when the abutment–backfill fails (``failure_mode`` ``abutment``);
+- ``overturning`` when a pier overturns (``failure_mode`` ``overturning_*``).
+
+(docs/model.md §7–8.) The tests take the columns of a peak table, or the scalars of one
+analysis, and never fail on a missing value: an analysis that could not run reaches nothing.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterable, Mapping
+from typing import Any, NamedTuple
+
+import numpy as np
+
+DEFAULT = ("gap_closure", "backfill_50", "abutment_failure", "overturning")
+"""The limit states a study reports when it names none."""
+
+_BACKFILL = re.compile(r"^backfill_([1-9][0-9]?|100)$")
+
+
+def check(name: str) -> str:
+    """``name`` if it is a limit state.
+
+    Raises
+    ------
+    ValueError
+        It is not: the message lists the choices.
+    """
+    if name in DEFAULT or _BACKFILL.match(name):
+        return name
+    raise ValueError(
+        f"unknown limit state {name!r}: choose gap_closure, abutment_failure, overturning or "
+        "backfill_<p> (p % of the backfill's capacity, 1-100)"
+    )
+
+
+def reached(name: str, columns: Mapping[str, Any]) -> np.ndarray:
+    """Whether each analysis reaches the limit state ``name``.
+
+    Parameters
+    ----------
+    columns
+        ``dcr_backfill`` [-] and ``failure_mode``, as arrays (a peak table's columns) or scalars.
+
+    Returns
+    -------
+    numpy.ndarray
+        Booleans, the shape of the columns.
+    """
+    ratio = np.asarray(columns["dcr_backfill"], dtype=float)
+    mode = np.asarray(columns["failure_mode"]).astype(str)
+    if name == "gap_closure":
+        return ratio > 0.0
+    if name == "abutment_failure":
+        return mode == "abutment"
+    if name == "overturning":
+        return np.char.startswith(mode, "overturning")
+    return ratio >= int(check(name).removeprefix("backfill_")) / 100.0
+
+
+class Verdict(NamedTuple):
+    """What decides the limit states of one analysis: its status and the two peaks they test."""
+
+    status: str
+    failure_mode: str
+    dcr_backfill: float
+
+    def reaches(self, names: Iterable[str]) -> frozenset[str]:
+        """The limit states among ``names`` this analysis reaches (none unless it ran)."""
+        if self.status == "error":
+            return frozenset()
+        return frozenset(name for name in names if bool(reached(name, self._asdict())))

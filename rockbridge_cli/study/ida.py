@@ -1,0 +1,207 @@
+"""Incremental dynamic analysis (Vamvatsikos & Cornell 2002): for each bridge × record (a curve)
+and each limit state, the lowest intensity at which the state is reached.
+
+The rule (docs/batch.md): scan upward from ``start`` by ``step`` until every limit state has been
+reached or the next level would pass ``max``; then, for each state, bisect between the last scan
+level that did not reach it and the first that did, until the two are within ``tolerance`` of the
+upper one, which is the capacity. Rocking IDA curves need not be monotonic: a level above the
+capacity may again not reach the state; the rule is the definition, and every level run is kept.
+
+Every level an IDA can run lies on a lattice, ``start + step · n / 2^depth`` (bisection halves
+the step), so a level has one exact value and one id however it was reached, and the position of
+an analysis in the results is its lattice index. The rule is a function of the verdicts found so
+far, so the runner runs it in rounds — each round the levels the verdicts so far call for, on
+every curve at once — and a resumed run replays it from the stored verdicts without re-running
+anything. The workers hold the records as read; each analysis scales its record itself
+(`grid.Cell`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass
+from typing import Any, NamedTuple
+
+from ..config.study import Intensity, Study, intensity_of
+from ..limit_states import Verdict
+from .grid import Cell, Grid
+
+
+@dataclass(frozen=True)
+class Lattice:
+    """The levels an IDA may run: ``start + step · n / 2^depth`` for n = 0 … count − 1.
+
+    ``depth`` is the fewest halvings of ``step`` that bring it within ``tolerance · start``, so
+    that bisection can reach the tolerance anywhere above ``start``.
+    """
+
+    start: float
+    step: float
+    depth: int
+    count: int
+
+    @classmethod
+    def of(cls, ida: Mapping[str, Any]) -> Lattice:
+        """The lattice of an ``intensity.ida`` section."""
+        start, step = float(ida["start"]), float(ida["step"])
+        depth = max(0, math.ceil(math.log2(step / (ida["tolerance"] * start))))
+        scans = math.floor((ida["max"] - start) / step + 1e-9)  # 1e-9: 4.0 − 0.1 by 0.1 is 39
+        return cls(start, step, depth, scans * 2**depth + 1)
+
+    @property
+    def stride(self) -> int:
+        """Lattice points between two scan levels."""
+        return 2**self.depth
+
+    def level(self, n: int) -> float:
+        """The level at lattice index ``n``."""
+        return self.start + self.step * n / self.stride
+
+
+class Capacity(NamedTuple):
+    """One curve's capacity for one limit state.
+
+    Attributes
+    ----------
+    level : the lowest level found to reach the state; None if no scan level up to ``max`` did
+    below : the highest level below it found not to reach the state; None if the state is
+        reached at ``start`` already (then the capacity is at most ``start``) or never
+    """
+
+    level: float | None
+    below: float | None
+
+
+@dataclass(frozen=True)
+class Walk:
+    """Where one curve stands.
+
+    Attributes
+    ----------
+    wanted : lattice indices to run next (empty when the curve is done)
+    visited : lattice indices run so far that the rule uses
+    capacities : limit state → lattice indices (below, level) of the capacity so far; level
+        None if not reached, below −1 if reached at ``start``
+    """
+
+    wanted: frozenset[int]
+    visited: frozenset[int]
+    capacities: dict[str, tuple[int, int | None]]
+
+
+def walk(
+    lattice: Lattice,
+    tolerance: float,
+    states: tuple[str, ...],
+    reaches: Callable[[int], frozenset[str] | None],
+) -> Walk:
+    """Follow the rule along one curve.
+
+    Parameters
+    ----------
+    reaches
+        For a lattice index, the limit states its analysis reached, or None if it has not run.
+    """
+    wanted, visited, reached_so_far = set(), set(), set()
+    scanned = []
+    for n in range(0, lattice.count, lattice.stride):
+        found = reaches(n)
+        if found is None:
+            wanted.add(n)
+            break
+        visited.add(n)
+        scanned.append((n, found))
+        reached_so_far |= found
+        if reached_so_far.issuperset(states):
+            break
+    capacities: dict[str, tuple[int, int | None]] = {}
+    for state in states:
+        first = next((n for n, found in scanned if state in found), None)
+        if first is None:
+            capacities[state] = (-1, None)
+            continue
+        below, level = first - lattice.stride, first
+        while (
+            below >= 0
+            and level - below > 1
+            and (lattice.level(level) - lattice.level(below) > tolerance * lattice.level(level))
+        ):
+            middle = (below + level) // 2
+            found = reaches(middle)
+            if found is None:
+                wanted.add(middle)
+                break
+            visited.add(middle)
+            below, level = (below, middle) if state in found else (middle, level)
+        capacities[state] = (max(below, -1), level)
+    return Walk(frozenset(wanted), frozenset(visited), capacities)
+
+
+def capacity(lattice: Lattice, indices: tuple[int, int | None]) -> Capacity:
+    """A walk's capacity in levels of the measure."""
+    below, level = indices
+    if level is None:
+        return Capacity(None, None)
+    return Capacity(lattice.level(level), lattice.level(below) if below >= 0 else None)
+
+
+class Plan:
+    """The IDA of a study, or of some of its curves: its rounds, and what it has run.
+
+    Parameters
+    ----------
+    study
+        A study whose intensity section has ``ida``; its records are the records as read.
+    grid
+        The study's grid (`Grid.of`): one cell per curve, bridge × record as read.
+    curves
+        The curves to follow (a shard's); default every cell of ``grid``.
+    """
+
+    def __init__(self, study: Study, grid: Grid, curves: Iterable[Cell] | None = None):
+        intensity = Intensity.model_validate(study.intensity)
+        assert intensity.ida is not None
+        self.grid = grid
+        self.lattice = Lattice.of(intensity.ida.model_dump())
+        self.tolerance = intensity.ida.tolerance
+        self.states = tuple(intensity.ida.limit_states)
+        self.curves = list(grid.cells if curves is None else curves)
+        self.natives = [
+            intensity_of(r.record, intensity) if r.record is not None else 1.0
+            for r in study.records
+        ]
+
+    def round(self, verdicts: Mapping[tuple[str, str], Verdict]) -> list[Cell]:
+        """The analyses to run next, on every curve at once; empty when the IDA is done."""
+        return self._cells(verdicts, "wanted")
+
+    def ran(self, verdicts: Mapping[tuple[str, str], Verdict]) -> list[Cell]:
+        """The analyses the rule has used so far, in the order of the results (bridge, record,
+        level)."""
+        return sorted(self._cells(verdicts, "visited"))
+
+    def walk(self, curve: Cell, verdicts: Mapping[tuple[str, str], Verdict]) -> Walk:
+        """Where one curve stands, given the verdicts so far."""
+
+        def reaches(n: int) -> frozenset[str] | None:
+            verdict = verdicts.get(self.grid.ids(self.cell(curve, n)))
+            return None if verdict is None else verdict.reaches(self.states)
+
+        return walk(self.lattice, self.tolerance, self.states, reaches)
+
+    def cell(self, curve: Cell, n: int) -> Cell:
+        """The analysis of a curve at lattice index ``n``; its index orders the results by
+        bridge, record and level."""
+        level = self.lattice.level(n)
+        return Cell(
+            curve.index * self.lattice.count + n, curve.bridge, curve.record, level,
+            level / self.natives[curve.record],
+        )  # fmt: skip
+
+    def _cells(self, verdicts: Mapping[tuple[str, str], Verdict], which: str) -> list[Cell]:
+        return [
+            self.cell(curve, n)
+            for curve in self.curves
+            for n in sorted(getattr(self.walk(curve, verdicts), which))
+        ]

@@ -1,0 +1,281 @@
+"""Incremental dynamic analysis: the rule (scan, then bisect), its lattice, the runner's rounds,
+and the fragility of the capacities.
+
+Expected values: for the rule on synthetic curves, a capacity must bracket the synthetic
+threshold to the tolerance (the definition in `study.ida`); on real analyses, the capacity must
+agree with plain stripe runs of the same record scaled to the capacity and to the level just
+below it (a plain `rockbridge run` computes the same scaled samples, so the verdicts must be the
+same, bit for bit); the censored fit must recover the lognormal the capacities were drawn from.
+"""
+
+from __future__ import annotations
+
+import json
+
+import h5py
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from scipy.stats import norm
+from studies import contents, write_study
+
+from rockbridge_cli import limit_states
+from rockbridge_cli.cli import main
+from rockbridge_cli.config.study import load_study
+from rockbridge_cli.errors import InputError
+from rockbridge_cli.fragility import fit_capacities
+from rockbridge_cli.results import read_peaks
+from rockbridge_cli.study.ida import Lattice, walk
+from rockbridge_cli.study.run import run_study
+
+IDA = (
+    "intensity: {measure: pga_g, ida: {start: 0.1, step: 0.4, max: 2.5, tolerance: 0.05, "
+    "limit_states: [gap_closure, backfill_50, abutment_failure]}}\n"
+    "fidelity: fast\noutput: {histories: none}\n"
+)
+"""Two bridges × the two synthetic bursts of `studies`; their abutments fail at 1.1–2.1 g."""
+
+
+@pytest.fixture(autouse=True)
+def _in_tmp(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+
+
+def invoke(*args):
+    return CliRunner().invoke(main, [str(a) for a in args])
+
+
+# The rule
+
+
+def test_the_lattice_holds_every_scan_and_bisection_level():
+    lattice = Lattice.of({"start": 0.1, "step": 0.2, "max": 4.0, "tolerance": 0.02})
+    assert lattice.depth == 7  # 0.2 / 2^7 = 0.0016 ≤ 0.02 · 0.1 < 0.2 / 2^6
+    assert lattice.level(0) == 0.1 and lattice.level(lattice.count - 1) == pytest.approx(3.9)
+    assert lattice.level(3 * lattice.stride) == pytest.approx(0.7, rel=1e-15)
+    assert lattice.level(lattice.stride // 2) == pytest.approx(0.2, rel=1e-15)
+
+
+def synthetic(lattice, thresholds):
+    """A monotonic curve: state s is reached from level thresholds[s] on; runs are counted."""
+    ran = []
+
+    def reaches(n):
+        ran.append(n)
+        return frozenset(s for s, c in thresholds.items() if lattice.level(n) >= c)
+
+    return reaches, ran
+
+
+@pytest.mark.parametrize("tolerance", [0.2, 0.05, 0.01])
+def test_a_capacity_brackets_the_threshold_to_the_tolerance(tolerance):
+    lattice = Lattice.of({"start": 0.1, "step": 0.3, "max": 3.0, "tolerance": tolerance})
+    thresholds = {"a": 0.1234, "b": 1.777, "c": 2.65}  # scan levels 0.1, 0.4, …, 2.8
+    reaches, ran = synthetic(lattice, thresholds)
+    steps = walk(lattice, tolerance, tuple(thresholds), reaches)
+    assert not steps.wanted
+    for state, threshold in thresholds.items():
+        below, level = (lattice.level(n) for n in steps.capacities[state])
+        assert below < threshold <= level
+        assert level - below <= tolerance * level
+    assert max(ran) == 9 * lattice.stride  # the scan stops at 2.8, where every state is reached
+
+
+def test_reached_at_start_and_never_reached():
+    lattice = Lattice.of({"start": 0.5, "step": 0.5, "max": 2.0, "tolerance": 0.05})
+    reaches, ran = synthetic(lattice, {"early": 0.1, "never": 9.0})
+    steps = walk(lattice, 0.05, ("early", "never"), reaches)
+    assert steps.capacities["early"] == (-1, 0)  # at most start: nothing below to bisect
+    assert steps.capacities["never"] == (-1, None)
+    assert sorted(set(ran)) == [0, 1 * lattice.stride, 2 * lattice.stride, 3 * lattice.stride]
+
+
+def test_a_non_monotonic_curve_follows_the_rule():
+    """Reached at the third scan level only: the capacity is between the second and the third,
+    whatever the levels above say."""
+    lattice = Lattice.of({"start": 1.0, "step": 1.0, "max": 5.0, "tolerance": 0.1})
+    resurrects = {2 * lattice.stride}
+
+    def reaches(n):
+        hit = n in resurrects or lattice.level(n) >= 2.6 and n <= 2 * lattice.stride
+        return frozenset({"s"}) if hit else frozenset()
+
+    steps = walk(lattice, 0.1, ("s",), reaches)
+    below, level = (lattice.level(n) for n in steps.capacities["s"])
+    assert 2.0 <= below < 2.6 <= level <= 3.0 and level - below <= 0.1 * level
+
+
+def test_the_walk_asks_for_what_it_needs_next():
+    """Without verdicts the rule asks for the start; with the scan done, for the bisections."""
+    lattice = Lattice.of({"start": 1.0, "step": 1.0, "max": 3.0, "tolerance": 0.3})
+    assert walk(lattice, 0.3, ("s",), lambda n: None).wanted == {0}
+    scan = {0: frozenset(), lattice.stride: frozenset({"s"})}
+    steps = walk(lattice, 0.3, ("s",), scan.get)
+    assert steps.wanted == {lattice.stride // 2}  # between 1.0 and 2.0
+
+
+def test_limit_states_of_a_peak_table():
+    columns = {"dcr_backfill": np.array([0.0, 0.3, 0.5, 1.0, np.nan]),
+               "failure_mode": np.array(["none", "none", "none", "abutment", ""])}  # fmt: skip
+    assert limit_states.reached("gap_closure", columns).tolist() == [0, 1, 1, 1, 0]
+    assert limit_states.reached("backfill_50", columns).tolist() == [0, 0, 1, 1, 0]
+    assert limit_states.reached("backfill_25", columns).tolist() == [0, 1, 1, 1, 0]
+    assert limit_states.reached("abutment_failure", columns).tolist() == [0, 0, 0, 1, 0]
+    with pytest.raises(ValueError, match="unknown limit state 'backfill_0'"):
+        limit_states.check("backfill_0")
+
+
+# The config
+
+
+@pytest.mark.parametrize(
+    ("section", "message"),
+    [
+        ("{measure: pga_g, levels: [0.3], ida: {start: 0.1, step: 0.1, max: 1}}", "exactly one"),
+        ("{measure: pga_g}", "exactly one of levels"),
+        ("{measure: pga_g, ida: {start: 1, step: 0.1, max: 0.5}}", "max must not be below"),
+        ("{measure: pga_g, ida: {start: 0.1, step: 0.1, max: 1, limit_states: [collapse]}}",
+         "unknown limit state 'collapse'"),
+        ("{measure: pga_g, ida: {start: 1e-9, step: 1, max: 2, tolerance: 0.001}}",
+         r"at most 2\^20"),
+        ("{measure: pga_g, ida: {start: 0.1, max: 1}}", "intensity.ida.step"),
+    ],
+)  # fmt: skip
+def test_bad_ida_sections(tmp_path, section, message):
+    with pytest.raises(InputError, match=message):
+        load_study(write_study(tmp_path, extra=f"intensity: {section}\n"))
+
+
+# The runner
+
+
+@pytest.fixture(scope="module")
+def ida_run(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("ida")
+    study = load_study(write_study(folder, extra=IDA), output=folder / "ida.h5")
+    report = run_study(study, workers=2)
+    return study, report
+
+
+def test_an_ida_runs_in_rounds_and_keeps_every_level(ida_run):
+    study, report = ida_run
+    peaks = read_peaks(study.output)
+    assert report.ran == report.total == len(peaks) > 40
+    for (_, record), rows in peaks.groupby(["bridge", "base_record"], sort=False):
+        assert list(rows["intensity"]) == sorted(rows["intensity"])  # the order of the results
+        assert rows["intensity"].iloc[0] == 0.1
+        ids = [f"{record}+{x:.10g}g" for x in rows["intensity"]]
+        assert list(rows["record"]) == ids
+    with h5py.File(study.output) as file:
+        assert json.loads(file.attrs["intensity"])["ida"]["tolerance"] == 0.05
+        assert file.attrs["complete"] and list(file["records"]) == ["R1", "R2"]
+    assert run_study(study, workers=1).ran == 0  # complete: nothing to do
+
+
+def test_a_capacity_agrees_with_plain_runs_just_below_and_above(ida_run, tmp_path):
+    """For every bridge × record and limit state, a stripe study at the capacity and at the
+    level just below it (the IDA's last level not reaching the state) reaches the state at the
+    first and not at the second."""
+    study, _ = ida_run
+    rows = json.loads(invoke("fragility", study.output, "--json").output)
+    peaks = read_peaks(study.output)
+    levels, expected = set(), []
+    for row in rows:
+        for record, capacity in row["capacities"].items():
+            if capacity is None:
+                continue
+            mine = peaks[(peaks["bridge"] == row["bridge"]) & (peaks["base_record"] == record)]
+            run_below = mine["intensity"][mine["intensity"] < capacity]
+            below = float(run_below.max())
+            assert (capacity - below) <= 0.05 * capacity or below == 0.1
+            levels |= {below, capacity}
+            expected += [(row["bridge"], record, row["limit_state"], below, False),
+                         (row["bridge"], record, row["limit_state"], capacity, True)]  # fmt: skip
+    assert len(expected) >= 2 * 10
+    stripes = (f"intensity: {{measure: pga_g, levels: {sorted(levels)!r}}}\n"
+               "fidelity: fast\noutput: {histories: none}\n")  # fmt: skip
+    path = write_study(tmp_path, extra=stripes, name="plain.yaml")
+    result = invoke("run", path, "-o", tmp_path / "plain.h5")
+    assert result.exit_code == 0, result.output
+    plain = read_peaks(tmp_path / "plain.h5").set_index(["bridge", "base_record", "intensity"])
+    for bridge, record, state, level, reached in expected:
+        row = plain.loc[(bridge, record, level)]
+        assert bool(limit_states.reached(state, row)) is reached, (bridge, record, state, level)
+
+
+def test_an_interrupted_ida_resumes_to_the_same_file(ida_run, tmp_path):
+    study, _ = ida_run
+    expected = contents(study.output)
+    again = load_study(study.path, output=tmp_path / "again.h5")
+
+    def stop_after_20(finished, done, total):
+        if done == 20:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_study(again, workers=1, progress=stop_after_20)
+    assert read_peaks(again.output).shape[0] == 20
+    report = run_study(again, workers=2)
+    assert report.resumed == 20 and report.ran == report.total - 20
+    assert contents(again.output) == expected
+
+
+def test_ida_shards_merged_equal_a_single_run(ida_run, tmp_path):
+    study, _ = ida_run
+    parts = [tmp_path / f"part{k}.h5" for k in (1, 2)]
+    for k, part in zip((1, 2), parts, strict=True):
+        result = invoke("run", study.path, "--shard", f"{k}/2", "-o", part)
+        assert result.exit_code == 0, result.output
+    merged = invoke("merge", tmp_path / "all.h5", *parts)
+    assert merged.exit_code == 0, merged.output
+    assert "from 2 parts" in merged.output and "missing" not in merged.output
+    merged, single = contents(tmp_path / "all.h5"), contents(study.output)
+    for found in (merged, single):  # provenance: where and how the parts ran
+        found["/"] = ({k: v for k, v in found["/"][0].items()
+                       if k not in ("host", "merged_from", "study_file")}, None)  # fmt: skip
+    assert merged == single
+
+
+def test_fragility_of_an_ida_is_stored_printed_and_drawn(ida_run, tmp_path):
+    study, _ = ida_run
+    rows = json.loads(invoke("fragility", study.output, "--json").output)
+    assert {r["limit_state"] for r in rows} == {"gap_closure", "backfill_50", "abutment_failure"}
+    assert {"bridge", "limit_state", "measure", "median", "beta", "capacities"} <= set(rows[0])
+    with h5py.File(study.output) as file:
+        stored = file["fragility"]
+        assert json.loads(stored.attrs["records"]) == ["R1", "R2"]
+        np.testing.assert_array_equal(stored["median"][()], [r["median"] for r in rows])
+        capacities = stored["capacities"][()]
+    for row, stored_row in zip(rows, capacities, strict=True):
+        assert [row["capacities"][r] for r in ("R1", "R2")] == stored_row.tolist()
+        known = np.log([c for c in row["capacities"].values()])
+        assert row["median"] == pytest.approx(np.exp(known.mean()), rel=1e-12)
+    for kind in ("ida", "fragility"):
+        figure = tmp_path / f"{kind}.png"
+        result = invoke("plot", kind, study.output, "-o", figure)
+        assert result.exit_code == 0, result.output
+        assert figure.stat().st_size > 10_000
+    bad = invoke("plot", "ida", study.output, "--quantity", "status")
+    assert bad.exit_code == 2 and "not a peak column: 'status'" in bad.output
+
+
+# The fit
+
+
+def test_the_capacity_fit_is_the_log_mean_and_log_deviation():
+    capacities = np.array([0.8, 1.1, 1.5, 2.2])
+    median, beta = fit_capacities(capacities, 0.1, 4.0)
+    assert median == pytest.approx(np.exp(np.log(capacities).mean()), rel=1e-14)
+    assert beta == pytest.approx(np.log(capacities).std(), rel=1e-14)
+
+
+def test_the_censored_fit_recovers_a_known_lognormal():
+    """20 000 capacities at the quantiles of θ = 1.2 g, β = 0.45; those above 2 g never reached
+    within the scan (censored), those below 0.5 g reached at the start already."""
+    capacities = 1.2 * np.exp(0.45 * norm.ppf((np.arange(20_000) + 0.5) / 20_000))
+    coded = np.where(capacities > 2.0, np.inf, np.where(capacities <= 0.5, 0.0, capacities))
+    assert np.isinf(coded).sum() > 2000 and (coded == 0).sum() > 100
+    median, beta = fit_capacities(coded, 0.5, 2.0)
+    assert median == pytest.approx(1.2, rel=2e-3) and beta == pytest.approx(0.45, rel=5e-3)
+    dropped = fit_capacities(coded[np.isfinite(coded) & (coded > 0)], 0.5, 2.0)
+    assert abs(dropped[1] - 0.45) > 0.1  # leaving the censored records out would be biased
