@@ -6,7 +6,8 @@ level x_j, z_j of the n_j records reach the state; the median θ and the log-sta
 maximise the binomial likelihood Π_j Φ((ln x_j − ln θ)/β)^z_j · (1 − Φ(…))^(n_j − z_j).
 
 From an IDA, each record has a capacity (`study.ida`); ln θ and β are the mean and standard
-deviation (1/n, the maximum-likelihood estimate) of the log-capacities. Records that reach the
+deviation (1/n, the maximum-likelihood estimate) of the log-capacities. A curve the IDA has not
+finished (an interrupted run, an analysis that could not run) is left out. Records that reach the
 state at the first level already, or never up to the last, are censored there (their likelihood
 is Φ or 1 − Φ at that level), not dropped: dropping them would bias θ.
 
@@ -235,7 +236,9 @@ def _ida_fragility(bridge, mine, intensity, rng, bootstrap) -> list[Fragility]:
             verdict = verdicts.get(scaled_id(base, lattice.level(n), intensity["measure"]))
             return None if verdict is None else verdict.reaches(states)
 
-        walks[base] = walk(lattice, intensity["ida"]["tolerance"], states, reaches)
+        steps = walk(lattice, intensity["ida"]["tolerance"], states, reaches)
+        if not steps.wanted:  # a curve an interrupted run or a failed analysis left unfinished
+            walks[base] = steps  # has no capacities yet
     top = lattice.level(lattice.count - 1)
     found = []
     for state in states:

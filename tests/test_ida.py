@@ -10,6 +10,8 @@ same, bit for bit); the censored fit must recover the lognormal the capacities w
 
 from __future__ import annotations
 
+import csv
+import io
 import json
 
 import h5py
@@ -250,6 +252,15 @@ def test_fragility_of_an_ida_is_stored_printed_and_drawn(ida_run, tmp_path):
         assert [row["capacities"][r] for r in ("R1", "R2")] == stored_row.tolist()
         known = np.log([c for c in row["capacities"].values()])
         assert row["median"] == pytest.approx(np.exp(known.mean()), rel=1e-12)
+    table = list(
+        csv.DictReader(io.StringIO(invoke("fragility", study.output, "--csv", "-").output))
+    )
+    assert [(r["bridge"], r["limit_state"]) for r in table] == [
+        (r["bridge"], r["limit_state"]) for r in rows
+    ]
+    for line, row in zip(table, rows, strict=True):
+        assert float(line["median"]) == row["median"]
+        assert float(line["capacity_R2"]) == row["capacities"]["R2"]
     for kind in ("ida", "fragility"):
         figure = tmp_path / f"{kind}.png"
         result = invoke("plot", kind, study.output, "-o", figure)

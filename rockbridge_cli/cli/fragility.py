@@ -8,13 +8,18 @@ from pathlib import Path
 import click
 
 from . import main, plot
-from .output import echo_json, table_text
+from .output import echo_json, export_csv, table_text
 
 
 @main.command()
 @click.argument("results", type=click.Path(path_type=Path))
 @click.option("--json", "as_json", is_flag=True, help="Print the rows (SI, g) as JSON.")
-def fragility(results: Path, as_json: bool) -> None:
+@click.option(
+    "--csv", "csv_file", type=click.Path(dir_okay=False, allow_dash=True), default=None,
+    help="Write the rows as CSV to FILE, or - for the standard output: one column per record "
+    "with its capacity (empty: not reached).",
+)  # fmt: skip
+def fragility(results: Path, as_json: bool, csv_file: str | None) -> None:
     """Fit a lognormal fragility per bridge and limit state to RESULTS, the file of a study with
     an intensity section: from stripes by maximum likelihood (Baker 2015), from an IDA the
     log-mean and log-standard deviation of the capacities (censored where a record reaches the
@@ -23,6 +28,9 @@ def fragility(results: Path, as_json: bool) -> None:
     from ..fragility import fragilities
 
     found = fragilities(results)
+    if csv_file is not None:
+        export_csv(csv_file, _columns(found), results)
+        return
     if as_json:
         echo_json([item.row() for item in found])
         return
@@ -36,6 +44,31 @@ def fragility(results: Path, as_json: bool) -> None:
                      f"{reaching}/{len(item.capacities)}"])  # fmt: skip
     click.echo(f"measure: {found[0].measure if found else '-'}")
     click.echo(table_text(headers, rows))
+
+
+def _columns(found: list) -> dict:
+    """The fragility rows as CSV columns: the fit, then each record's capacity."""
+    import numpy as np
+
+    records = list(dict.fromkeys(record for item in found for record in item.capacities))
+
+    def number(value: float | None) -> float:
+        return np.nan if value is None else value
+
+    columns = {
+        "bridge": np.array([item.bridge for item in found]),
+        "limit_state": np.array([item.limit_state for item in found]),
+        "measure": np.array([item.measure for item in found]),
+        "median": np.array([number(item.median) for item in found], dtype=float),
+        "beta": np.array([number(item.beta) for item in found], dtype=float),
+        "median_05": np.array([item.median_90[0] if item.median_90 else np.nan for item in found]),
+        "median_95": np.array([item.median_90[1] if item.median_90 else np.nan for item in found]),
+    }
+    for record in records:
+        columns[f"capacity_{record}"] = np.array(
+            [number(item.capacities.get(record)) for item in found], dtype=float
+        )
+    return columns
 
 
 @plot.command("fragility")

@@ -7,7 +7,9 @@ from __future__ import annotations
 import csv
 import json
 import math
+import sys
 from collections.abc import Sequence
+from pathlib import Path
 from typing import IO, Any
 
 import click
@@ -65,6 +67,20 @@ def write_csv(stream: IO[str], columns: dict[str, np.ndarray]) -> None:
     writer.writerow(columns)
     for row in zip(*columns.values(), strict=True):
         writer.writerow("" if _missing(v) else repr(float(v)) if _is_float(v) else v for v in row)
+
+
+def export_csv(target: str, columns: dict[str, np.ndarray], source: Path) -> None:
+    """Write the columns as CSV to the file ``target`` (never ``source``, the file they were read
+    from), or to the standard output for ``-``."""
+    from ..paths import not_an_input, writable
+
+    if target == "-":
+        write_csv(sys.stdout, columns)
+        return
+    not_an_input(target, source)
+    with open(writable(target), "w", encoding="utf-8", newline="") as stream:
+        write_csv(stream, columns)
+    click.echo(f"CSV: {target}")
 
 
 def _cell(value: Any) -> str:

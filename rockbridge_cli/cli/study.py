@@ -4,14 +4,13 @@ restitution|spans``."""
 from __future__ import annotations
 
 import dataclasses
-import sys
 from pathlib import Path
 
 import click
 
 from ..core.fidelity import PRESETS
 from . import main, plot
-from .output import echo_json, table_text, write_csv
+from .output import echo_json, export_csv, table_text
 
 _DISPLAY = (
     ("u_deck_max", "u_deck [mm]", 1e3),
@@ -210,16 +209,7 @@ def peaks(results: Path, csv_file: str | None, as_json: bool) -> None:
     with open_results(results) as file:
         columns, units = _with_missing_counts(peak_columns(file)), peak_units(file)
     if csv_file is not None:
-        from ..paths import not_an_input, writable
-
-        if csv_file != "-":
-            not_an_input(csv_file, results)
-        if csv_file == "-":
-            write_csv(sys.stdout, columns)
-            return
-        with open(writable(csv_file), "w", encoding="utf-8", newline="") as stream:
-            write_csv(stream, columns)
-        click.echo(f"CSV: {csv_file}")
+        export_csv(csv_file, columns, results)
         return
     if as_json:
         rows = [dict(zip(columns, row, strict=True)) for row in zip(*columns.values(), strict=True)]
@@ -345,6 +335,23 @@ def plot_peaks(results: Path, output: Path | None) -> None:
 
     figure = draw(results, output or results.with_name(f"{results.stem}-peaks.png"))
     click.echo(f"Figure: {figure}")
+
+
+@plot.command("sweep")
+@click.argument("results", type=click.Path(path_type=Path))
+@click.option("--field", required=True, help="A swept field's dotted path (abutments.gap).")
+@click.option(
+    "--quantity", default="u_deck_max", show_default=True,
+    help="A peak-table column (median over the records), or a limit state (median capacity; a "
+    "study with an intensity section).",
+)  # fmt: skip
+@_output("<results stem>-sweep-<field>.png beside RESULTS")
+def plot_sweep(results: Path, field: str, quantity: str, output: Path | None) -> None:
+    """A peak or a capacity of RESULTS (a study with a sweep section) against a swept field."""
+    from ..plots.sweep import plot_sweep as draw
+
+    target = output or results.with_name(f"{results.stem}-sweep-{field}.png")
+    click.echo(f"Figure: {draw(results, target, field, quantity)}")
 
 
 @plot.command("history")

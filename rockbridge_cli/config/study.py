@@ -45,6 +45,7 @@ from ..records import Record, read_manifest, read_record
 from . import loading
 from .bridge import BridgeConfig, load_bridge
 from .loading import StrictModel
+from .sweep import Sweep, field_value, variant_id, varied
 
 ID_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9_.+-]*$"
 """Bridge and record ids: they name HDF5 groups and files, so no slashes or spaces."""
@@ -279,17 +280,26 @@ class StudyConfig(StrictModel):
     intensity: Intensity | None = Field(
         None, description="Scale every record to levels of an intensity measure"
     )
+    sweep: Sweep | None = Field(None, description="Vary bridge fields over lists or ranges")
     fidelity: Fidelity = Field(default_factory=Fidelity, description="Numerical fidelity")
     output: Output = Field(default_factory=Output, description="The results file")
 
 
 @dataclass(frozen=True)
 class StudyBridge:
-    """One resolved bridge: its id in the results, its validated config and where it came from."""
+    """One resolved bridge: its id in the results, its validated config and where it came from.
+
+    Attributes
+    ----------
+    swept : in a sweep, the value of every swept field in this bridge (path → value)
+    varied : the swept fields this bridge changes from its bridge file
+    """
 
     id: str
     config: BridgeConfig
     source: str
+    swept: dict[str, float] = dataclasses.field(default_factory=dict)
+    varied: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -354,9 +364,14 @@ class Study:
         """Everything that determines the results, as JSON-ready data (stored in the file)."""
         return {
             "bridges": [
-                {"id": b.id, "source": b.source, "config": b.config.model_dump(mode="json")}
+                {
+                    "id": b.id,
+                    "source": b.source,
+                    "config": b.config.model_dump(mode="json"),
+                    **({"swept": b.swept} if b.swept else {}),
+                }
                 for b in self.bridges
-            ],
+            ],  # fmt: skip
             "records": [{"id": r.id, "source": r.source, "sha256": r.digest} for r in self.records],
             "fidelity": {
                 "preset": self.preset,
@@ -452,6 +467,8 @@ def study_from_data(
     config = loading.validate(StudyConfig, data, path, base_dir=path.parent)
     base = path.parent
     bridges = _resolve_bridges(config.bridges, path)
+    if config.sweep is not None:
+        bridges = _swept(bridges, config.sweep, path)
     records = _resolve_records(config.records, base)
     warnings = _warnings(bridges, records)  # of the files, not of their scaled copies
     if config.intensity is not None and config.intensity.levels is not None:
@@ -528,6 +545,25 @@ def _scaled(records: list[StudyRecord], intensity: Intensity) -> list[StudyRecor
     """Every record at every level, record by record."""
     assert intensity.levels is not None
     return [scaled_record(item, level, intensity) for item in records for level in intensity.levels]
+
+
+def _swept(bridges: list[StudyBridge], sweep: Sweep, study: Path) -> list[StudyBridge]:
+    """Every bridge in every variation of the sweep, bridge by bridge (`config.sweep`)."""
+    found, problems = [], []
+    for bridge in bridges:
+        try:
+            base = {path: field_value(bridge.config, path) for path in sweep.fields}
+            for changes in sweep.variations():
+                config = varied(bridge.config, changes)
+                found.append(StudyBridge(
+                    variant_id(bridge.id, changes), config, bridge.source, {**base, **changes},
+                    tuple(changes),
+                ))  # fmt: skip
+        except ValueError as exc:
+            problems.append(("sweep.fields", f"bridge {bridge.id}: {exc}"))
+    if problems:
+        raise InputError(study, problems)
+    return found
 
 
 def _warnings(bridges: list[StudyBridge], records: list[StudyRecord]) -> tuple[str, ...]:

@@ -61,7 +61,8 @@ def open_results(path: str | Path) -> Iterator[h5py.File]:
 
 def peak_columns(file: h5py.File) -> dict[str, np.ndarray]:
     """The columns of the peak table of an open results file: text as ``str`` arrays, counts as
-    int64 (−1 where the analysis could not run), the rest float64 [SI]."""
+    int64 (−1 where the analysis could not run), the rest float64 [SI]; in a sweep, then one
+    column per swept field (its dotted path) with each row's bridge's value (`swept_values`)."""
     group = file["peaks"]
     columns = {}
     for name in json.loads(group.attrs["columns"]):
@@ -69,13 +70,26 @@ def peak_columns(file: h5py.File) -> dict[str, np.ndarray]:
         if values.dtype.kind in "OS":
             values = np.array([v.decode() if isinstance(v, bytes) else str(v) for v in values])
         columns[name] = values
+    swept = swept_values(file)
+    for path in dict.fromkeys(path for values in swept.values() for path in values):
+        columns[path] = np.array([swept[b].get(path, np.nan) for b in columns["bridge"]])
     return columns
+
+
+def swept_values(file: h5py.File) -> dict[str, dict[str, float]]:
+    """Per bridge, the value of every swept field (path → value; empty outside a sweep)."""
+    return {
+        name: json.loads(node.attrs.get("swept", "{}")) for name, node in file["bridges"].items()
+    }
 
 
 def peak_units(file: h5py.File) -> dict[str, str]:
     """The unit of each column of the peak table."""
     group = file["peaks"]
-    return {name: group[name].attrs["units"] for name in json.loads(group.attrs["columns"])}
+    units = {name: group[name].attrs["units"] for name in json.loads(group.attrs["columns"])}
+    for node in file["bridges"].values():
+        units.update(json.loads(node.attrs.get("swept_units", "{}")))
+    return units
 
 
 def read_peaks(path: str | Path) -> pd.DataFrame:

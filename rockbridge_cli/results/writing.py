@@ -256,6 +256,7 @@ def _write_records(group: h5py.Group, study: Study) -> None:
 
 
 def _write_bridges(group: h5py.Group, study: Study) -> None:
+    from ..config.sweep import field_unit
     from ..core.summary import SUMMARY_UNITS, summarize
 
     for item in study.bridges:
@@ -270,6 +271,9 @@ def _write_bridges(group: h5py.Group, study: Study) -> None:
                 "model": summary["model"],
                 "mirrored": item.config.mirrored,
                 "governing_failure": summary["governing_failure"],
+                "swept": json.dumps(item.swept),
+                "swept_units": json.dumps({path: field_unit(path) for path in item.swept}),
+                "varied": json.dumps(list(item.varied)),
             }
         )
         units = {}

@@ -1,0 +1,107 @@
+"""A peak or a capacity against a swept bridge field (`config.sweep`): per bridge, the median over
+the records with the 16–84 % band of a peak, or the median capacity of a limit state with its 90 %
+interval; one line per bridge file (and, in a grid, per value of the other swept fields)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from .. import limit_states
+from ..errors import InputError
+from ..fragility import fragilities_of
+from ..results.reading import open_results, peak_columns, peak_units, swept_values
+from .common import check_format, save, style
+from .ida import QUANTITY_SCALE
+
+
+def plot_sweep(
+    results: str | Path, output: str | Path, field: str, quantity: str = "u_deck_max"
+) -> Path:
+    """Draw ``quantity`` against the swept ``field``.
+
+    Parameters
+    ----------
+    field
+        A swept field's dotted path (``abutments.gap``).
+    quantity
+        A numeric peak column (median over the records), or a limit state (median capacity, for
+        a study with an intensity section).
+
+    Raises
+    ------
+    InputError
+        ``field`` is not swept, or ``quantity`` is neither a peak column nor, with an intensity
+        section, a limit state.
+
+    Returns
+    -------
+    pathlib.Path
+        The figure file.
+    """
+    output = check_format(output)
+    with open_results(results) as file:
+        columns, units = peak_columns(file), peak_units(file)
+        swept = swept_values(file)
+        varies = {name: json.loads(node.attrs.get("varied", "[]"))
+                  for name, node in file["bridges"].items()}  # fmt: skip
+        intensity = json.loads(file.attrs.get("intensity", "null"))
+    fields = list(dict.fromkeys(path for values in swept.values() for path in values))
+    if field not in fields:
+        reason = f"{field!r} is not swept here; swept: {', '.join(fields) or 'nothing'}"
+        raise InputError(results, [("field", reason)])
+    capacity = intensity is not None and _is_limit_state(quantity)
+    if not capacity and (quantity not in columns or columns[quantity].dtype.kind != "f"):
+        reason = f"not a peak column{' or a limit state' if intensity else ''}: {quantity!r}"
+        raise InputError(results, [("quantity", reason)])
+    ok = columns["status"] != "error"
+    columns = {name: values[ok] for name, values in columns.items()}
+    bridges = [b for b in dict.fromkeys(columns["bridge"]) if field in varies.get(b, ())]
+    lines: dict[tuple, list[tuple[float, float, float, float]]] = {}
+    fits = {}
+    if capacity:
+        mine = np.isin(columns["bridge"], bridges)
+        found = fragilities_of({k: v[mine] for k, v in columns.items()}, intensity)
+        fits = {f.bridge: f for f in found if f.limit_state == quantity}
+    for bridge in bridges:
+        others = tuple((p, v) for p, v in swept[bridge].items() if p != field)
+        key = (bridge.split("+", 1)[0], others)
+        if capacity:
+            fit = fits.get(bridge)
+            middle = np.nan if fit is None or fit.median is None else fit.median
+            low, high = fit.median_90 if fit is not None and fit.median_90 else (middle, middle)
+        else:
+            values = columns[quantity][columns["bridge"] == bridge]
+            middle, low, high = np.percentile(values, [50.0, 16.0, 84.0])
+        lines.setdefault(key, []).append((swept[bridge][field], middle, low, high))
+    factor, unit = (1.0, "g" if intensity and intensity["measure"] != "scale" else "-")
+    if not capacity:
+        factor, unit = QUANTITY_SCALE.get(units[quantity], (1.0, units[quantity]))
+    figure = Figure(figsize=(6.5, 4.5), layout="constrained")
+    axes = figure.subplots()
+    for index, ((source, others), points) in enumerate(lines.items()):
+        x, middle, low, high = (np.array(v) for v in zip(*sorted(points), strict=True))
+        look = style(index)
+        label = source + "".join(f", {p} = {v:.4g}" for p, v in others)
+        axes.plot(x, middle * factor, label=label, **look)
+        axes.fill_between(x, low * factor, high * factor, color=look["color"], alpha=0.12,
+                          linewidth=0)  # fmt: skip
+    what = f"capacity: {quantity.replace('_', ' ')}" if capacity else quantity
+    band = "median, 90 % interval" if capacity else "median over the records, 16–84 %"
+    axes.set_title(band, fontsize="medium")
+    axes.set_xlabel(f"{field} [{units.get(field, '-')}]")
+    axes.set_ylabel(f"{what} [{unit}]")
+    axes.grid(True, color="0.9", linewidth=0.5)
+    axes.legend(frameon=False, fontsize="small")
+    return save(figure, output)
+
+
+def _is_limit_state(name: str) -> bool:
+    try:
+        limit_states.check(name)
+    except ValueError:
+        return False
+    return True
