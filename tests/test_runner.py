@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import signal
+import sqlite3
 import subprocess
 import sys
 
@@ -232,19 +233,30 @@ def test_a_journal_of_another_study_is_refused(tmp_path):
     study = load_study(write_study(tmp_path))
     study.output.parent.mkdir(parents=True)
     journal = Journal(study.output, "another study's hash")
+    failed = Verdict("error", "", float("nan"))
     journal.add(
-        [
-            (
-                0,
-                "studied-hbar1.00",
-                "R1",
-                Verdict("error", "", float("nan")),
-                AnalysisResult.failed("b", "r", "x").pack(),
-            )
-        ]  # fmt: skip
+        [(0, "studied-hbar1.00", "R1", failed, AnalysisResult.failed("b", "r", "x").pack())]
     )
     journal.close()
     with pytest.raises(InputError, match="journal.db: holds analyses of a different study"):
+        run_study(study, workers=1)
+    assert run_study(study, workers=1, overwrite=True).ran == 4
+
+
+def test_a_journal_of_an_older_rockbridge_is_refused(tmp_path):
+    """A journal an interrupted run of rockbridge before the verdict columns left (SQLite
+    user_version 0, five columns) is one clear error, and --overwrite discards it."""
+    study = load_study(write_study(tmp_path))
+    study.output.parent.mkdir(parents=True)
+    with sqlite3.connect(journal_path(study.output)) as old:
+        old.executescript(
+            "CREATE TABLE study (config_hash TEXT NOT NULL);"
+            "CREATE TABLE analyses (cell INTEGER PRIMARY KEY, bridge TEXT NOT NULL, "
+            "record TEXT NOT NULL, status TEXT NOT NULL, packed BLOB NOT NULL);"
+        )
+        old.execute("INSERT INTO study VALUES (?)", (study.config_hash,))
+    old.close()
+    with pytest.raises(InputError, match="journal.db: was written by another version"):
         run_study(study, workers=1)
     assert run_study(study, workers=1, overwrite=True).ran == 4
 

@@ -59,11 +59,13 @@ def main(ctx: click.Context, debug: bool) -> None:
 
 @main.group()
 def plot() -> None:
-    """Figures: peaks, histories, spectra and the paper's parametric plots."""
+    """Figures: peaks, histories, spectra, IDA, fragility, sweeps and the paper's parametric
+    plots."""
 
 
 def _register() -> None:
-    from . import analysis, bridge, fragility, records, study  # noqa: F401  (each adds commands)
+    # each module adds its commands
+    from . import analysis, bridge, fragility, parametric, records, study  # noqa: F401
 
 
 _register()

@@ -8,7 +8,7 @@ from pathlib import Path
 import click
 
 from . import main, plot
-from .output import echo_json, export_csv, table_text
+from .output import echo_json, export_csv, figure_option, table_text
 
 
 @main.command()
@@ -73,10 +73,7 @@ def _columns(found: list) -> dict:
 
 @plot.command("fragility")
 @click.argument("results", type=click.Path(path_type=Path))
-@click.option(
-    "-o", "--output", type=click.Path(dir_okay=False, path_type=Path), default=None,
-    help="Figure file, .png, .pdf or .svg [default: <results stem>-fragility.png beside RESULTS].",
-)  # fmt: skip
+@figure_option("<results stem>-fragility.png beside RESULTS")
 def plot_fragility(results: Path, output: Path | None) -> None:
     """Fragility curves of RESULTS (a study with an intensity section): the share of records
     reaching each limit state per level and the fitted lognormal, one style per bridge."""
@@ -89,10 +86,7 @@ def plot_fragility(results: Path, output: Path | None) -> None:
 
 @plot.command("ida")
 @click.argument("results", type=click.Path(path_type=Path))
-@click.option(
-    "-o", "--output", type=click.Path(dir_okay=False, path_type=Path), default=None,
-    help="Figure file, .png, .pdf or .svg [default: <results stem>-ida.png beside RESULTS].",
-)  # fmt: skip
+@figure_option("<results stem>-ida.png beside RESULTS")
 @click.option(
     "--quantity", default="u_deck_max", show_default=True,
     help="Peak-table column on the horizontal axis (rockbridge peaks --help lists them).",

@@ -83,6 +83,15 @@ def export_csv(target: str, columns: dict[str, np.ndarray], source: Path) -> Non
     click.echo(f"CSV: {target}")
 
 
+def figure_option(default: str):
+    """The ``-o/--output`` option of a figure command; ``default`` says where the figure goes
+    without it."""
+    return click.option(
+        "-o", "--output", type=click.Path(dir_okay=False, path_type=Path), default=None,
+        help=f"Figure file, .png, .pdf or .svg [default: {default}].",
+    )  # fmt: skip
+
+
 def _cell(value: Any) -> str:
     if _missing(value):
         return "-"

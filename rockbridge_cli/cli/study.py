@@ -10,7 +10,7 @@ import click
 
 from ..core.fidelity import PRESETS
 from . import main, plot
-from .output import echo_json, export_csv, table_text
+from .output import echo_json, export_csv, figure_option, table_text
 
 _DISPLAY = (
     ("u_deck_max", "u_deck [mm]", 1e3),
@@ -318,17 +318,9 @@ def _scaled(values, scale: float) -> list:
     return [None if v is None else v * scale for v in values]
 
 
-def _output(default: str):
-    """The ``-o/--output`` option of a figure command."""
-    return click.option(
-        "-o", "--output", type=click.Path(dir_okay=False, path_type=Path), default=None,
-        help=f"Figure file, .png, .pdf or .svg [default: {default}].",
-    )  # fmt: skip
-
-
 @plot.command("peaks")
 @click.argument("results", type=click.Path(path_type=Path))
-@_output("<results stem>-peaks.png beside RESULTS")
+@figure_option("<results stem>-peaks.png beside RESULTS")
 def plot_peaks(results: Path, output: Path | None) -> None:
     """Peak responses per record, one marker per bridge (Figure 9 of the paper), from RESULTS."""
     from ..plots.peaks import plot_peaks as draw
@@ -345,7 +337,7 @@ def plot_peaks(results: Path, output: Path | None) -> None:
     help="A peak-table column (median over the records), or a limit state (median capacity; a "
     "study with an intensity section).",
 )  # fmt: skip
-@_output("<results stem>-sweep-<field>.png beside RESULTS")
+@figure_option("<results stem>-sweep-<field>.png beside RESULTS")
 def plot_sweep(results: Path, field: str, quantity: str, output: Path | None) -> None:
     """A peak or a capacity of RESULTS (a study with a sweep section) against a swept field."""
     from ..plots.sweep import plot_sweep as draw
@@ -358,48 +350,10 @@ def plot_sweep(results: Path, field: str, quantity: str, output: Path | None) ->
 @click.argument("results", type=click.Path(path_type=Path))
 @click.option("--record", required=True, help="Record id.")
 @click.option("--bridge", "bridges", multiple=True, help="Bridge id (repeat) [default: all].")
-@_output("<results stem>-history-<record>.png beside RESULTS")
+@figure_option("<results stem>-history-<record>.png beside RESULTS")
 def plot_history(results: Path, record: str, bridges: tuple[str, ...], output: Path | None) -> None:
     """Histories of u_deck, v_deck, θ_deck, θ1 and θ2 under one record (Figure 10)."""
     from ..plots.history import plot_history as draw
 
     default = results.with_name(f"{results.stem}-history-{record}.png")
     click.echo(f"Figure: {draw(results, record, output or default, bridges)}")
-
-
-_PARAMETRIC = {
-    "onset": ("Onset acceleration of rocking in both directions vs h̄ = H1/H2 (Figure 3), "
-              "varying the short pier of BRIDGE (a YAML file).", True),
-    "q": ("Abutment parameter q vs the short pier's mass (Figure 4), varying the short pier "
-          "of BRIDGE (a YAML file).", True),
-    "restitution": ("Restitution η of BRIDGE and of the same frame without abutment seats vs "
-                    "h̄, both directions (Figure 7).", True),
-    "spans": ("Restitution η of BRIDGE vs the side span L1 and vs the central span L2, both "
-              "directions (Figure 8); deck mass and inertia are kept.", False),
-}  # fmt: skip
-"""The parametric figures of a bridge config: name → (help, takes --h-max)."""
-
-
-def _parametric(name: str, summary: str, varies_h_bar: bool) -> None:
-    """Add ``plot <name> BRIDGE``, which calls `plots.parametric.plot_<name>`."""
-
-    def callback(bridge: Path, output: Path | None, **options: float | None) -> None:
-        from ..plots import parametric
-
-        draw = getattr(parametric, f"plot_{name}")
-        click.echo(
-            f"Figure: {draw(bridge, output or Path(f'{bridge.stem}-{name}.png'), **options)}"
-        )
-
-    command = _output(f"<bridge stem>-{name}.png in the current folder")(callback)
-    if varies_h_bar:
-        command = click.option(
-            "--h-max", type=click.FloatRange(min=1.0, min_open=True), default=None,
-            help="Largest h̄ = H1/H2 [default: 5, or the bridge's own if larger].",
-        )(command)  # fmt: skip
-    command = click.argument("bridge", type=click.Path(path_type=Path))(command)
-    plot.command(name, help=summary)(command)
-
-
-for _name, (_summary, _varies) in _PARAMETRIC.items():
-    _parametric(_name, _summary, _varies)

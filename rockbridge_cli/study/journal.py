@@ -21,6 +21,9 @@ _CHECKPOINT_PAGES = 16384
 """Pages (4 KiB) the write-ahead log may hold before SQLite copies it into the database, the
 only step that waits for the disk (fsync): every 64 MiB instead of SQLite's default 4 MiB."""
 
+SCHEMA_VERSION = 2
+"""The layout of the journal's tables (SQLite's ``user_version``): 2 added the verdicts."""
+
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS study (config_hash TEXT NOT NULL);
 CREATE TABLE IF NOT EXISTS analyses (
@@ -61,10 +64,16 @@ class Journal:
             self.connection.execute(f"PRAGMA wal_autocheckpoint={_CHECKPOINT_PAGES}")
             self.connection.executescript(_SCHEMA)
             stored = self.connection.execute("SELECT config_hash FROM study").fetchone()
+            (version,) = self.connection.execute("PRAGMA user_version").fetchone()
         except sqlite3.DatabaseError as exc:
             raise InputError(self.path, [("", f"not a readable journal ({exc}); {hint}")]) from None
         if stored is None:
+            self.connection.execute(f"PRAGMA user_version={SCHEMA_VERSION}")
             self.connection.execute("INSERT INTO study VALUES (?)", (config_hash,))
+        elif version != SCHEMA_VERSION:
+            self.connection.close()
+            reason = "was written by another version of rockbridge (an interrupted run)"
+            raise InputError(self.path, [("", f"{reason}; {hint}")])
         elif stored[0] != config_hash:
             self.connection.close()
             reason = "holds analyses of a different study or different inputs (an interrupted run)"
