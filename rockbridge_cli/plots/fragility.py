@@ -45,6 +45,10 @@ def plot_fragility(results: str | Path, output: str | Path) -> Path:
                 axes.plot(x, norm.cdf(np.log(x / item.median) / item.beta),
                           color=look["color"], linestyle=look["linestyle"])  # fmt: skip
         axes.set_title(state.replace("_", " "))
+        reached = (c for f in found if f.limit_state == state for c in f.capacities.values())
+        if all(capacity is None for capacity in reached):
+            axes.text(0.5, 0.5, "reached by no record\nat the levels run", ha="center",
+                      va="center", transform=axes.transAxes, color="0.4")  # fmt: skip
         axes.set_xscale("log")
         axes.set_ylim(-0.03, 1.03)
         axes.grid(True, color="0.9", linewidth=0.5)
