@@ -527,24 +527,25 @@ def scaled_id(base: str, level: float, measure: str) -> str:
     return f"{base}+{level:.10g}{LEVEL_UNITS[measure]}"
 
 
-def scaled_record(item: StudyRecord, level: float, intensity: Intensity) -> StudyRecord:
-    """A record scaled to ``level`` of the intensity measure."""
-    native = intensity_of(item.record, intensity) if item.record is not None else 1.0
-    scale = level / native
-    record = None
-    if item.record is not None:
-        record = dataclasses.replace(item.record, acceleration=scale * item.record.acceleration)
-    digest = hashlib.sha256(f"{item.digest} x{scale!r}".encode()).hexdigest()
-    return StudyRecord(
-        scaled_id(item.id, level, intensity.measure), item.source, record, item.error, digest,
-        base=item.id, level=level, scale=scale,
-    )  # fmt: skip
-
-
 def _scaled(records: list[StudyRecord], intensity: Intensity) -> list[StudyRecord]:
     """Every record at every level, record by record."""
     assert intensity.levels is not None
-    return [scaled_record(item, level, intensity) for item in records for level in intensity.levels]
+    scaled = []
+    for item in records:
+        native = intensity_of(item.record, intensity) if item.record is not None else 1.0
+        for level in intensity.levels:
+            scale = level / native
+            record = None
+            if item.record is not None:
+                record = dataclasses.replace(
+                    item.record, acceleration=scale * item.record.acceleration
+                )
+            digest = hashlib.sha256(f"{item.digest} x{scale!r}".encode()).hexdigest()
+            scaled.append(StudyRecord(
+                scaled_id(item.id, level, intensity.measure), item.source, record, item.error,
+                digest, base=item.id, level=level, scale=scale,
+            ))  # fmt: skip
+    return scaled
 
 
 def _swept(bridges: list[StudyBridge], sweep: Sweep, study: Path) -> list[StudyBridge]:

@@ -21,7 +21,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
-from typing import Any, NamedTuple
+from typing import Any
 
 from ..config.study import Intensity, Study, intensity_of
 from ..limit_states import Verdict
@@ -57,20 +57,6 @@ class Lattice:
     def level(self, n: int) -> float:
         """The level at lattice index ``n``."""
         return self.start + self.step * n / self.stride
-
-
-class Capacity(NamedTuple):
-    """One curve's capacity for one limit state.
-
-    Attributes
-    ----------
-    level : the lowest level found to reach the state; None if no scan level up to ``max`` did
-    below : the highest level below it found not to reach the state; None if the state is
-        reached at ``start`` already (then the capacity is at most ``start``) or never
-    """
-
-    level: float | None
-    below: float | None
 
 
 @dataclass(frozen=True)
@@ -136,14 +122,6 @@ def walk(
             below, level = (below, middle) if state in found else (middle, level)
         capacities[state] = (max(below, -1), level)
     return Walk(frozenset(wanted), frozenset(visited), capacities)
-
-
-def capacity(lattice: Lattice, indices: tuple[int, int | None]) -> Capacity:
-    """A walk's capacity in levels of the measure."""
-    below, level = indices
-    if level is None:
-        return Capacity(None, None)
-    return Capacity(lattice.level(level), lattice.level(below) if below >= 0 else None)
 
 
 class Plan:
