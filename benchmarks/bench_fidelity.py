@@ -83,23 +83,23 @@ def main() -> None:
     args = parser.parse_args()
     set_name, records = load_records(args.records)
     bridges = [load_bridge(path) for path in BRIDGES]
-    models = [(b.label(), b.to_model(), b.mirrored) for b in bridges]
+    analysed = [b.to_bridge() for b in bridges]
 
     # Warm up the compiled kernels (compilation is not part of any timing).
     name, dt, acc = records[0]
     for _, preset, overrides in VARIANTS:
-        analyze(models[0][1], acc[:500], dt, preset, **overrides)
+        analyze(analysed[0], acc[:500], dt, preset, **overrides)
 
     results = {}
     for label, preset, overrides in VARIANTS:
         results[label] = [
-            analyze(model, acc, dt, preset, mirrored=mirrored, **overrides)
-            for _, model, mirrored in models
+            analyze(bridge, acc, dt, preset, **overrides)
+            for bridge in analysed
             for _, dt, acc in records
         ]
     reference = results["reference"]
 
-    print(f"records: {set_name} ({len(records)}), bridges: {len(models)}, "
+    print(f"records: {set_name} ({len(records)}), bridges: {len(analysed)}, "
           f"analyses per row: {len(reference)}")  # fmt: skip
     header = f"{'variant':<26}{'median ms':>10}{'total s':>9}{'steps':>7}"
     header += "".join(f"{'err ' + p:>15}" for p in PEAKS) + f"{'vs ref':>8}"
@@ -143,11 +143,11 @@ def extreme_models():
 
 
 def verdicts(records, intensity: float = 2.0) -> None:
-    models = [(name, config.to_model()) for name, config in extreme_models()]
+    analysed = [config.to_bridge() for _, config in extreme_models()]
     runs = {
         preset: [
-            analyze(model, intensity * acc, dt, preset)
-            for _, model in models
+            analyze(bridge, intensity * acc, dt, preset)
+            for bridge in analysed
             for _, dt, acc in records
         ]
         for preset in ("reference", *PRESETS_COMPARED)

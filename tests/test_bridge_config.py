@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 from conftest import (
     BAD_BRIDGES,
@@ -18,6 +19,7 @@ from conftest import (
 )
 
 from rockbridge_cli.config.bridge import BridgeConfig, load_bridge
+from rockbridge_cli.core.analysis import analyze
 from rockbridge_cli.core.geometry import kind
 from rockbridge_cli.core.summary import summarize
 from rockbridge_cli.errors import InputError
@@ -41,7 +43,7 @@ def test_config_gives_the_papers_model(name):
     config = load_bridge(CONFIGS / name)
     assert isinstance(config, BridgeConfig)
     assert not config.mirrored
-    model = config.to_model()
+    model = config.to_bridge().model
     expected = EXPECTED_MODELS[name]
     for field in expected._fields:
         assert getattr(model, field) == pytest.approx(getattr(expected, field), rel=1e-12), field
@@ -72,7 +74,11 @@ abutments:
 
 
 def test_defaults(tmp_path):
-    model = load_bridge(yaml_file(tmp_path, BRIDGE_TEXT.format(left=26.0, right=20.8))).to_model()
+    model = (
+        load_bridge(yaml_file(tmp_path, BRIDGE_TEXT.format(left=26.0, right=20.8)))
+        .to_bridge()
+        .model
+    )
     # docs/model.md §2: ρ = 2500, g = 9.81, e = 0.6, m_abut = 38 000 kg, I_deck = m(L² + (2h)²)/12
     expected = studied_bridge(1.25)
     assert model.m_abut == pytest.approx(M_ABUT, rel=1e-14)
@@ -86,9 +92,9 @@ def test_mirrored_bridge(tmp_path):
     left = load_bridge(yaml_file(tmp_path, BRIDGE_TEXT.format(left=26.0, right=20.8), "a.yaml"))
     right = load_bridge(yaml_file(tmp_path, BRIDGE_TEXT.format(left=20.8, right=26.0), "b.yaml"))
     assert not left.mirrored and right.mirrored
-    assert right.to_model() == left.to_model()  # same Model, tall pier first
-    a = summarize(left.to_model(), mirrored=False)
-    b = summarize(right.to_model(), mirrored=True)
+    assert right.to_bridge().model == left.to_bridge().model  # same Model, tall pier first
+    a = summarize(left.to_bridge())
+    b = summarize(right.to_bridge())
     for key in ("m_pier1", "m_pier2", "m_deck", "gamma", "q", "h_bar", "pounding_ratio"):
         assert b[key] == a[key], key
     swaps = [("ug_min_p", "ug_min_n"), ("eta_pn", "eta_np"), ("eta_frame_pn", "eta_frame_np")]
@@ -104,14 +110,14 @@ def test_mirrored_bridge(tmp_path):
 
 def test_single_block_config(tmp_path):
     config = load_bridge(yaml_file(tmp_path, "piers:\n  width: 1.0\n  heights: [8.0]\n"))
-    model = config.to_model()
+    model = config.to_bridge().model
     assert kind(model) == "single-block" and not config.mirrored
     assert model.m1 == pytest.approx(2500.0 * 1.0 * 1.0 * 8.0, rel=1e-14)
 
 
 def test_frame_config(tmp_path):
     text = BRIDGE_TEXT.format(left=26.0, right=13.0).split("abutments:")[0]
-    model = load_bridge(yaml_file(tmp_path, text)).to_model()
+    model = load_bridge(yaml_file(tmp_path, text)).to_bridge().model
     assert kind(model) == "asymmetric-frame"
     assert model.has_abutments == 0.0 and math.isinf(model.u_jo) and model.k == 0.0
 
@@ -120,7 +126,7 @@ def test_deck_given_by_mass_and_inertia(tmp_path):
     text = BRIDGE_TEXT.format(left=30.0, right=20.0).replace(
         "  area: 6.0", "  mass: 2.4e+6\n  inertia: 3.6e+9"
     )
-    model = load_bridge(yaml_file(tmp_path, text)).to_model()
+    model = load_bridge(yaml_file(tmp_path, text)).to_bridge().model
     assert model.md == 2.4e6 and model.Id == 3.6e9
 
 
@@ -128,7 +134,7 @@ def test_exponent_without_sign_is_read_as_a_number(tmp_path):
     # PyYAML (YAML 1.1) reads "132.0e6" as a *string*; the shipped configs write numbers that way
     # and rely on the validation turning them into floats
     text = BRIDGE_TEXT.format(left=26.0, right=20.8).replace("1.32e+8", "132.0e6")
-    model = load_bridge(yaml_file(tmp_path, text)).to_model()
+    model = load_bridge(yaml_file(tmp_path, text)).to_bridge().model
     assert model.k == 132.0e6 and isinstance(model.k, float)
 
 
@@ -136,7 +142,7 @@ def test_overrides(tmp_path):
     text = BRIDGE_TEXT.format(left=26.0, right=20.8) + (
         "  pounding:\n    restitution: 0.0\n    mass: 1.0e+5\ndensity: 2400.0\ngravity: 9.80665\n"
     )
-    model = load_bridge(yaml_file(tmp_path, text)).to_model()
+    model = load_bridge(yaml_file(tmp_path, text)).to_bridge().model
     expected = make_bridge(2.6, 26.0, 20.8, 38.0, 60.0, 1.7, area=6.0, density=2400.0, g=9.80665,
                            e=0.0, m_abut=1.0e5)  # fmt: skip
     for field in expected._fields:
@@ -203,8 +209,8 @@ def test_mirrored_bridge_against_the_mirrored_geometry(tmp_path):
     """The user's drawing (short pier on the left) solved directly on the reference kinematics:
     the user's mode p turns the left pier counter-clockwise."""
     config = load_bridge(yaml_file(tmp_path, BRIDGE_TEXT.format(left=20.8, right=26.0)))
-    model = config.to_model()
-    summary = summarize(model, mirrored=config.mirrored)
+    model = config.to_bridge().model
+    summary = summarize(config.to_bridge())
     drawing = RefLinkage(model.B, model.H2, model.H1, model.L2, model.h)  # left = short pier
     masses = (model.m2, model.m1, model.md)
     inertias = (model.I2, model.I1, model.Id)
@@ -225,3 +231,17 @@ def test_central_span_error_names_its_field_path():
         load_bridge(BAD_BRIDGES / "central_span_not_above_width.yaml")
     message = str(info.value)
     assert ": spans: the central span (2.6 m)" in message and "{" not in message
+
+
+def test_the_bridge_as_analysed_carries_the_mirror_and_the_restitution(tmp_path):
+    """The issue-13 trap: a bare Model does not say that the tall pier is on the right, so
+    analyze refuses it; describe and the results file report the η the analysis uses."""
+    text = BRIDGE_TEXT.format(left=20.8, right=26.0) + "rocking_restitution: 0.9\n"
+    bridge = load_bridge(yaml_file(tmp_path, text)).to_bridge()
+    assert bridge.mirrored and bridge.restitution == 0.9
+    with pytest.raises(TypeError, match="mirrored"):
+        analyze(bridge.model, np.zeros(10), 0.01)
+    summary = summarize(bridge)
+    assert summary["eta_pn"] == summary["eta_np"] == 0.9  # the override, as in bridge.laws()
+    assert bridge.laws().eta_p == bridge.laws().eta_n == 0.9
+    assert summary["eta_frame_pn"] != 0.9  # the law's frame value stays as computed

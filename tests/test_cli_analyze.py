@@ -35,7 +35,7 @@ def test_json_has_the_keys_and_the_library_values():
     assert set(KEYS) <= set(data)
     record = read_record(RECORD)
     config = load_bridge(BRIDGE)
-    response = analyze(config.to_model(), record.acceleration, record.time_step)
+    response = analyze(config.to_bridge(), record.acceleration, record.time_step)
     for name in ("u_deck", "v_deck", "theta_deck", "theta1", "theta2"):
         assert data[f"{name}_max"] == pytest.approx(response.peaks[name][0], rel=1e-12)
     assert data["n_impacts"] == response.n_impacts and data["fidelity"] == "default"

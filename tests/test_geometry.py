@@ -37,7 +37,7 @@ CONFIG_OF = {
 @pytest.mark.parametrize("h_bar", sorted(TABLE1))
 def test_table1_from_the_code_and_the_config(h_bar):
     m2_ref, gamma_ref, q_ref = TABLE1[h_bar]
-    for model in (studied_bridge(h_bar), load_bridge(CONFIGS / CONFIG_OF[h_bar]).to_model()):
+    for model in (studied_bridge(h_bar), load_bridge(CONFIGS / CONFIG_OF[h_bar]).to_bridge().model):
         r = ratios(model)
         assert model.m2 / 1e4 == pytest.approx(m2_ref, abs=5e-3)
         assert r["gamma"] == pytest.approx(gamma_ref, abs=5e-4)
@@ -159,6 +159,6 @@ def test_model_properties():
 @pytest.mark.parametrize("h_bar", sorted(STUDIED_HEIGHTS))
 def test_model_fields_are_floats(h_bar):
     # the compiled kernels read the tuple directly: every field must be a float
-    model = load_bridge(CONFIGS / CONFIG_OF[h_bar]).to_model()
+    model = load_bridge(CONFIGS / CONFIG_OF[h_bar]).to_bridge().model
     assert isinstance(model, geometry.Model)
     assert all(isinstance(v, float) for v in model)

@@ -53,18 +53,18 @@ def test_onset_of_the_studied_bridges():
 
 def test_short_pier_variation_reproduces_table1():
     """Table 1: m_pier,2 = 35.15·10⁴ and 21.97·10⁴ kg; q = 0.7708 and 0.7858·10⁻³ m/kN."""
-    model = load_bridge(BRIDGES / "studied-hbar1.00.yaml").to_model()
+    model = load_bridge(BRIDGES / "studied-hbar1.00.yaml").to_bridge().model
     for h_bar, mass, q in ((1.25, 35.15e4, 0.7708e-6), (2.0, 21.97e4, 0.7858e-6)):
         variant = parametric.with_short_pier(model, h_bar)
         assert variant.m2 == pytest.approx(mass, rel=2e-4)
         assert ratios(variant)["q"] == pytest.approx(q, rel=2e-4)
-        built = load_bridge(BRIDGES / f"studied-hbar{h_bar:.2f}.yaml").to_model()
+        built = load_bridge(BRIDGES / f"studied-hbar{h_bar:.2f}.yaml").to_bridge().model
         assert variant.I2 == pytest.approx(built.I2, rel=1e-12)
 
 
 def test_q_fig4():
     """Fig. 4: q(h̄ = 5)/q(h̄ = 1) − 1 = 5.3 % (the paper's "4 %" is not reproducible)."""
-    model = load_bridge(BRIDGES / "studied-hbar1.00.yaml").to_model()
+    model = load_bridge(BRIDGES / "studied-hbar1.00.yaml").to_bridge().model
     change = ratios(parametric.with_short_pier(model, 5.0))["q"] / ratios(model)["q"] - 1
     assert change == pytest.approx(0.053, abs=5e-4)
 
@@ -72,7 +72,7 @@ def test_q_fig4():
 def test_restitution_fig7():
     """Fig. 7: (η_bridge − η_frame)/η_bridge = 0.41 % at h̄ = 1 and 12.7 % at h̄ = 5 (p→n)."""
     config = load_bridge(BRIDGES / "fig8-hbar1.5.yaml")
-    model = config.to_model()
+    model = config.to_bridge().model
     variants = [parametric.with_short_pier(model, h) for h in (1.0, 5.0)]
     curves = parametric.restitution_curves(config, variants)
     gain = (curves["bridge p→n"] - curves["frame p→n"]) / curves["bridge p→n"]
@@ -84,7 +84,7 @@ def test_restitution_vs_spans_fig8():
     """Fig. 8A (L2 = 45): L1 = 15 m 0.9829 / 0.9798, 90 m 0.9879 / 0.9847; Fig. 8B (L1 = 45):
     L2 = 15 m p→n 0.9890, 90 m 0.9843."""
     config = load_bridge(BRIDGES / "fig8-hbar1.5.yaml")
-    model = config.to_model()
+    model = config.to_bridge().model
     side = parametric.restitution_curves(
         config, [model._replace(L1=15.0), model._replace(L1=90.0)], frame=False
     )

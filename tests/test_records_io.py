@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from rockbridge_cli.core.bridge import Bridge
 from rockbridge_cli.errors import InputError
 from rockbridge_cli.records import (
     Record,
@@ -223,6 +224,6 @@ def test_a_record_in_g_and_the_same_in_m_s2_give_identical_analyses(tmp_path):
     a, b = read_record(tmp_path / "g.txt"), read_record(tmp_path / "si.txt")
     np.testing.assert_array_equal(a.acceleration, b.acceleration)
     bridge = studied_bridge(2.0)
-    first, second = (analyze(bridge, r.acceleration, r.time_step) for r in (a, b))
+    first, second = (analyze(Bridge(bridge), r.acceleration, r.time_step) for r in (a, b))
     assert first.summary()["u_deck_max"] == second.summary()["u_deck_max"]
     np.testing.assert_array_equal(first.histories["theta1"], second.histories["theta1"])

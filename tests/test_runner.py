@@ -64,9 +64,8 @@ def test_peaks_and_histories_are_the_integrators(tmp_path):
     assert list(zip(peaks["bridge"], peaks["record"], strict=True)) == PAIRS  # the study's order
     for bridge, item in ((b, r) for b in study.bridges for r in study.records):
         expected = analyze(
-            bridge.config.to_model(), item.record.acceleration, item.record.time_step, "default",
-            mirrored=bridge.config.mirrored,
-        )  # fmt: skip
+            bridge.config.to_bridge(), item.record.acceleration, item.record.time_step, "default"
+        )
         row = peaks[(peaks["bridge"] == bridge.id) & (peaks["record"] == item.id)].iloc[0]
         for name, value in expected.summary().items():
             if name in row.index and name not in VOLATILE:
@@ -89,10 +88,10 @@ def test_worker_count_does_not_change_the_results(tmp_path):
 def test_a_failing_analysis_does_not_stop_the_others(tmp_path, monkeypatch):
     study, expected = _reference(tmp_path)
 
-    def flaky(model, acceleration, *args, **kwargs):
+    def flaky(bridge, acceleration, *args, **kwargs):
         if np.abs(acceleration).max() < 4.5:  # R2 (peak 4 m/s²)
             raise RuntimeError("boom")
-        return analyze(model, acceleration, *args, **kwargs)
+        return analyze(bridge, acceleration, *args, **kwargs)
 
     monkeypatch.setattr(work, "analyze", flaky)
     report = run_study(study, workers=1)
@@ -314,8 +313,7 @@ def test_recheck_runs_near_a_capacity_again_at_reference(tmp_path):
         assert weak["failure_mode"] == "none" and weak["rechecked"] == 0
         record = study.records[1].record
         reference = analyze(
-            bridge.config.to_model(), record.acceleration, record.time_step, "reference",
-            mirrored=bridge.config.mirrored,
-        )  # fmt: skip
+            bridge.config.to_bridge(), record.acceleration, record.time_step, "reference"
+        )
         assert strong["u_deck_max"] == reference.peaks["u_deck"][0]
         assert strong["failure_time"] == reference.failure_time

@@ -17,7 +17,8 @@ from conftest import G, RefLinkage, make_bridge, ref_onset, studied_bridge, with
 from scipy.integrate import solve_ivp
 
 from rockbridge_cli.core import fidelity, impacts
-from rockbridge_cli.core.analysis import analyze, dcr_backfill, laws
+from rockbridge_cli.core.analysis import analyze, dcr_backfill
+from rockbridge_cli.core.bridge import Bridge
 from rockbridge_cli.core.dynamics import acceleration, coefficients
 from rockbridge_cli.core.geometry import single_block
 from rockbridge_cli.core.kinematics import EXACT
@@ -61,7 +62,7 @@ def test_housner_block_released_from_rest():
     θ̈ = −p²·sin(α − θ), p² = 3g/(4R) (Housner's exact equation of motion)."""
     block = single_block(B=1.0, H=5.0, density=2500.0, g=G)
     alpha, R, theta0 = block.alpha1, block.R1, 0.1
-    response = analyze(block, np.zeros(401), DT, "reference", initial=(theta0, 0.0))
+    response = analyze(Bridge(block), np.zeros(401), DT, "reference", initial=(theta0, 0.0))
     impacts_ = response.events["kind"] == "impact"
     first_rate = response.events["rate_before"][impacts_][0]
     expected = -math.sqrt(3.0 * G / (2.0 * R) * (math.cos(alpha - theta0) - math.cos(alpha)))
@@ -117,7 +118,7 @@ def test_energy_is_conserved_between_impacts_and_across_them_with_the_mass_ratio
 
 def test_symmetric_bridge_keeps_its_deck_level():
     """h̄ = 1: the deck translates without rotating (θ_deck ≡ 0) and both piers rotate alike."""
-    response = analyze(studied_bridge(1.0), ground_motion(), DT)
+    response = analyze(Bridge(studied_bridge(1.0)), ground_motion(), DT)
     assert response.n_impacts > 5
     assert np.nanmax(np.abs(response.histories["theta_deck"])) < 1e-12
     np.testing.assert_allclose(
@@ -137,8 +138,8 @@ def test_symmetric_frame_rocks_like_its_equivalent_block():
                          density=2500.0, g=G)  # fmt: skip
     eta = impacts.restitution(frame, 1.0)
     acc = ground_motion(seed=3)
-    a = analyze(frame, acc, DT, "reference")
-    b = analyze(block, acc, DT, "reference", restitution=eta)
+    a = analyze(Bridge(frame), acc, DT, "reference")
+    b = analyze(Bridge(block, restitution=eta), acc, DT, "reference")
     assert a.n_impacts == b.n_impacts > 5
     np.testing.assert_allclose(a.events["time"], b.events["time"], rtol=0, atol=1e-9)
     scale = np.max(np.abs(a.histories["theta1"]))
@@ -149,8 +150,8 @@ def test_symmetric_frame_rocks_like_its_equivalent_block():
 def test_near_symmetric_bridge_matches_the_symmetric_one():
     """h̄ = 1 + 1e-12 is no special case: the response equals h̄ = 1 to ~1e-9."""
     acc = ground_motion(seed=11)
-    exact = analyze(studied_bridge(1.0), acc, DT, "reference")
-    near = analyze(studied_bridge(1.0 + 1e-12), acc, DT, "reference")
+    exact = analyze(Bridge(studied_bridge(1.0)), acc, DT, "reference")
+    near = analyze(Bridge(studied_bridge(1.0 + 1e-12)), acc, DT, "reference")
     assert near.n_impacts == exact.n_impacts
     assert relative_peak_difference(near, exact) < 1e-8
     assert near.peaks["theta_deck"][0] < 1e-10
@@ -167,11 +168,11 @@ def test_onset_threshold_separates_rest_from_rocking(h_bar, direction):
     mode p, which moves the deck to the left (u_deck < 0)."""
     bridge = studied_bridge(h_bar)
     threshold = abs(impacts.onset_threshold(bridge, direction))
-    below = analyze(bridge, direction * half_sine(0.999 * threshold), DT)
+    below = analyze(Bridge(bridge), direction * half_sine(0.999 * threshold), DT)
     assert math.isnan(below.t_onset) and below.n_impacts == 0
     for name, values in below.histories.items():
         assert np.all(values == 0.0), name
-    above = analyze(bridge, direction * half_sine(1.001 * threshold), DT)
+    above = analyze(Bridge(bridge), direction * half_sine(1.001 * threshold), DT)
     assert above.events["mode"][0] == direction
     first_motion = above.histories["u_deck"][np.flatnonzero(above.histories["mode"])[0]]
     assert np.sign(first_motion) == -direction
@@ -182,15 +183,15 @@ def test_onset_time_is_where_the_ground_crosses_the_threshold():
     crosses ü_g,min at t = ü_g,min / (1 m/s³)."""
     bridge = studied_bridge(1.25)
     ramp = np.arange(0.0, 3.0, DT) * 1.0
-    response = analyze(bridge, ramp, DT)
+    response = analyze(Bridge(bridge), ramp, DT)
     assert response.t_onset == pytest.approx(impacts.onset_threshold(bridge, 1.0), abs=1e-12)
 
 
 def test_ground_sign_flip_mirrors_a_symmetric_bridge():
     """A symmetric bridge under −ü_g does the mirror image of its response under ü_g."""
     bridge, acc = studied_bridge(1.0), ground_motion(seed=5)
-    a = analyze(bridge, acc, DT, "reference")
-    b = analyze(bridge, -acc, DT, "reference")
+    a = analyze(Bridge(bridge), acc, DT, "reference")
+    b = analyze(Bridge(bridge), -acc, DT, "reference")
     np.testing.assert_allclose(a.events["time"], b.events["time"], rtol=0, atol=1e-9)
     scale = np.max(np.abs(a.histories["theta1"]))
     for name in ("theta1", "u_deck", "u_pier2"):
@@ -208,9 +209,9 @@ def test_bridge_with_its_tall_pier_on_the_right(direction):
     model = studied_bridge(1.25)  # tall pier first: the config's mirrored bridge runs on it
     drawing = RefLinkage(model.B, model.H2, model.H1, model.L2, model.h)
     threshold = abs(ref_onset(drawing, (model.m2, model.m1, model.md), G, direction))
-    below = analyze(model, direction * half_sine(0.999 * threshold), DT, mirrored=True)
+    below = analyze(Bridge(model, mirrored=True), direction * half_sine(0.999 * threshold), DT)
     assert math.isnan(below.t_onset)
-    above = analyze(model, direction * half_sine(1.001 * threshold), DT, mirrored=True)
+    above = analyze(Bridge(model, mirrored=True), direction * half_sine(1.001 * threshold), DT)
     assert above.events["mode"][0] == direction
     first_motion = above.histories["u_deck"][np.flatnonzero(above.histories["mode"])[0]]
     assert np.sign(first_motion) == -direction
@@ -222,8 +223,8 @@ def test_bridge_with_its_tall_pier_on_the_right(direction):
 def test_reference_is_converged():
     """The yardstick: peaks change by less than 1e-8 between rtol 1e-11 and 1e-12."""
     bridge, acc = studied_bridge(2.0), ground_motion(seed=1)
-    a = analyze(bridge, acc, DT, "reference")
-    b = analyze(bridge, acc, DT, "reference", rtol=1e-11, event_tol=1e-12)
+    a = analyze(Bridge(bridge), acc, DT, "reference")
+    b = analyze(Bridge(bridge), acc, DT, "reference", rtol=1e-11, event_tol=1e-12)
     assert a.n_impacts == b.n_impacts
     assert relative_peak_difference(b, a) < 1e-8
 
@@ -231,9 +232,11 @@ def test_reference_is_converged():
 def test_default_converges_towards_reference():
     """Tightening the default preset's tolerance brings its peaks to the reference's."""
     bridge, acc = studied_bridge(1.25), ground_motion(seed=2)
-    reference = analyze(bridge, acc, DT, "reference")
-    errors = [relative_peak_difference(analyze(bridge, acc, DT, "default", rtol=rtol), reference)
-              for rtol in (1e-4, 1e-7, 1e-10)]  # fmt: skip
+    reference = analyze(Bridge(bridge), acc, DT, "reference")
+    errors = [
+        relative_peak_difference(analyze(Bridge(bridge), acc, DT, "default", rtol=rtol), reference)
+        for rtol in (1e-4, 1e-7, 1e-10)
+    ]
     assert errors[2] < 1e-8
     assert errors[2] <= errors[1] <= max(errors[0], 1e-12)
 
@@ -243,8 +246,8 @@ def test_compiled_and_plain_python_kernels_agree():
     bridge = studied_bridge(1.25)
     acc = ground_motion(duration=4.0, seed=9)
     opts = fidelity.settings(fidelity.knobs("default"))
-    compiled = integrate(bridge, laws(bridge), EXACT, acc, DT, opts, 0.0, 0.0)
-    plain = integrate.py_func(bridge, laws(bridge), EXACT, acc, DT, opts, 0.0, 0.0)
+    compiled = integrate(bridge, Bridge(bridge).laws(), EXACT, acc, DT, opts, 0.0, 0.0)
+    plain = integrate.py_func(bridge, Bridge(bridge).laws(), EXACT, acc, DT, opts, 0.0, 0.0)
     for x, y in zip(compiled, plain, strict=True):
         np.testing.assert_allclose(x, y, rtol=1e-12, atol=1e-15)
 
@@ -270,7 +273,7 @@ EXTREMES = {
 def test_extremes_finish_cleanly(name, preset):
     """Each extreme bridge under a strong motion finishes without NaN before its end and
     without an endless event loop."""
-    response = analyze(EXTREMES[name], ground_motion(pga=1.0 * G, seed=4), DT, preset)
+    response = analyze(Bridge(EXTREMES[name]), ground_motion(pga=1.0 * G, seed=4), DT, preset)
     assert response.status == "ok"
     ended = response.time <= (response.failure_time if response.failure_mode != "none" else 1e9)
     for key, values in response.histories.items():
@@ -283,7 +286,7 @@ def test_chattering_near_rest_ends_in_rest():
     ever smaller impacts; the chatter guard (docs/model.md §7) ends them."""
     bridge = studied_bridge(2.0)
     threshold = impacts.onset_threshold(bridge, 1.0)
-    response = analyze(bridge, half_sine(1.05 * threshold, period=0.6, duration=20.0), DT)
+    response = analyze(Bridge(bridge), half_sine(1.05 * threshold, period=0.6, duration=20.0), DT)
     kinds = list(response.events["kind"])
     assert "rest" in kinds and response.n_impacts < 2000
     assert response.histories["mode"][-1] == 0 and response.histories["theta1"][-1] == 0.0
@@ -293,7 +296,7 @@ def test_strong_motion_fails_the_abutment_first():
     """A motion far above the paper's: the abutment–backfill fails (|u_deck| = u_jo + u_ab) and
     the analysis stops there (docs/model.md §7)."""
     bridge = studied_bridge(1.25)
-    response = analyze(bridge, ground_motion(pga=3.0 * G, seed=8), DT)
+    response = analyze(Bridge(bridge), ground_motion(pga=3.0 * G, seed=8), DT)
     assert response.failure_mode == "abutment"
     assert response.peaks["u_deck"][0] == pytest.approx(bridge.u_jo + bridge.u_ab, rel=1e-6)
     # the backfill at its capacity: (|u_deck| − u_jo)/u_ab = u_ab/u_ab (docs/model.md §8)
@@ -305,7 +308,7 @@ def test_strong_motion_fails_the_abutment_first():
 def test_strong_pulse_overturns_a_frame():
     """Without abutments a long strong pulse overturns the piers (|u_pier| = B)."""
     frame = studied_bridge(1.25, abutments=False)
-    response = analyze(frame, half_sine(1.0 * G, period=4.0, duration=8.0), DT)
+    response = analyze(Bridge(frame), half_sine(1.0 * G, period=4.0, duration=8.0), DT)
     assert response.failure_mode.startswith("overturning")
     assert response.dcr_overturning == pytest.approx(1.0, rel=1e-6)  # |u_pier| = B
     assert np.isnan(response.dcr_backfill)  # no abutments, no backfill
@@ -325,7 +328,7 @@ def test_strong_pulse_overturns_a_frame():
 )
 def test_bad_ground_motions_are_refused(acc, dt, reason):
     with pytest.raises(ValueError, match=reason):
-        analyze(studied_bridge(1.0), acc, dt)
+        analyze(Bridge(studied_bridge(1.0)), acc, dt)
 
 
 def test_block_overturns_as_pier1_only():
@@ -333,7 +336,7 @@ def test_block_overturns_as_pier1_only():
     twin (`geometry.single_block`) never reports a failure of its own. Regression: the two
     simultaneous overturning events used to be relocated in turn forever."""
     block = single_block(B=1.3, H=13.0, density=2500.0, g=G)
-    response = analyze(block, half_sine(0.5 * G, period=4.0, duration=8.0), DT)
+    response = analyze(Bridge(block), half_sine(0.5 * G, period=4.0, duration=8.0), DT)
     assert response.failure_mode == "overturning_pier1"
     assert response.peaks["u_pier1"][0] == pytest.approx(block.B, rel=1e-6)
 
@@ -348,7 +351,7 @@ def test_asymmetric_frame_half_cycle_against_scipy():
     t = np.arange(0.0, 6.0 + DT / 2, DT)
     slope = 2.0 * onset  # peak 2·ü_g,min at t = 1 s, back to zero at t = 2 s
     acc = np.interp(t, [0.0, 1.0, 2.0, 6.0], [0.0, slope, 0.0, 0.0])
-    response = analyze(frame, acc, DT, "reference")
+    response = analyze(Bridge(frame), acc, DT, "reference")
     first_impact = response.events["time"][response.events["kind"] == "impact"][0]
 
     def rhs(time, y):
@@ -391,7 +394,7 @@ def test_dcr_backfill_needs_abutments():
 
 def test_significant_impacts_are_those_above_the_rate():
     """n_impacts_significant counts the impact events whose |θ̇1| before exceeds the threshold."""
-    response = analyze(studied_bridge(2.0), ground_motion(pga=0.69 * G, seed=3), DT)
+    response = analyze(Bridge(studied_bridge(2.0)), ground_motion(pga=0.69 * G, seed=3), DT)
     impact = response.events["kind"] == "impact"
     rates = np.abs(response.events["rate_before"][impact])
     assert response.n_impacts_significant == np.sum(rates > SIGNIFICANT_RATE)
@@ -407,8 +410,8 @@ def test_a_failure_after_the_record_is_seen_with_a_tail():
     motion) after it shows the piers overturn at 2.44 s (issue 9: failures after the record)."""
     frame = studied_bridge(1.25, abutments=False)
     ground = half_sine(0.45 * G, period=2.0, duration=2.0)
-    without = analyze(frame, ground, DT)
-    with_tail = analyze(frame, ground, DT, tail=10.0)
+    without = analyze(Bridge(frame), ground, DT)
+    with_tail = analyze(Bridge(frame), ground, DT, tail=10.0)
     assert without.failure_mode == "none" and without.time[-1] == pytest.approx(2.0)
     assert with_tail.failure_mode.startswith("overturning")
     assert 2.0 < with_tail.failure_time < 12.0
@@ -418,10 +421,13 @@ def test_a_failure_after_the_record_is_seen_with_a_tail():
 def test_a_tail_lets_the_bridge_come_to_rest_and_changes_nothing_before():
     bridge = studied_bridge(2.0)
     ground = half_sine(0.3 * G, period=1.0, duration=3.0)
-    short, long = analyze(bridge, ground, DT), analyze(bridge, ground, DT, tail=30.0)
+    short, long = (
+        analyze(Bridge(bridge), ground, DT),
+        analyze(Bridge(bridge), ground, DT, tail=30.0),
+    )
     assert long.time[-1] == pytest.approx(33.0) and short.time[-1] == pytest.approx(3.0)
     n = short.time.size
     np.testing.assert_array_equal(long.histories["theta1"][:n], short.histories["theta1"][:n])
     assert long.histories["mode"][-1] == 0  # at rest before the tail ends
     with pytest.raises(ValueError, match="tail"):
-        analyze(bridge, ground, DT, tail=-1.0)
+        analyze(Bridge(bridge), ground, DT, tail=-1.0)

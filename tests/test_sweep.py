@@ -60,10 +60,10 @@ def test_variants_are_the_bridge_with_the_field_changed(tmp_path):
     base = load_study(write_study(tmp_path, bridges=("studied-hbar1.25",), name="b.yaml"))
     original = base.bridges[0].config
     gap = study.bridges[1].config
-    assert gap.abutments.gap == 0.24 and gap.to_model().u_jo == 0.24
+    assert gap.abutments.gap == 0.24 and gap.to_bridge().model.u_jo == 0.24
     assert gap.model_dump(exclude={"abutments"}) == original.model_dump(exclude={"abutments"})
     assert study.bridges[2].config.piers.heights == [26.0, 13.0]
-    assert study.bridges[4].config.to_model().H2 == 13.0  # half the 26 m pier: h̄ = 1
+    assert study.bridges[4].config.to_bridge().model.H2 == 13.0  # half the 26 m pier: h̄ = 1
     assert study.bridges[1].swept == {"abutments.gap": 0.24, "piers.heights.1": 20.8}
     assert study.bridges[1].varied == ("abutments.gap",)
 

@@ -14,6 +14,7 @@ import pytest
 from conftest import BRIDGES, studied_bridge
 
 from rockbridge_cli.core.analysis import analyze
+from rockbridge_cli.core.bridge import Bridge
 from rockbridge_cli.core.dynamics import acceleration, coefficients
 from rockbridge_cli.core.geometry import single_block
 from rockbridge_cli.core.impacts import capacities
@@ -78,8 +79,8 @@ def test_an_analysis_on_tables_equals_the_exact_one():
     bridge = studied_bridge(2.0)
     t = np.arange(0.0, 12.0, 0.01)
     ground = 0.45 * 9.81 * np.sin(2 * np.pi * t / 1.2) * np.exp(-(((t - 5.0) / 2.5) ** 2))
-    exact = analyze(bridge, ground, 0.01, "default", kinematics="exact")
-    table = analyze(bridge, ground, 0.01, "default", kinematics="tabulated")
+    exact = analyze(Bridge(bridge), ground, 0.01, "default", kinematics="exact")
+    table = analyze(Bridge(bridge), ground, 0.01, "default", kinematics="tabulated")
     assert exact.n_impacts == table.n_impacts and exact.failure_mode == table.failure_mode
     for name, (value, _) in exact.peaks.items():
         if name in ("theta_deck", "u_deck", "v_deck", "theta1", "theta2"):

@@ -66,9 +66,8 @@ def analyze(
         click.echo(f"warning: {warning}", err=True)
     if output is None:
         response = run_analysis(
-            config.to_model(), motion.acceleration, motion.time_step, fidelity, config.mirrored,
-            restitution=config.rocking_restitution, tail=tail,
-        )  # fmt: skip
+            config.to_bridge(), motion.acceleration, motion.time_step, fidelity, tail=tail
+        )
         summary = response.summary()
     else:  # the same analysis, through the study runner, so that the file has run's layout
         import dataclasses

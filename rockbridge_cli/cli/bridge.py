@@ -23,9 +23,10 @@ def describe(bridge: Path, as_json: bool) -> None:
     config = load_bridge(bridge)
     for warning in bridge_warnings(config):
         click.echo(f"warning: {bridge}: {warning}", err=True)
-    model = config.to_model()
-    summary = summarize(model, mirrored=config.mirrored)
-    summary["rocking_restitution"] = config.rocking_restitution
+    analysed = config.to_bridge()
+    model = analysed.model
+    summary = summarize(analysed)
+    summary["rocking_restitution"] = analysed.restitution
     # what the demand/capacity ratios divide by (docs/model.md §8) [m]
     summary.update(gap=model.u_jo if model.has_abutments else None,
                    backfill_capacity=model.u_ab if model.has_abutments else None,

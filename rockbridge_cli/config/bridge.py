@@ -14,6 +14,7 @@ from pathlib import Path
 from pydantic import Field, PositiveFloat, ValidationInfo, field_validator, model_validator
 
 from ..core import geometry
+from ..core.bridge import Bridge
 from ..core.geometry import Model
 from . import loading
 from .loading import StrictModel
@@ -151,8 +152,12 @@ class BridgeConfig(StrictModel):
         """The bridge's name, or ``fallback``."""
         return self.name or fallback
 
-    def to_model(self) -> Model:
-        """The core `Model`, tall pier first, in SI units."""
+    def to_bridge(self) -> Bridge:
+        """The bridge as the core analyses it: the model (tall pier first, SI units), whether it
+        is mirrored, and the restitution override."""
+        return Bridge(self._model(), mirrored=self.mirrored, restitution=self.rocking_restitution)
+
+    def _model(self) -> Model:
         B = 0.5 * self.piers.width
         heights = sorted(self.piers.heights, reverse=True)
         H1 = 0.5 * heights[0]

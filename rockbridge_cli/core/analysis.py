@@ -5,13 +5,14 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
-from . import fidelity, impacts
+from . import fidelity
 from ._jit import jit
-from .geometry import Model, kind, pounding_ratio
+from .bridge import Bridge
+from .geometry import Model, kind
 from .kinematics import EXACT, Kinematics, displacements, simplified
 from .quantities import PEAK_NAMES, SIGNIFICANT_RATE
 from .solver import (
@@ -20,7 +21,6 @@ from .solver import (
     IMPACT,
     ONSET,
     POUNDING,
-    Laws,
     integrate,
 )
 from .tables import tabulated
@@ -73,7 +73,6 @@ class Response:
     solve_time_s: float
     steps: int
     rejected_steps: int
-    extra: dict = field(default_factory=dict)
 
     def summary(self) -> dict[str, object]:
         """Flat dictionary of the scalar results (peaks as ``<name>_max`` and ``<name>_time``)."""
@@ -116,39 +115,11 @@ _FAILURE_MODES = ("abutment", "overturning_pier1", "overturning_pier2")
 _ABSENT_IN_A_BLOCK = ("u_deck", "v_deck", "theta_deck", "theta2", "u_pier2")
 
 
-def laws(model: Model, restitution: float | None = None) -> Laws:
-    """Onset thresholds, restitution coefficients and pounding ratio of a bridge.
-
-    Parameters
-    ----------
-    restitution
-        Overrides η in both directions (for example a measured value) [-].
-    """
-    eta = [
-        restitution if restitution is not None else impacts.restitution(model, s) for s in (1, -1)
-    ]
-    if min(eta) <= 0.0:
-        raise ValueError(
-            f"the impact law gives η = {min(eta):.4g} ≤ 0 for this bridge: the rocking would not "
-            "reverse smoothly (the paper's assumption); set rocking_restitution in the bridge "
-            "config"
-        )
-    return Laws(
-        onset_p=impacts.onset_threshold(model, 1.0),
-        onset_n=impacts.onset_threshold(model, -1.0),
-        eta_p=eta[0],
-        eta_n=eta[1],
-        pounding=pounding_ratio(model),
-    )
-
-
 def analyze(
-    model: Model,
+    bridge: Bridge,
     acceleration: np.ndarray,
     time_step: float,
     preset: str = "default",
-    mirrored: bool = False,
-    restitution: float | None = None,
     initial: tuple[float, float] = (0.0, 0.0),
     **overrides: object,
 ) -> Response:
@@ -156,19 +127,14 @@ def analyze(
 
     Parameters
     ----------
-    model
-        The bridge, tall pier first (`config.bridge.BridgeConfig.to_model`).
+    bridge
+        The bridge as analysed (`config.bridge.BridgeConfig.to_bridge`, or `bridge.Bridge`).
     acceleration
         Ground acceleration at uniform samples, positive to the right [m/s²].
     time_step
         Sample interval of ``acceleration`` [s].
     preset
         Fidelity preset (`fidelity.PRESETS`).
-    mirrored
-        The user's bridge has its tall pier on the right: the analysis runs on the mirror image
-        and the results are mirrored back.
-    restitution
-        Overrides the computed η of the rocking interfaces [-].
     initial
         Initial rotation θ1 [rad] and angular velocity θ̇1 [rad/s] of the tall pier; non-zero
         values start the bridge rocking at t = 0 (free vibration).
@@ -179,9 +145,17 @@ def analyze(
 
     Raises
     ------
+    TypeError
+        ``bridge`` is not a `bridge.Bridge` (a bare `Model` does not say which way it faces).
     ValueError
         An empty, non-finite or too short record, or a non-positive time step.
     """
+    if not isinstance(bridge, Bridge):
+        raise TypeError(
+            f"analyze takes a Bridge (BridgeConfig.to_bridge() or core.bridge.Bridge), not "
+            f"{type(bridge).__name__}: a bare model does not say whether it is mirrored"
+        )
+    model = bridge.model
     acc = np.ascontiguousarray(acceleration, dtype=float)
     if acc.ndim != 1 or acc.size < 2:
         raise ValueError("the ground motion needs at least two samples")
@@ -194,13 +168,13 @@ def analyze(
         raise ValueError(f"the tail must be a finite time ≥ 0 s, got {values['tail']}")
     acc = np.concatenate([acc, np.zeros(int(round(values["tail"] / time_step)))])
     kin = _kinematics(model, values["kinematics"])
-    sign = -1.0 if mirrored else 1.0
-    bridge_laws = laws(model, restitution)
+    sign = bridge.sign
+    laws = bridge.laws()
 
     start = time.perf_counter()
     theta1, rate, mode, events, peaks, status = integrate(
         model,
-        bridge_laws,
+        laws,
         kin,
         sign * acc,
         float(time_step),

@@ -3,8 +3,8 @@
 * Onset (Eq. 8, docs/model.md §5): mode s starts when s·ü_g exceeds the static threshold at rest.
 * Impacts at the rocking interfaces (Eqs. 21–29, docs/model.md §6): the impulse–momentum balance
   of the three bodies with impulses at the new pivots, the abutment seats carrying L1/(L1 + L2) of
-  the pier–deck impulses, solved as one linear system. The corrected closed form of Eq. (30) is kept
-  as an independent check (`restitution_eq30`).
+  the pier–deck impulses, solved as one linear system (the tests check it against the corrected
+  closed form of Eq. 30).
 * Pounding on the backwall (Eq. 20) is `geometry.pounding_ratio`.
 * Failure (docs/model.md §7): the abutment–backfill fails at |u_deck| = u_jo + u_ab, a pier
   overturns at |u_pier| = B; `capacities` finds the tall pier's rotation at which each is reached.
@@ -19,7 +19,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from .dynamics import coefficients
-from .geometry import Model, ratios
+from .geometry import Model
 from .kinematics import EXACT, centres, displacements
 
 
@@ -104,46 +104,6 @@ def _rest_jacobian(model: Model, s: float) -> np.ndarray:
     return np.array(
         [[d1[0], d1[1], 1.0], [d1[2], d1[3], ang[0]], [d1[4], d1[5], ang[1]]], dtype=float
     )
-
-
-def restitution_eq30(model: Model, s: float) -> float:
-    """Corrected closed form of Eq. (30): η of a bridge (with seats) for the impact ending mode s.
-
-    docs/model.md §6: the ∓2α6·b̄(h̄² − 1) and ±2α8·b̄(h̄² − 1) terms belong inside the preceding
-    B²(…) brackets; the upper signs (s = +1) give p→n, the lower (s = −1) n→p. Kept as an
-    independent check of `restitution`.
-    """
-    r = ratios(model)
-    hb, bb, Lb = r["h_bar"], r["b_bar"], r["L_bar"]
-    B, H1, h = model.B, model.H1, model.h
-    a1 = 4 * Lb**3 + 6 * Lb**2 + 4 * Lb + 1
-    a2 = 4 * Lb**3 + 4 * Lb**2 + Lb
-    a3 = 2 * Lb**2 + 3 * Lb + 1
-    a4 = 2 * Lb**3 + 4 * Lb**2 + 3 * Lb + 1
-    a5 = (Lb + 1) ** 2
-    a6 = 2 * Lb**3 + 3 * Lb**2 + Lb
-    a7 = 4 * Lb**3 + 8 * Lb**2 + 7 * Lb + 2
-    a8 = 2 * Lb**3 + 5 * Lb**2 + 5 * Lb + 2
-    d = hb - 1.0
-    num = (
-        a1 * (H1**2 - B**2) * model.m1 + a1 * model.I1
-        + a1 * (H1**2 - hb**2 * B**2) * model.m2 + a1 * hb**2 * model.I2
-        + (
-            4 * a1 * H1**2 + s * 4 * a2 * H1 * h * bb * d - 4 * a3 * h**2 * bb**2 * d**2
-            - B**2 * (a4 * (hb + 1) ** 2 - 4 * a5 * bb**2 * d**2 - s * 2 * a6 * bb * (hb**2 - 1))
-        ) * model.md
-        - 4 * a3 * bb**2 * d**2 * model.Id
-    )  # fmt: skip
-    den = (
-        a1 * (H1**2 + B**2) * model.m1 + a1 * model.I1
-        + a1 * (H1**2 + hb**2 * B**2) * model.m2 + a1 * hb**2 * model.I2
-        + (
-            4 * a1 * H1**2 - s * 4 * a7 * H1 * h * bb * d + 4 * a3 * h**2 * bb**2 * d**2
-            + B**2 * (a4 * (hb + 1) ** 2 + 4 * a5 * bb**2 * d**2 + s * 2 * a8 * bb * (hb**2 - 1))
-        ) * model.md
-        + 4 * a3 * bb**2 * d**2 * model.Id
-    )  # fmt: skip
-    return num / den
 
 
 def capacities(model: Model) -> dict[str, dict[str, float]]:

@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 from . import impacts
-from .geometry import Model, kind, pounding_ratio, ratios
+from .bridge import Bridge
+from .geometry import kind, pounding_ratio, ratios
 
 SUMMARY_UNITS = {
     "m_pier1": "kg", "m_pier2": "kg", "m_deck": "kg", "m_abut": "kg",
@@ -16,33 +17,29 @@ SUMMARY_UNITS = {
 """Units of the numeric entries of `summarize` (its ``capacities`` are rotations [rad])."""
 
 
-def user_modes(mirrored: bool) -> tuple[float, float]:
-    """The core's modes behind the user's p and n (swapped when the tall pier is on the right)."""
-    return (-1.0, 1.0) if mirrored else (1.0, -1.0)
-
-
-def summarize(model: Model, mirrored: bool = False) -> dict[str, object]:
+def summarize(bridge: Bridge) -> dict[str, object]:
     """Derived constants, onset, restitution and failure capacities of a bridge.
 
     Parameters
     ----------
-    model
-        The bridge (tall pier first).
-    mirrored
-        True when the user's bridge has its tall pier on the right: the modes p and n are then
-        swapped so that "p" is counter-clockwise rocking in the user's drawing.
+    bridge
+        The bridge as analysed; when mirrored the modes p and n are swapped so that "p" is
+        counter-clockwise rocking in the user's drawing, and an overridden restitution is the
+        η reported.
 
     Returns
     -------
     dict with ``model`` (its kind), masses [kg], inertias [kg·m²], ``R1``, ``R2`` [m], ``alpha1``,
     ``alpha2`` [rad], ``h_bar``, ``b_bar``, ``L_bar``, ``gamma`` [-], ``q`` [m/N], onset
     accelerations ``ug_min_p``, ``ug_min_n`` [m/s², magnitudes] and in g (``*_g``), ``eta_pn``,
-    ``eta_np`` (bridge), ``eta_frame_pn``, ``eta_frame_np`` (same bridge without seat impulses),
+    ``eta_np`` (the η the analysis uses), ``eta_frame_pn``, ``eta_frame_np`` (same bridge
+    without seat impulses),
     ``pounding_ratio`` [-], ``capacities`` (tall-pier rotation at each failure limit [rad]) and
     ``governing_failure``. Ratios that mean nothing for the model (q without abutments; h̄, b̄, L̄,
     γ for a single block) are None.
     """
-    modes = user_modes(mirrored)
+    model, mirrored = bridge.model, bridge.mirrored
+    modes = bridge.user_modes()
     onset = [abs(impacts.onset_threshold(model, s)) for s in modes]
     caps = impacts.capacities(model)
     governing = impacts.governing_failure(model, caps)
@@ -67,8 +64,8 @@ def summarize(model: Model, mirrored: bool = False) -> dict[str, object]:
         "ug_min_n": onset[1],
         "ug_min_p_g": onset[0] / model.g,
         "ug_min_n_g": onset[1] / model.g,
-        "eta_pn": impacts.restitution(model, modes[0]),
-        "eta_np": impacts.restitution(model, modes[1]),
+        "eta_pn": bridge.eta(modes[0]),
+        "eta_np": bridge.eta(modes[1]),
         "eta_frame_pn": impacts.restitution(model, modes[0], abutment_seats=False),
         "eta_frame_np": impacts.restitution(model, modes[1], abutment_seats=False),
         "pounding_ratio": pounding_ratio(model),

@@ -17,6 +17,7 @@ import numpy as np
 
 from . import geometry, matching, spectra
 from .analysis import analyze
+from .bridge import Bridge
 from .fidelity import PRESETS
 
 TIME_STEP = 0.01
@@ -49,7 +50,7 @@ def compile_kernels() -> None:
     ground = pulse()
     for model in (studied_bridge(), geometry.single_block(1.3, 13.0, 2500.0, 9.81)):
         for preset in PRESETS:
-            analyze(model, ground, TIME_STEP, preset)
+            analyze(Bridge(model), ground, TIME_STEP, preset)
     periods = matching.compute_matching_periods((0.1, 1.0), 10, TIME_STEP)
     spectra.compute_psa(ground, TIME_STEP, periods, 0.05)
     matching.generate_matched_record(

@@ -23,7 +23,6 @@ from matplotlib.figure import Figure
 from ..config.bridge import BridgeConfig, load_bridge
 from ..core import impacts
 from ..core.geometry import Model, ratios, with_short_pier
-from ..core.summary import user_modes
 from ..errors import InputError
 from .common import check_format, panel_label, save, style
 
@@ -33,7 +32,7 @@ POINTS = 60
 
 def directions(config: BridgeConfig) -> tuple[float, float]:
     """The core's modes behind the user's p and n (swapped when the tall pier is on the right)."""
-    return user_modes(config.mirrored)
+    return config.to_bridge().user_modes()
 
 
 def h_bar_range(model: Model, h_max: float | None = None) -> np.ndarray:
@@ -44,7 +43,7 @@ def h_bar_range(model: Model, h_max: float | None = None) -> np.ndarray:
 
 def onset_curves(config: BridgeConfig, h_bars: np.ndarray) -> dict[str, np.ndarray]:
     """ü_g,min of modes p and n (magnitudes) at each h̄ [g] (Eq. 8; Fig. 3)."""
-    model = config.to_model()
+    model = config.to_bridge().model
     variants = [with_short_pier(model, h) for h in h_bars]
     return {
         mode: np.array([abs(impacts.onset_threshold(m, s)) / m.g for m in variants])
@@ -152,7 +151,7 @@ def _two_piers(bridge: str | Path) -> tuple[BridgeConfig, Model]:
     config = load_bridge(bridge)
     if len(config.piers.heights) != 2:
         raise InputError(bridge, [("piers.heights", "the figure varies a bridge with two piers")])
-    return config, config.to_model()
+    return config, config.to_bridge().model
 
 
 def _span_range(length: float) -> tuple[float, float]:

@@ -260,8 +260,9 @@ def _write_bridges(group: h5py.Group, study: Study) -> None:
     from ..core.summary import SUMMARY_UNITS, summarize
 
     for item in study.bridges:
-        model = item.config.to_model()
-        summary = summarize(model, mirrored=item.config.mirrored)
+        bridge = item.config.to_bridge()
+        model = bridge.model
+        summary = summarize(bridge)
         node = group.create_group(item.id)
         node.attrs.update(
             {
@@ -269,7 +270,7 @@ def _write_bridges(group: h5py.Group, study: Study) -> None:
                 "source": item.source,
                 "config": json.dumps(item.config.model_dump(mode="json"), indent=1),
                 "model": summary["model"],
-                "mirrored": item.config.mirrored,
+                "mirrored": bridge.mirrored,
                 "governing_failure": summary["governing_failure"],
                 "swept": json.dumps(item.swept),
                 "swept_units": json.dumps({path: field_unit(path) for path in item.swept}),

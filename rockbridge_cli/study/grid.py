@@ -11,19 +11,17 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 
 from ..config.study import scaled_id
-from ..core.geometry import Model
+from ..core.bridge import Bridge
 
 if TYPE_CHECKING:
     from ..config.study import Study
 
 
 class BridgeCase(NamedTuple):
-    """A bridge as the core analyses it."""
+    """A bridge of the study, by its id, as the core analyses it."""
 
     id: str
-    model: Model
-    mirrored: bool
-    restitution: float | None
+    bridge: Bridge
 
 
 class RecordCase(NamedTuple):
@@ -80,10 +78,7 @@ class Grid:
     def of(cls, study: Study, cells: tuple[Cell, ...] | None = None) -> Grid:
         """The grid of a resolved study: every bridge × record, or the ``cells`` listed (an
         IDA's, `ida.Plan`)."""
-        bridges = tuple(
-            BridgeCase(b.id, b.config.to_model(), b.config.mirrored, b.config.rocking_restitution)
-            for b in study.bridges
-        )
+        bridges = tuple(BridgeCase(b.id, b.config.to_bridge()) for b in study.bridges)
         records = tuple(
             RecordCase(
                 r.id, r.record.acceleration if r.record else None,

@@ -88,16 +88,14 @@ def _analyse(grid: Grid, bridge: BridgeCase, record: RecordCase) -> AnalysisResu
     start = time.perf_counter()
     try:
         response = analyze(
-            bridge.model, record.acceleration, record.time_step, grid.preset,
-            mirrored=bridge.mirrored, restitution=bridge.restitution, **grid.overrides,
-        )  # fmt: skip
+            bridge.bridge, record.acceleration, record.time_step, grid.preset, **grid.overrides
+        )
         rechecked = grid.recheck and grid.preset != "reference" and _near_a_limit(response)
         if rechecked:
             keep = {k: v for k, v in grid.overrides.items() if k in RECHECK_KEEPS}
             response = analyze(
-                bridge.model, record.acceleration, record.time_step, "reference",
-                mirrored=bridge.mirrored, restitution=bridge.restitution, **keep,
-            )  # fmt: skip
+                bridge.bridge, record.acceleration, record.time_step, "reference", **keep
+            )
     except Exception as exc:  # one failed analysis must not stop the others
         return AnalysisResult.failed(
             bridge.id, record.id, f"{type(exc).__name__}: {exc}", time.perf_counter() - start

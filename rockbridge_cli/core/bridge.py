@@ -1,0 +1,75 @@
+"""One bridge as the core analyses it: its `Model` (tall pier first), which way it faces, and the
+restitution of its rocking interfaces.
+
+Everything that analyses or describes a bridge takes this one object, so that no call can forget
+the mirror image or an overridden restitution (`analysis.analyze`, `summary.summarize`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from . import impacts
+from .geometry import Model, pounding_ratio
+from .solver import Laws
+
+
+@dataclass(frozen=True)
+class Bridge:
+    """A bridge, as analysed.
+
+    Attributes
+    ----------
+    model : the core model, tall pier first (docs/model.md §1)
+    mirrored : True when the user's bridge has its tall pier on the right: the core runs the mirror
+        image and its results are mirrored back, so that "p" is counter-clockwise rocking in the
+        user's drawing
+    restitution : η of the rocking interfaces in both directions, overriding the impact law
+        (for example a measured value); None uses Eqs. 21–29 [-]
+    """
+
+    model: Model
+    mirrored: bool = False
+    restitution: float | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.model, Model):
+            raise TypeError(f"Bridge needs a core Model, got {type(self.model).__name__}")
+
+    @property
+    def sign(self) -> float:
+        """+1, or −1 when mirrored: multiplies user-frame quantities into the core frame [-]."""
+        return -1.0 if self.mirrored else 1.0
+
+    def user_modes(self) -> tuple[float, float]:
+        """The core's modes behind the user's p and n (swapped when mirrored)."""
+        return (self.sign, -self.sign)
+
+    def eta(self, s: float) -> float:
+        """Restitution of the impact that ends the core's mode s: the override, or the law [-]."""
+        return (
+            self.restitution if self.restitution is not None else impacts.restitution(self.model, s)
+        )
+
+    def laws(self) -> Laws:
+        """Onset thresholds, restitution coefficients and pounding ratio, in the core's frame.
+
+        Raises
+        ------
+        ValueError
+            When η ≤ 0 in either direction: the rocking would not reverse as the paper assumes.
+        """
+        eta_p, eta_n = self.eta(1.0), self.eta(-1.0)
+        if min(eta_p, eta_n) <= 0.0:
+            raise ValueError(
+                f"the impact law gives η = {min(eta_p, eta_n):.4g} ≤ 0 for this bridge: the "
+                "rocking would not reverse smoothly (the paper's assumption); set "
+                "rocking_restitution in the bridge config"
+            )
+        return Laws(
+            onset_p=impacts.onset_threshold(self.model, 1.0),
+            onset_n=impacts.onset_threshold(self.model, -1.0),
+            eta_p=eta_p,
+            eta_n=eta_n,
+            pounding=pounding_ratio(self.model),
+        )
