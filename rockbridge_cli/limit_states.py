@@ -20,6 +20,8 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from .core.quantities import ABUTMENT, PIER1_OVERTURNING, PIER2_OVERTURNING
+
 DEFAULT = ("gap_closure", "backfill_50", "abutment_failure", "overturning")
 """The limit states a study reports when it names none."""
 
@@ -60,9 +62,9 @@ def reached(name: str, columns: Mapping[str, Any]) -> np.ndarray:
     if name == "gap_closure":
         return ratio > 0.0
     if name == "abutment_failure":
-        return mode == "abutment"
+        return mode == ABUTMENT
     if name == "overturning":
-        return np.char.startswith(mode, "overturning")
+        return (mode == PIER1_OVERTURNING) | (mode == PIER2_OVERTURNING)
     return ratio >= int(check(name).removeprefix("backfill_")) / 100.0
 
 

@@ -23,7 +23,16 @@ from rockbridge_cli.core.dynamics import acceleration, coefficients
 from rockbridge_cli.core.geometry import single_block
 from rockbridge_cli.core.kinematics import EXACT
 from rockbridge_cli.core.quantities import SIGNIFICANT_RATE
-from rockbridge_cli.core.solver import Laws, integrate
+from rockbridge_cli.core.solver import (
+    EVENT_KIND,
+    EVENT_MODE,
+    EVENT_RATE_AFTER,
+    EVENT_RATE_BEFORE,
+    IMPACT,
+    NO_ERROR,
+    Laws,
+    integrate,
+)
 
 DT = 0.01  # record sample interval [s]
 
@@ -100,15 +109,13 @@ def test_energy_is_conserved_between_impacts_and_across_them_with_the_mass_ratio
         pounding=1.0,
     )
     opts = fidelity.settings(fidelity.knobs("reference"))
-    *_, events, _, status = integrate(
-        frame, conservative, EXACT, np.zeros(2001), DT, opts, 0.004, 0.0
-    )
-    hits = events[events[:, 1] == 1]
-    assert len(hits) >= 10 and status[4] == 0
-    before = (
-        0.5 * np.array([mass[-m] for m in hits[:, 2]]) * hits[:, 3] ** 2
-    )  # mode before = −after
-    after = 0.5 * np.array([mass[m] for m in hits[:, 2]]) * hits[:, 4] ** 2
+    result = integrate(frame, conservative, EXACT, np.zeros(2001), DT, opts, 0.004, 0.0)
+    events = result.events
+    hits = events[events[:, EVENT_KIND] == IMPACT]
+    assert len(hits) >= 10 and result.error == NO_ERROR
+    modes, rates_before = hits[:, EVENT_MODE], hits[:, EVENT_RATE_BEFORE]
+    before = 0.5 * np.array([mass[-m] for m in modes]) * rates_before**2  # mode before = −after
+    after = 0.5 * np.array([mass[m] for m in modes]) * hits[:, EVENT_RATE_AFTER] ** 2
     np.testing.assert_allclose(after, before, rtol=1e-12)  # across each impact
     np.testing.assert_allclose(before[1:], after[:-1], rtol=1e-8)  # between impacts
 

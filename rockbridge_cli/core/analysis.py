@@ -13,14 +13,22 @@ from . import fidelity
 from ._jit import jit
 from .bridge import Bridge
 from .geometry import Model, kind
-from .kinematics import EXACT, Kinematics, displacements, simplified
-from .quantities import PEAK_NAMES, SIGNIFICANT_RATE
+from .kinematics import EXACT, Displacements, Kinematics, displacements, simplified
+from .quantities import HISTORY_UNITS, PEAK_NAMES, SIGNIFICANT_RATE
 from .solver import (
-    ABUTMENT_FAILURE,
+    EVENT_KIND,
+    EVENT_MODE,
     EVENT_NAMES,
+    EVENT_RATE_AFTER,
+    EVENT_RATE_BEFORE,
+    EVENT_TIME,
+    FAILURE_MODE,
     IMPACT,
+    NO_ERROR,
+    NOT_FAILED,
     ONSET,
     POUNDING,
+    SOLVER_ERRORS,
     integrate,
 )
 from .tables import tabulated
@@ -105,13 +113,6 @@ def dcr_backfill(model: Model, u_deck: float) -> float:
     return max(0.0, u_deck - model.u_jo) / model.u_ab
 
 
-_SOLVER_ERRORS = {
-    1: "the step size fell below 1e-14 s",
-    2: "too many events (chattering that the rest guard did not stop)",
-    3: "the state became non-finite",
-}
-_FAILURE_MODES = ("abutment", "overturning_pier1", "overturning_pier2")
-"""Failure modes, in the order of the solver's failure events (from `ABUTMENT_FAILURE` on)."""
 _ABSENT_IN_A_BLOCK = ("u_deck", "v_deck", "theta_deck", "theta2", "u_pier2")
 
 
@@ -172,7 +173,7 @@ def analyze(
     laws = bridge.laws()
 
     start = time.perf_counter()
-    theta1, rate, mode, events, peaks, status = integrate(
+    result = integrate(
         model,
         laws,
         kin,
@@ -184,25 +185,25 @@ def analyze(
     )
     solve_time = time.perf_counter() - start
 
-    track = _observe(model, kin, theta1, mode)
-    histories = {
-        "theta1": sign * theta1, "theta1_rate": sign * rate, "mode": sign * mode,
-        "theta2": sign * track[:, 6], "theta_deck": sign * track[:, 7],
-        "u_deck": sign * track[:, 4], "v_deck": track[:, 5],
-        "u_pier1": sign * track[:, 0], "v_pier1": track[:, 1],
-        "u_pier2": sign * track[:, 2], "v_pier2": track[:, 3],
-    }  # fmt: skip
+    theta1, events, peaks = result.theta1, result.events, result.peaks
+    observed = _observe(model, kin, theta1, result.mode).T
+    track = dict(zip(Displacements._fields, observed, strict=True))
+    columns = {"theta1": theta1, "theta1_rate": result.rate, "mode": result.mode, **track}
+    histories = {  # in a mirror image all but the vertical motions change sign
+        name: columns[name] if name.startswith("v_") else sign * columns[name]
+        for name in HISTORY_UNITS
+    }
     if kind(model) == "single-block":  # the block's massless twin and deck are not results
         peaks[[PEAK_NAMES.index(name) for name in _ABSENT_IN_A_BLOCK]] = np.nan
         for name in ("theta2", "theta_deck", "u_deck", "v_deck", "u_pier2", "v_pier2"):
             histories[name] = np.full_like(theta1, np.nan)
-    kinds = events[:, 1].astype(int)
-    failure = int(status[1])
-    if status[4] != 0:  # the integrator stopped early: no peak of the record is known
+    kinds = events[:, EVENT_KIND].astype(int)
+    failed = result.failure != NOT_FAILED
+    if result.error != NO_ERROR:  # the integrator stopped early: no peak of the record is known
         peaks[:] = np.nan
     peak = {name: peaks[i, 0] for i, name in enumerate(PEAK_NAMES)}
     impacts_at = kinds == IMPACT
-    onsets = events[kinds == ONSET, 0]
+    onsets = events[kinds == ONSET, EVENT_TIME]
     return Response(
         model=kind(model),
         fidelity=preset,
@@ -210,26 +211,31 @@ def analyze(
         time=np.arange(theta1.size) * values["output_step"],
         histories=histories,
         events={
-            "time": events[:, 0],
+            "time": events[:, EVENT_TIME],
             "kind": np.array([EVENT_NAMES[i] for i in kinds], dtype=object),
-            "mode": sign * events[:, 2],
-            "rate_before": sign * events[:, 3],
-            "rate_after": sign * events[:, 4],
+            "mode": sign * events[:, EVENT_MODE],
+            "rate_before": sign * events[:, EVENT_RATE_BEFORE],
+            "rate_after": sign * events[:, EVENT_RATE_AFTER],
         },
         peaks={name: (float(peaks[i, 0]), float(peaks[i, 1])) for i, name in enumerate(PEAK_NAMES)},
         t_onset=float(onsets[0]) if onsets.size else float("nan"),
         n_impacts=int(np.sum(impacts_at)),
-        n_impacts_significant=int(np.sum(np.abs(events[impacts_at, 3]) > SIGNIFICANT_RATE)),
+        n_impacts_significant=int(
+            np.sum(np.abs(events[impacts_at, EVENT_RATE_BEFORE]) > SIGNIFICANT_RATE)
+        ),
         n_poundings=int(np.sum(kinds == POUNDING)),
-        failure_mode=_FAILURE_MODES[failure - ABUTMENT_FAILURE] if failure >= 0 else "none",
-        failure_time=float(status[0]) if failure >= 0 else float("nan"),
+        failure_mode=FAILURE_MODE[result.failure],
+        failure_time=float(result.end_time) if failed else float("nan"),
         dcr_backfill=dcr_backfill(model, peak["u_deck"]),
         dcr_overturning=max(peak["u_pier1"], peak["u_pier2"] if model.m2 else 0.0) / model.B,
-        status=_SOLVER_ERRORS.get(int(status[4]), "ok"),
+        status=SOLVER_ERRORS[result.error],
         solve_time_s=solve_time,
-        steps=int(status[2]),
-        rejected_steps=int(status[3]),
+        steps=int(result.steps),
+        rejected_steps=int(result.rejected),
     )
+
+
+_DISPLACEMENTS = len(Displacements._fields)
 
 
 def _kinematics(model: Model, name: str) -> Kinematics:
@@ -241,13 +247,13 @@ def _kinematics(model: Model, name: str) -> Kinematics:
 
 @jit
 def _observe(model: Model, kin: Kinematics, theta1: np.ndarray, mode: np.ndarray) -> np.ndarray:
-    """Displacements (see `kinematics.displacements`) at every sample, shape (n, 8)."""
-    out = np.zeros((theta1.size, 8))
+    """`Displacements` at every sample, one column per field: shape (n, 8)."""
+    out = np.zeros((theta1.size, _DISPLACEMENTS))
     for i in range(theta1.size):
         if not np.isfinite(theta1[i]):
             out[i, :] = np.nan
         elif mode[i] != 0:
             values = displacements(model, float(mode[i]), theta1[i], kin)
-            for j in range(8):
+            for j in range(_DISPLACEMENTS):
                 out[i, j] = values[j]
     return out

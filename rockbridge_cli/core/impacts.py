@@ -21,6 +21,7 @@ from scipy.optimize import brentq
 from .dynamics import coefficients
 from .geometry import Model
 from .kinematics import EXACT, centres, displacements
+from .quantities import ABUTMENT, PIER1_OVERTURNING, PIER2_OVERTURNING
 
 
 def onset_threshold(model: Model, s: float) -> float:
@@ -123,18 +124,18 @@ def capacities(model: Model) -> dict[str, dict[str, float]]:
 
 @functools.lru_cache(maxsize=256)
 def _capacities(model: Model) -> dict[str, dict[str, float]]:
-    limits = {
-        "abutment": (4, model.u_jo + model.u_ab),
-        "overturning_pier1": (0, model.B),
-        "overturning_pier2": (2, model.B),
+    limits = {  # failure mode: (the displacement that reaches it, the limit [m])
+        ABUTMENT: ("u_deck", model.u_jo + model.u_ab),
+        PIER1_OVERTURNING: ("u_pier1", model.B),
+        PIER2_OVERTURNING: ("u_pier2", model.B),
     }
     if not model.has_abutments:
-        del limits["abutment"]
+        del limits[ABUTMENT]
     if model.m2 == 0.0:
-        del limits["overturning_pier2"]
+        del limits[PIER2_OVERTURNING]
     return {
-        name: {mode: _rotation_at(model, s, index, limit) for mode, s in (("p", 1.0), ("n", -1.0))}
-        for name, (index, limit) in limits.items()
+        name: {mode: _rotation_at(model, s, field, limit) for mode, s in (("p", 1.0), ("n", -1.0))}
+        for name, (field, limit) in limits.items()
     }
 
 
@@ -147,11 +148,12 @@ def governing_failure(model: Model, caps: dict[str, dict[str, float]] | None = N
     return min(caps, key=lambda name: min(abs(v) for v in caps[name].values()))
 
 
-def _rotation_at(model: Model, s: float, index: int, limit: float) -> float:
-    """Smallest s·θ1 > 0 with |displacement[index]| = limit, or ±inf if none below 1.5·α1."""
+def _rotation_at(model: Model, s: float, field: str, limit: float) -> float:
+    """Smallest s·θ1 > 0 at which the `Displacements` ``field`` reaches ±limit, or ±inf if none
+    below 1.5·α1."""
 
     def excess(t: float) -> float:
-        return abs(displacements(model, s, s * t, EXACT)[index]) - limit
+        return abs(getattr(displacements(model, s, s * t, EXACT), field)) - limit
 
     grid = np.linspace(0.0, 1.5 * model.alpha1, 385)[1:]
     previous = 0.0

@@ -180,6 +180,27 @@ def centres(model: Model, s: float, theta1: float, kin: Kinematics):
     return pos, d1, d2, (dpsi, dtheta, d2psi, d2theta, psi, theta)
 
 
+class Displacements(NamedTuple):
+    """Where a bridge is, relative to rest, at one rotation of its tall pier.
+
+    Attributes
+    ----------
+    u_pier1, v_pier1 : horizontal and vertical displacement of the tall pier's centre of gravity [m]
+    u_pier2, v_pier2 : the same for the short pier [m]
+    u_deck, v_deck : the same for the deck [m]
+    theta2, theta_deck : rotations of the short pier and of the deck from rest [rad]
+    """
+
+    u_pier1: float
+    v_pier1: float
+    u_pier2: float
+    v_pier2: float
+    u_deck: float
+    v_deck: float
+    theta2: float
+    theta_deck: float
+
+
 @inlined
 def displacements(model: Model, s: float, theta1: float, kin: Kinematics):
     """Displacements of the centres of gravity from rest, and the rotations (Eqs. 1, 4–6).
@@ -188,14 +209,12 @@ def displacements(model: Model, s: float, theta1: float, kin: Kinematics):
 
     Returns
     -------
-    u1, v1, u2, v2, u_deck, v_deck : horizontal and vertical displacements of the tall pier's,
-        the short pier's and the deck's centres of gravity [m]
-    theta2, theta_deck : rotations of the short pier and of the deck from rest [rad]
+    `Displacements`
     """
     piece, dx, mode = table_piece(kin, s, theta1)
     if piece >= 0:
         t = kin.table
-        return (
+        return Displacements(
             cubic(t, mode, piece, 6, dx), cubic(t, mode, piece, 7, dx),
             cubic(t, mode, piece, 8, dx), cubic(t, mode, piece, 9, dx),
             cubic(t, mode, piece, 10, dx), cubic(t, mode, piece, 11, dx),
@@ -209,7 +228,7 @@ def _linkage_displacements(model: Model, s: float, theta1: float, kin: Kinematic
     """`displacements` from the linkage itself (exact, or with the paper's fits)."""
     pos, _, _, ang = centres(model, s, theta1, kin)
     psi_rest = 0.5 * np.pi - s * np.arctan2(model.B, model.H2)
-    return (
+    return Displacements(
         pos[0], pos[1] - model.H1,
         pos[2] - model.L2, pos[3] - (2.0 * model.H1 - model.H2),
         pos[4] - 0.5 * model.L2, pos[5] - (2.0 * model.H1 + model.h),

@@ -13,6 +13,15 @@ PEAK_NAMES = ("u_deck", "v_deck", "theta_deck", "theta1", "theta2", "u_pier1", "
 PEAK_UNITS = {name: HISTORY_UNITS[name] for name in PEAK_NAMES}
 """Peak quantities: maxima of the absolute values, except v_deck (largest uplift)."""
 
+ABUTMENT, PIER1_OVERTURNING, PIER2_OVERTURNING = FAILURE_MODES = (
+    "abutment", "overturning_pier1", "overturning_pier2",
+)  # fmt: skip
+"""How an analysis can end in failure (docs/model.md §7): the abutment–backfill fails
+(|u_deck| = u_jo + u_ab) or a pier overturns (|u_pier| = B)."""
+
+NO_FAILURE = "none"
+"""The failure mode of an analysis in which nothing failed."""
+
 SIGNIFICANT_RATE = 1e-3
 """|θ̇1| before an impact above which it counts in ``n_impacts_significant`` [rad/s]. Measured on
 the paper's Fig. 9 study (2871 impacts): the rates before impacts fall in two groups, chatter near

@@ -31,10 +31,12 @@ from typing import NamedTuple
 
 import numpy as np
 
+from . import quantities
 from ._jit import inlined, jit
 from .dynamics import acceleration
 from .geometry import Model
-from .kinematics import Kinematics, displacements
+from .kinematics import Displacements, Kinematics, displacements
+from .quantities import PEAK_NAMES
 
 RK4, DOPRI5 = 0, 1
 """Integration schemes."""
@@ -46,7 +48,39 @@ EVENT_NAMES = (
     "onset", "impact", "pounding", "reopening", "rest",
     "abutment_failure", "overturning_pier1", "overturning_pier2",
 )  # fmt: skip
-"""Event kinds, by code."""
+"""Event kinds as the log records them, by code; the results file and the CLI use these names."""
+
+EVENT_TIME, EVENT_KIND, EVENT_MODE, EVENT_RATE_BEFORE, EVENT_RATE_AFTER = range(5)
+"""Columns of the event log: time [s], kind (`EVENT_NAMES`), rocking mode after the event (0 at
+rest), θ̇1 before and after it [rad/s]."""
+
+WATCH_IMPACT, WATCH_GAP, WATCH_ABUTMENT, WATCH_PIER1, WATCH_PIER2, WATCH_TURNING = range(6)
+"""What the integrator watches while rocking, one signed function each (`_watch`): the return to
+θ1 = 0 (an impact), the end gap (closing while open, reopening while closed), the abutment–backfill
+limit, the overturning of each pier, and θ̇1 = 0 (a turning point, only when asked for). Events
+within the event tolerance of each other are taken in this order."""
+
+NO_ERROR, STEP_UNDERFLOW, TOO_MANY_EVENTS, NON_FINITE_STATE = range(4)
+SOLVER_ERRORS = (
+    "ok",
+    "the step size fell below 1e-14 s",
+    "too many events (chattering that the rest guard did not stop)",
+    "the state became non-finite",
+)
+"""Why the integrator stopped before the end of the record, by code (`NO_ERROR` is none)."""
+
+NOT_FAILED = -1
+"""`Integration.failure` of an analysis in which nothing failed."""
+
+FAILURE_MODE = {
+    NOT_FAILED: quantities.NO_FAILURE,
+    ABUTMENT_FAILURE: quantities.ABUTMENT,
+    PIER1_OVERTURNING: quantities.PIER1_OVERTURNING,
+    PIER2_OVERTURNING: quantities.PIER2_OVERTURNING,
+}
+"""The failure mode (`quantities.FAILURE_MODES`) of each failure event."""
+
+_THETA1_PEAK = PEAK_NAMES.index("theta1")
 
 
 class Settings(NamedTuple):
@@ -94,6 +128,35 @@ class Laws(NamedTuple):
     eta_p: float
     eta_n: float
     pounding: float
+
+
+class Integration(NamedTuple):
+    """What `integrate` returns.
+
+    Attributes
+    ----------
+    theta1, rate : histories of θ1 [rad] and θ̇1 [rad/s] every ``output_step`` from t = 0; NaN
+        after a failure or a solver error
+    mode : rocking mode at each sample, 0 at rest [-]
+    events : event log, one row per event, columns `EVENT_TIME` … `EVENT_RATE_AFTER`
+    peaks : (len(`PEAK_NAMES`), 2): each quantity's peak and its time [s]
+    end_time : time at which the integration stopped [s]
+    failure : the failure event (`ABUTMENT_FAILURE`, `PIER1_OVERTURNING`, `PIER2_OVERTURNING`) or
+        `NOT_FAILED`
+    steps, rejected : steps taken and rejected by the error control [-]
+    error : `NO_ERROR` or why the integrator stopped early (`SOLVER_ERRORS`)
+    """
+
+    theta1: np.ndarray
+    rate: np.ndarray
+    mode: np.ndarray
+    events: np.ndarray
+    peaks: np.ndarray
+    end_time: float
+    failure: int
+    steps: int
+    rejected: int
+    error: int
 
 
 @inlined
@@ -173,42 +236,60 @@ def _step(model, kin, s, contact, acc, dt, k, t, y, w, f0, h, scheme):
 
 @inlined
 def _watch(model, s, contact, y, w, kin):
-    """Signed event functions at (θ1, θ̇1) = (y, w); an event fires when its function turns positive.
-
-    Order: impact, gap (closure while open, reopening while closed), abutment failure, pier 1 and
-    pier 2 overturning, turning point. Also returns the displacements (see `displacements`).
-    """
-    disp = displacements(model, s, y, kin)
-    gap = abs(disp[4]) - model.u_jo
+    """The watched functions at (θ1, θ̇1) = (y, w), indexed by ``WATCH_*``; an event is due when
+    its function turns positive. Also returns the `Displacements` there."""
+    d = displacements(model, s, y, kin)
+    gap = abs(d.u_deck) - model.u_jo
     functions = (
-        -s * y,
-        -gap if contact else gap,
-        abs(disp[4]) - (model.u_jo + model.u_ab),
-        abs(disp[0]) - model.B,
-        abs(disp[2]) - model.B if model.m2 > 0.0 else -1.0,  # a single block has no pier 2
-        -s * w,
+        -s * y,  # WATCH_IMPACT
+        -gap if contact else gap,  # WATCH_GAP
+        abs(d.u_deck) - (model.u_jo + model.u_ab),  # WATCH_ABUTMENT
+        abs(d.u_pier1) - model.B,  # WATCH_PIER1
+        abs(d.u_pier2) - model.B if model.m2 > 0.0 else -1.0,  # WATCH_PIER2 (a block has none)
+        -s * w,  # WATCH_TURNING
     )
-    return functions, disp
+    return functions, d
 
 
 @inlined
-def _fired(before, after, count, skip):
-    """Index of the first of the first ``count`` events (other than ``skip``) whose function
-    turned positive, or −1.
+def _fired(before, after, watched, skip):
+    """The first of the first ``watched`` functions (other than ``skip``) that turned positive
+    over a step, or −1.
 
     A function that starts a step at exactly zero counts as negative (it is zero right after its
     own event), except the turning point's: a step that starts with θ̇1 = 0 starts at the turning
     point itself (a release from rest), which is not an event.
     """
-    for i in range(count):
-        if i != skip and after[i] > 0.0 and (before[i] < 0.0 or (before[i] == 0.0 and i < 5)):
-            return i
+    for i in range(watched):
+        if i != skip and after[i] > 0.0:
+            if before[i] < 0.0 or (before[i] == 0.0 and i != WATCH_TURNING):
+                return i
     return -1
 
 
+@inlined
+def _tracked(theta1: float, d: Displacements):
+    """The peak quantities at one state, in the order of `PEAK_NAMES` (absolute values except
+    the deck's uplift)."""
+    return (
+        abs(d.u_deck), d.v_deck, abs(d.theta_deck), abs(theta1), abs(d.theta2), abs(d.u_pier1),
+        abs(d.u_pier2),
+    )  # fmt: skip
+
+
+@inlined
+def _failure_event(watch: int) -> int:
+    """The failure event of a failure watch."""
+    if watch == WATCH_ABUTMENT:
+        return ABUTMENT_FAILURE
+    if watch == WATCH_PIER1:
+        return PIER1_OVERTURNING
+    return PIER2_OVERTURNING
+
+
 @jit
-def _locate(model, kin, s, contact, acc, dt, k, t, y, w, f0, h, kind, glo, ghi, y1, w1, f1, opts):
-    """Length τ ≤ h of the step that ends just past event ``kind``, and the state there
+def _locate(model, kin, s, contact, acc, dt, k, t, y, w, f0, h, watch, glo, ghi, y1, w1, f1, opts):
+    """Length τ ≤ h of the step that ends just past the event of ``watch``, and the state there
     (θ1, θ̇1, θ̈1).
 
     The event function is ``glo`` ≤ 0 at the step's start (state ``y, w``, θ̈1 = ``f0``) and
@@ -224,7 +305,7 @@ def _locate(model, kin, s, contact, acc, dt, k, t, y, w, f0, h, kind, glo, ghi, 
             yp, wp, _, _, fp = _step(
                 model, kin, s, contact, acc, dt, k, t, y, w, f0, probe, opts.scheme
             )
-            gp = _watch(model, s, contact, yp, wp, kin)[0][kind]
+            gp = _watch(model, s, contact, yp, wp, kin)[0][watch]
             if gp < 0.0:
                 lo, glo = probe, gp
                 break
@@ -239,7 +320,7 @@ def _locate(model, kin, s, contact, acc, dt, k, t, y, w, f0, h, kind, glo, ghi, 
             mid = hi - ghi * (hi - lo) / (ghi - glo)
             mid = min(max(mid, lo + 0.01 * (hi - lo)), hi - 0.01 * (hi - lo))
         ym, wm, _, _, fm = _step(model, kin, s, contact, acc, dt, k, t, y, w, f0, mid, opts.scheme)
-        gm = _watch(model, s, contact, ym, wm, kin)[0][kind]
+        gm = _watch(model, s, contact, ym, wm, kin)[0][watch]
         if gm > 0.0:
             hi, ghi, y1, w1, f1 = mid, gm, ym, wm, fm
             if side == 1:
@@ -255,13 +336,116 @@ def _locate(model, kin, s, contact, acc, dt, k, t, y, w, f0, h, kind, glo, ghi, 
 
 @jit
 def _log(events, n, t, kind, s, before, after):
-    """Write event n (time, kind, mode after, θ̇1 before, θ̇1 after); returns n + 1."""
-    events[n, 0] = t
-    events[n, 1] = kind
-    events[n, 2] = s
-    events[n, 3] = before
-    events[n, 4] = after
+    """Write event n of ``kind`` (`EVENT_NAMES`) to the log; returns n + 1."""
+    events[n, EVENT_TIME] = t
+    events[n, EVENT_KIND] = kind
+    events[n, EVENT_MODE] = s
+    events[n, EVENT_RATE_BEFORE] = before
+    events[n, EVENT_RATE_AFTER] = after
     return n + 1
+
+
+@jit
+def _next_onset(acc, dt, laws, k, t):
+    """At rest from time t in sample interval k: the mode (±1, or 0 if none before the record
+    ends), the time and the interval of the next onset (Eq. 8) on the piecewise-linear motion."""
+    while k < acc.size - 1:
+        a0 = _ground(acc, dt, k, max(t, k * dt))
+        a1 = acc[k + 1]
+        if a0 > laws.onset_p or a0 < laws.onset_n:
+            return (1.0 if a0 > laws.onset_p else -1.0), max(t, k * dt), k
+        if a1 > laws.onset_p or a1 < laws.onset_n:
+            s = 1.0 if a1 > laws.onset_p else -1.0
+            target = laws.onset_p if s > 0.0 else laws.onset_n
+            t = min(max(t, k * dt + dt * (target - acc[k]) / (a1 - acc[k])), (k + 1) * dt)
+            return s, t, k
+        k += 1
+    return 0.0, t, k
+
+
+@inlined
+def _controlled(opts, y, w, y1, w1, err_y, err_w, h, h_step):
+    """DOPRI5's error control after a trial step of h_step: (accepted, next step size)."""
+    scale = max(
+        abs(err_y) / (opts.atol + opts.rtol * max(abs(y), abs(y1))),
+        abs(err_w) / (opts.atol + opts.rtol * max(abs(w), abs(w1))),
+    )
+    if not scale <= 1.0:
+        return False, h_step * (max(0.2, 0.9 * scale**-0.2) if np.isfinite(scale) else 0.2)
+    grown = h_step * (min(5.0, 0.9 * scale**-0.2) if scale > 0.0 else 5.0)
+    return True, (grown if h_step == h else max(h, grown))
+
+
+@jit
+def _first_event(model, kin, s, contact, acc, dt, k, t, y, w, f0, g0, h, y1, w1, f1, watched, opts):
+    """The first event due within a step of length h from t, if any.
+
+    ``g0`` are the watched functions at the step's start, (y1, w1, f1) the state after the full
+    step. Returns the watch that fired (−1: none), the length τ of the step to take (just past
+    that event, or h), the state there (θ1, θ̇1, θ̈1) and its watched functions and
+    `Displacements`. When another event fires earlier inside a shortened step, that one is
+    located instead; two events within the event tolerance of each other are simultaneous, and
+    the first in the ``WATCH_*`` order is taken.
+    """
+    g1, d1 = _watch(model, s, contact, y1, w1, kin)
+    tau = h
+    watch = _fired(g0, g1, watched, -1)
+    previous = -1
+    while watch >= 0:
+        located, y1, w1, f1 = _locate(
+            model, kin, s, contact, acc, dt, k, t, y, w, f0, tau, watch, g0[watch], g1[watch],
+            y1, w1, f1, opts,
+        )  # fmt: skip
+        g1, d1 = _watch(model, s, contact, y1, w1, kin)
+        if previous >= 0 and tau - located <= opts.event_tol:
+            return min(watch, previous), located, y1, w1, f1, g1, d1
+        tau = located
+        earlier = _fired(g0, g1, watched, watch)
+        if earlier < 0:
+            break
+        previous, watch = watch, earlier
+    return watch, tau, y1, w1, f1, g1, d1
+
+
+@jit
+def _sample(theta1, rate, mode, next_out, output_step, s, t, tau, t_new, y, w, y1, w1):
+    """Write the history samples that fall in the accepted step (t, t_new], by cubic Hermite
+    interpolation between its ends (θ1, θ̇1) = (y, w) and (y1, w1); returns the next sample."""
+    while next_out < theta1.size and next_out * output_step <= t_new + 1e-12:
+        if tau > 0.0:
+            x = (next_out * output_step - t) / tau
+            theta1[next_out] = (
+                (1.0 + 2.0 * x) * (1.0 - x) ** 2 * y + x * (1.0 - x) ** 2 * tau * w
+                + x * x * (3.0 - 2.0 * x) * y1 + x * x * (x - 1.0) * tau * w1
+            )  # fmt: skip
+            rate[next_out] = (
+                6.0 * x * (x - 1.0) * (y - y1) / tau
+                + (1.0 - x) * (1.0 - 3.0 * x) * w + x * (3.0 * x - 2.0) * w1
+            )  # fmt: skip
+        else:
+            theta1[next_out], rate[next_out] = y1, w1
+        mode[next_out] = np.int8(s)
+        next_out += 1
+    return next_out
+
+
+@jit
+def _impact(events, n_events, t, s, w, laws, acc, dt, k, opts):
+    """An impact at the rocking interfaces ends mode s: θ̇1 ← η_s·θ̇1 and the mode reverses;
+    then the chatter guard puts a slow bridge the ground cannot drive back at rest.
+
+    Returns the new mode, θ̇1 and event count.
+    """
+    before = w
+    w *= laws.eta_p if s > 0.0 else laws.eta_n
+    s = -s
+    n_events = _log(events, n_events, t, IMPACT, s, before, w)
+    ground = _ground(acc, dt, min(k, acc.size - 2), t)
+    driven = ground > laws.onset_p if s > 0.0 else ground < laws.onset_n
+    if abs(w) < opts.rest_velocity and not driven:
+        s, w = 0.0, 0.0
+        n_events = _log(events, n_events, t, REST, 0.0, before, 0.0)
+    return s, w, n_events
 
 
 @jit
@@ -274,7 +458,7 @@ def integrate(
     opts: Settings,
     theta0: float = 0.0,
     omega0: float = 0.0,
-):
+) -> Integration:
     """Integrate one ground motion.
 
     Parameters
@@ -297,50 +481,31 @@ def integrate(
 
     Returns
     -------
-    theta1, omega : histories of θ1 [rad] and θ̇1 [rad/s] every ``opts.output_step`` from t = 0
-    mode : rocking mode of each sample, 0 at rest [-]
-    events : array (n, 5): time [s], kind (`EVENT_NAMES`), mode after, θ̇1 before and after
-        [rad/s]
-    peaks : array (7, 2): value and time [s] of each `PEAK_NAMES` quantity
-    status : (end time [s], failure kind or −1, steps, rejected steps, solver error code:
-        0 none, 1 step underflow, 2 too many events, 3 non-finite state)
+    `Integration`
     """
     t_end = (acc.size - 1) * dt
     n_out = int(np.floor(t_end / opts.output_step + 1e-9)) + 1
     theta1 = np.zeros(n_out)
-    omega = np.zeros(n_out)
+    rate = np.zeros(n_out)
     mode = np.zeros(n_out, dtype=np.int8)
     events = np.zeros((opts.max_events, 5))
-    peaks = np.zeros((7, 2))
-    n_events = next_out = steps = rejected = solver_error = 0
-    failure = -1
-    count = 6 if opts.turning_points else 5
+    peaks = np.zeros((len(PEAK_NAMES), 2))
+    n_events = next_out = steps = rejected = 0
+    error, failure = NO_ERROR, NOT_FAILED
+    watched = WATCH_TURNING + 1 if opts.turning_points else WATCH_TURNING
     t, k, y, w, h = 0.0, 0, theta0, omega0, opts.step
-    # θ̈1 and the event functions at the current state, carried from one step to the next
+    # θ̈1 and the watched functions at the current state, carried from one step to the next
     # (known = False after anything that changes the state other than a step).
     f0, g0, known = np.nan, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0), False
     s = np.sign(theta0) if theta0 != 0.0 else np.sign(omega0)
-    contact = model.u_jo <= 0.0 or abs(displacements(model, s, y, kin)[4]) > model.u_jo
-    theta1[0], omega[0], mode[0] = y, w, np.int8(s)
+    contact = model.u_jo <= 0.0 or abs(displacements(model, s, y, kin).u_deck) > model.u_jo
+    theta1[0], rate[0], mode[0] = y, w, np.int8(s)
     if s != 0.0:
         n_events = _log(events, n_events, 0.0, ONSET, s, 0.0, w)
-        peaks[3, 0] = abs(y)
+        peaks[_THETA1_PEAK, 0] = abs(y)
     while k < acc.size - 1:
-        if s == 0.0:
-            # At rest: the next onset (Eq. 8) on the piecewise-linear ground motion.
-            while k < acc.size - 1:
-                a0 = _ground(acc, dt, k, max(t, k * dt))
-                a1 = acc[k + 1]
-                if a0 > laws.onset_p or a0 < laws.onset_n:
-                    s = 1.0 if a0 > laws.onset_p else -1.0
-                    t = max(t, k * dt)
-                    break
-                if a1 > laws.onset_p or a1 < laws.onset_n:
-                    s = 1.0 if a1 > laws.onset_p else -1.0
-                    target = laws.onset_p if s > 0.0 else laws.onset_n
-                    t = min(max(t, k * dt + dt * (target - acc[k]) / (a1 - acc[k])), (k + 1) * dt)
-                    break
-                k += 1
+        if s == 0.0:  # at rest until the next onset
+            s, t, k = _next_onset(acc, dt, laws, k, t)
             if s == 0.0:
                 break
             y, w, h, known = 0.0, 0.0, opts.step, False
@@ -366,105 +531,60 @@ def integrate(
         steps += 1
         if not (np.isfinite(y1) and np.isfinite(w1)):
             if opts.scheme == RK4:
-                solver_error = 3
+                error = NON_FINITE_STATE
                 break
             err_y = np.inf
         if opts.scheme == DOPRI5:
-            scale = max(
-                abs(err_y) / (opts.atol + opts.rtol * max(abs(y), abs(y1))),
-                abs(err_w) / (opts.atol + opts.rtol * max(abs(w), abs(w1))),
-            )
-            if not scale <= 1.0:
+            accepted, h = _controlled(opts, y, w, y1, w1, err_y, err_w, h, h_step)
+            if not accepted:
                 rejected += 1
-                h = h_step * (max(0.2, 0.9 * scale**-0.2) if np.isfinite(scale) else 0.2)
                 if h < 1e-14:
-                    solver_error = 1
+                    error = STEP_UNDERFLOW
                     break
                 continue
-            grown = h_step * (min(5.0, 0.9 * scale**-0.2) if scale > 0.0 else 5.0)
-            h = grown if h_step == h else max(h, grown)
-        g1, disp1 = _watch(model, s, contact, y1, w1, kin)
-        tau = h_step
-        kind = _fired(g0, g1, count, -1)
-        previous = -1
-        while kind >= 0:
-            # Locate it; if another event fired earlier inside the shortened step, locate that one;
-            # two events within the event tolerance of each other are simultaneous: the first in
-            # the order of `_watch` is taken.
-            located, y1, w1, f1 = _locate(
-                model, kin, s, contact, acc, dt, k, t, y, w, f0, tau, kind, g0[kind], g1[kind],
-                y1, w1, f1, opts,
-            )  # fmt: skip
-            g1, disp1 = _watch(model, s, contact, y1, w1, kin)
-            if previous >= 0 and tau - located <= opts.event_tol:
-                tau, kind = located, min(kind, previous)
-                break
-            tau = located
-            earlier = _fired(g0, g1, count, kind)
-            if earlier < 0:
-                break
-            previous, kind = kind, earlier
+        watch, tau, y1, w1, f1, g1, d1 = _first_event(
+            model, kin, s, contact, acc, dt, k, t, y, w, f0, g0, h_step, y1, w1, f1, watched, opts
+        )
 
-        # Accept the step: histories (cubic Hermite between the step's ends) and peaks.
-        t_new = boundary if (kind < 0 and tau == boundary - t) else t + tau
-        while next_out < n_out and next_out * opts.output_step <= t_new + 1e-12:
-            if tau > 0.0:
-                x = (next_out * opts.output_step - t) / tau
-                theta1[next_out] = (
-                    (1.0 + 2.0 * x) * (1.0 - x) ** 2 * y + x * (1.0 - x) ** 2 * tau * w
-                    + x * x * (3.0 - 2.0 * x) * y1 + x * x * (x - 1.0) * tau * w1
-                )  # fmt: skip
-                omega[next_out] = (
-                    6.0 * x * (x - 1.0) * (y - y1) / tau
-                    + (1.0 - x) * (1.0 - 3.0 * x) * w + x * (3.0 * x - 2.0) * w1
-                )  # fmt: skip
-            else:
-                theta1[next_out], omega[next_out] = y1, w1
-            mode[next_out] = np.int8(s)
-            next_out += 1
-        values = (
-            abs(disp1[4]), disp1[5], abs(disp1[7]), abs(y1), abs(disp1[6]),
-            abs(disp1[0]), abs(disp1[2]),
-        )  # fmt: skip
-        for i in range(7):
+        # Accept the step: histories and peaks.
+        t_new = boundary if (watch < 0 and tau == boundary - t) else t + tau
+        next_out = _sample(
+            theta1, rate, mode, next_out, opts.output_step, s, t, tau, t_new, y, w, y1, w1
+        )
+        values = _tracked(y1, d1)
+        for i in range(len(PEAK_NAMES)):
             if values[i] > peaks[i, 0]:
                 peaks[i, 0], peaks[i, 1] = values[i], t_new
         t, y, w, f0, g0 = t_new, y1, w1, f1, g1
         if t >= boundary:
             k += 1
-        if kind < 0 or kind == 5:  # no event, or a turning point: nothing changes but the peaks
+        if watch < 0 or watch == WATCH_TURNING:  # nothing changes but the peaks
             continue
 
         # Apply the event: the state changes.
         known = False
         if n_events >= opts.max_events - 2:
-            solver_error = 2
+            error = TOO_MANY_EVENTS
             break
-        before = w
-        if kind == 0:  # impact at the rocking interfaces
-            w *= laws.eta_p if s > 0.0 else laws.eta_n
-            s, y = -s, 0.0
-            n_events = _log(events, n_events, t, IMPACT, s, before, w)
-            ground = _ground(acc, dt, min(k, acc.size - 2), t)
-            driven = ground > laws.onset_p if s > 0.0 else ground < laws.onset_n
-            if abs(w) < opts.rest_velocity and not driven:
-                s, w = 0.0, 0.0
-                n_events = _log(events, n_events, t, REST, 0.0, before, 0.0)
-        elif kind == 1:  # the end gap closes (pounding) or reopens
-            if contact:
-                contact = False
-                n_events = _log(events, n_events, t, REOPENING, s, before, w)
-            else:
-                w *= laws.pounding
-                contact = laws.pounding > 0.0
-                n_events = _log(events, n_events, t, POUNDING, s, before, w)
-        else:  # failure ends the analysis
-            failure = ABUTMENT_FAILURE + kind - 2
-            n_events = _log(events, n_events, t, failure, s, before, w)
+        if watch == WATCH_IMPACT:
+            s, w, n_events = _impact(events, n_events, t, s, w, laws, acc, dt, k, opts)
+            y = 0.0
+        elif watch == WATCH_GAP and contact:  # the end gap reopens
+            contact = False
+            n_events = _log(events, n_events, t, REOPENING, s, w, w)
+        elif watch == WATCH_GAP:  # the deck pounds on the backwall and the gap closes
+            before = w
+            w *= laws.pounding
+            contact = laws.pounding > 0.0
+            n_events = _log(events, n_events, t, POUNDING, s, before, w)
+        else:  # a failure ends the analysis
+            failure = _failure_event(watch)
+            n_events = _log(events, n_events, t, failure, s, w, w)
             break
 
-    if failure >= 0 or solver_error:  # samples after the end are not defined
+    if failure != NOT_FAILED or error != NO_ERROR:  # samples after the end are not defined
         theta1[next_out:] = np.nan
-        omega[next_out:] = np.nan
-    status = np.array([t, failure, steps, rejected, solver_error], dtype=np.float64)
-    return theta1, omega, mode, events[:n_events].copy(), peaks, status
+        rate[next_out:] = np.nan
+    return Integration(
+        theta1, rate, mode, events[:n_events].copy(), peaks, t, failure, steps, rejected, error
+    )

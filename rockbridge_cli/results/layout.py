@@ -27,7 +27,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..core.quantities import PEAK_UNITS
+from ..core.quantities import FAILURE_MODES, NO_FAILURE, PEAK_UNITS
 
 FORMAT = "rockbridge-results"
 FORMAT_VERSION = 2
@@ -84,7 +84,7 @@ def _peak_columns() -> dict[str, tuple[str, str]]:
             "results",
         ),
         n_poundings=("-", "deck-backwall poundings; -1 without results"),
-        failure_mode=("-", "none, abutment, overturning_pier1 or overturning_pier2"),
+        failure_mode=("-", ", ".join((NO_FAILURE, *FAILURE_MODES))),
         failure_time=("s", "time of failure; NaN without"),
         dcr_backfill=(
             "-",
