@@ -71,7 +71,7 @@ def load_records(folder: Path | None):
         folder = BUNDLED
     if folder is None:
         return "synthetic", synthetic_records()
-    from rockbridge_cli.records import read_record_set
+    from rockbridge_cli.records.files import read_record_set
 
     return folder.name, [(r.name, r.time_step, r.acceleration) for r in read_record_set(folder)]
 

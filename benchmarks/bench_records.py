@@ -18,7 +18,8 @@ from rockbridge_cli.config.loading import load
 from rockbridge_cli.config.records import RecordSetConfig
 from rockbridge_cli.core.matching import compute_final_motion
 from rockbridge_cli.core.spectra import compute_psa
-from rockbridge_cli.records import generate_record_set, read_record_set
+from rockbridge_cli.records.files import read_record_set
+from rockbridge_cli.records.sets import generate_record_set
 
 CONFIG = Path(__file__).parents[1] / "configs" / "records" / "ec8-type1-C-ag0.6g.yaml"
 

@@ -16,7 +16,7 @@ from .core.quantities import STANDARD_GRAVITY
 
 if TYPE_CHECKING:
     from .config.bridge import BridgeConfig
-    from .records import Record
+    from .records.files import Record
 
 RECORD_PGA_G = (0.001, 5.0)
 """Peak ground accelerations outside this range [g] are not earthquake records (the largest

@@ -3,7 +3,7 @@
 The records are synthetic, short and strong enough to rock the studied bridges: a sine burst under
 a Gaussian envelope, 6 s at 0.01 s, peak 5.0 and 4.0 m/s² (0.51 g and 0.41 g), well above the
 onset thresholds of the studied bridges, 0.10–0.15 g (docs/model.md §10). They are written with
-`records.write_record`, so the files state their units and time step.
+`records.files.write_record`, so the files state their units and time step.
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from rockbridge_cli.records import Record, write_record
+from rockbridge_cli.records.files import Record, write_record
 
 REPO = Path(__file__).resolve().parents[1]
 BRIDGES = REPO / "configs" / "bridges"

@@ -13,7 +13,7 @@ from click.testing import CliRunner
 
 from rockbridge_cli.cli import main
 from rockbridge_cli.plausibility import record_warnings
-from rockbridge_cli.records import read_record
+from rockbridge_cli.records.files import read_record
 
 BRIDGE = """\
 piers: {width: 2.6, heights: [26.0, 20.8]}
@@ -59,7 +59,7 @@ def test_a_device_is_refused_at_once():
 
 
 def test_a_huge_record_file_is_refused_before_it_is_read(tmp_path, monkeypatch):
-    from rockbridge_cli import records
+    from rockbridge_cli.records import files as records
 
     monkeypatch.setattr(records, "MAX_RECORD_BYTES", 100)
     path = tmp_path / "big.txt"

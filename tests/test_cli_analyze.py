@@ -13,7 +13,7 @@ from click.testing import CliRunner
 from rockbridge_cli.cli import main
 from rockbridge_cli.config.bridge import load_bridge
 from rockbridge_cli.core.analysis import analyze
-from rockbridge_cli.records import read_record
+from rockbridge_cli.records.files import read_record
 from rockbridge_cli.results import read_events, read_peaks
 
 REPO = Path(__file__).resolve().parents[1]

@@ -66,3 +66,63 @@ def test_importing_the_core_loads_nothing_forbidden():
     assert report["added"] == []
     # nothing but numba's yaml in the baseline
     assert {m.split(".")[0] for m in report["baseline"]} <= {"yaml"}
+
+
+PACKAGE = CORE.parent
+
+
+def module_name(path: Path) -> str:
+    parts = path.relative_to(PACKAGE.parent).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def top_level_imports(path: Path) -> set[str]:
+    """The package's modules a file imports at its top level (what loading it loads)."""
+    name = module_name(path)
+    package = name if path.stem == "__init__" else name.rpartition(".")[0]
+    found = set()
+    for node in ast.parse(path.read_text(encoding="utf-8")).body:
+        if isinstance(node, ast.ImportFrom):
+            base = package.split(".")
+            base = base[: len(base) - node.level + 1] if node.level else []
+            module = ".".join(base + ([node.module] if node.module else []))
+            targets = [module] + [f"{module}.{alias.name}" for alias in node.names]
+        elif isinstance(node, ast.Import):
+            targets = [alias.name for alias in node.names]
+        else:
+            continue
+        found |= {t for t in targets if t.startswith("rockbridge_cli") and t != name}
+    return found
+
+
+def test_the_package_imports_in_one_direction():
+    """No two modules import each other, directly or round a loop (issue 13: config.study read
+    records, which read config.records back)."""
+    sources = {module_name(p): p for p in PACKAGE.rglob("*.py")}
+    graph = {name: top_level_imports(path) & sources.keys() for name, path in sources.items()}
+    for name in graph:  # a package's __init__ is loaded on the way to any of its modules
+        graph[name] -= {name.rpartition(".")[0]}
+    state: dict[str, int] = {}
+
+    def visit(name: str, trail: list[str]) -> None:
+        state[name] = 1
+        for target in sorted(graph[name]):
+            assert state.get(target) != 1, " -> ".join([*trail, name, target])
+            if target not in state:
+                visit(target, [*trail, name])
+        state[name] = 2
+
+    for name in sorted(graph):
+        if name not in state:
+            visit(name, [])
+
+
+def test_record_files_sit_below_the_configs_that_read_them():
+    """config.study reads record files, and record sets are generated from a config: the record
+    file module imports no config, and no config imports the record-set generator."""
+    files = top_level_imports(PACKAGE / "records" / "files.py")
+    assert not {m for m in files if m.startswith("rockbridge_cli.config")}
+    for path in (PACKAGE / "config").glob("*.py"):
+        assert not {
+            m for m in top_level_imports(path) if m.startswith("rockbridge_cli.records.sets")
+        }

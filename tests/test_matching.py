@@ -19,7 +19,8 @@ from rockbridge_cli.config.records import RecordSetConfig
 from rockbridge_cli.core import matching
 from rockbridge_cli.core.ec8 import compute_elastic_spectrum
 from rockbridge_cli.core.spectra import compute_psa, find_peak_responses
-from rockbridge_cli.records import generate_record_set, read_record_set, read_set_target
+from rockbridge_cli.records.files import read_record_set
+from rockbridge_cli.records.sets import generate_record_set, read_set_target
 
 ROOT = Path(__file__).parents[1]
 PAPER = ROOT / "configs" / "records" / "ec8-type1-C-ag0.6g.yaml"

@@ -11,15 +11,15 @@ import pytest
 
 from rockbridge_cli.core.bridge import Bridge
 from rockbridge_cli.errors import InputError
-from rockbridge_cli.records import (
+from rockbridge_cli.records.files import (
     Record,
     read_manifest,
     read_record,
     read_record_set,
-    read_set_target,
     read_stated_units,
     write_record,
 )
+from rockbridge_cli.records.sets import read_set_target
 
 DATA = Path(__file__).parent / "data" / "records"
 BUNDLED = Path(__file__).parents[1] / "records" / "ec8-type1-C-ag0.6g"

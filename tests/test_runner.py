@@ -297,7 +297,7 @@ def test_recheck_runs_near_a_capacity_again_at_reference(tmp_path):
     analyses far from every capacity keep `fast`'s."""
     from studies import RECORDS, burst
 
-    from rockbridge_cli.records import Record, write_record
+    from rockbridge_cli.records.files import Record, write_record
 
     write_record(tmp_path / "strong.txt", Record("strong", 0.01, 3.0 * burst(*RECORDS["R1"])))
     path = write_study(

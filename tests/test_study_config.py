@@ -13,7 +13,7 @@ from rockbridge_cli.config.study import Fidelity, load_study
 from rockbridge_cli.core.fidelity import knobs
 from rockbridge_cli.core.quantities import HISTORY_UNITS
 from rockbridge_cli.errors import InputError
-from rockbridge_cli.records import Record, write_record
+from rockbridge_cli.records.files import Record, write_record
 
 STUDIES = REPO / "configs" / "studies"
 BUNDLED = REPO / "records" / "ec8-type1-C-ag0.6g"
@@ -170,7 +170,7 @@ def test_bad_settings(tmp_path, extra, where, reason):
 
 def _record_set(folder):
     """A record set as `rockbridge generate-records` writes it: files and a manifest listing them
-    (only the keys `records.read_manifest` needs)."""
+    (only the keys `records.files.read_manifest` needs)."""
     write_records(folder)
     entries = ", ".join(f'{{"name": "{n}", "file": "{n}.txt"}}' for n in ("R2", "R1"))
     (folder / "manifest.json").write_text(f'{{"records": [{entries}]}}', encoding="utf-8")

@@ -57,7 +57,7 @@ def analyze(
     from ..config.bridge import load_bridge  # pydantic: loaded on use
     from ..core.analysis import analyze as run_analysis  # the compiled core: loaded on use
     from ..plausibility import bridge_warnings, record_warnings
-    from ..records import read_record
+    from ..records.files import read_record
 
     config = load_bridge(bridge)
     motion = read_record(record, units=units, time_step=time_step)

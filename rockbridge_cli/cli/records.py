@@ -3,10 +3,15 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
+from ..records.files import MANIFEST
 from . import main, plot
+
+if TYPE_CHECKING:
+    from ..records.sets import RecordSetReport
 
 
 @main.command("generate-records")
@@ -29,7 +34,7 @@ def generate_records(config: Path, out: Path | None, with_plot: bool) -> None:
     """
     from ..config.loading import load
     from ..config.records import RecordSetConfig
-    from ..records import format_report, generate_record_set
+    from ..records.sets import generate_record_set
 
     settings = load(RecordSetConfig, config)
     folder = out if out is not None else Path("records") / config.stem
@@ -70,3 +75,45 @@ def plot_spectra(
     from ..plots.spectra import plot_record_spectra
 
     click.echo(f"Figure: {plot_record_spectra(list(records), output, units, time_step)}")
+
+
+def format_report(report: RecordSetReport) -> str:
+    """The EN 1998-1 §3.2.3.1.2 compliance report of a generated set, as text."""
+    c = report.compliance
+    low, high = report.band
+    lines = [
+        f"Wrote {len(report.records)} records and {MANIFEST} to {report.folder}",
+        f"Spectra at {report.check_periods} periods over {low:g}-{high:g} s, computed/target:",
+        "  record   PGA/(ag*S)   min    max   v_end[cm/s]  d_end[cm]  D5-95[s]  iterations",
+    ]
+    for s in report.records:
+        lines.append(
+            f"  {s.name:<8} {s.peak_acceleration / c.surface_pga:9.5f} {s.min_ratio:6.3f} "
+            f"{s.max_ratio:6.3f} {s.final_velocity * 100:+11.1e} "
+            f"{s.final_displacement * 100:+10.1e} {s.significant_duration:8.1f}  "
+            f"{s.iterations:4d} ({s.attempts} attempts)"
+        )
+    lines += [
+        f"  {'mean':<8} {'':9} {c.mean_min_ratio:6.3f} {c.mean_max_ratio:6.3f}",
+        "EN 1998-1 §3.2.3.1.2:",
+        f"  (4)a at least 3 records: {c.count} -> {_verdict(c.count_ok)}",
+        f"  (4)b mean zero-period value {c.mean_zero_period:.4g} m/s2 >= a_g*S "
+        f"{c.surface_pga:.4g} m/s2 -> {_verdict(c.zero_period_ok)}",
+        f"  (4)c mean >= 90% of target over {low:g}-{high:g} s (min {c.mean_min_ratio:.3f}) -> "
+        f"{_verdict(c.mean_ok)}",
+        f"  (3) stationary part {c.stationary_duration:g} s >= 10 s -> {_verdict(c.stationary_ok)}",
+        f"The config's tolerance: every record within {c.tolerance:.0%} of the target over "
+        f"{low:g}-{high:g} s -> {_verdict(c.records_ok)}",
+        *(
+            f"  {s.name} misses it by {miss:.3f} (min {s.min_ratio:.3f}, max {s.max_ratio:.3f})"
+            for s, miss in zip(report.records, c.record_misses, strict=True)
+            if miss
+        ),
+        f"  overall: {'compliant' if c.compliant else 'NOT compliant'}",
+        f"Wall time: {report.wall_time:.1f} s",
+    ]
+    return "\n".join(lines)
+
+
+def _verdict(ok: bool | None) -> str:
+    return "unknown" if ok is None else ("yes" if ok else "NO")

@@ -41,7 +41,7 @@ from ..core.quantities import HISTORY_UNITS, STANDARD_GRAVITY
 from ..core.spectra import compute_psa
 from ..errors import InputError
 from ..plausibility import bridge_warnings, record_warnings
-from ..records import Record, read_manifest, read_record
+from ..records.files import Record, read_manifest, read_record
 from . import loading
 from .bridge import BridgeConfig, load_bridge
 from .loading import StrictModel

@@ -14,16 +14,15 @@ from matplotlib.figure import Figure
 
 from ..core.quantities import STANDARD_GRAVITY
 from ..core.spectra import compute_psa
-from ..records import (
+from ..records.files import (
     MANIFEST,
     Record,
-    TargetDefinition,
     read_manifest,
     read_record,
     read_record_set,
-    read_set_target,
     read_stated_units,
 )
+from ..records.sets import TargetDefinition, read_set_target
 from .common import check_format, save
 
 

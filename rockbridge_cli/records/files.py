@@ -1,4 +1,5 @@
-"""Accelerograms: reading and writing record files, and generating matched record sets.
+"""Record files: reading and writing accelerograms, and reading the record sets
+`sets.generate_record_set` writes.
 
 Inside the package a record is a `Record` in SI units (m/s², s). Files may be in g or m/s², but
 the units must be stated — by the file (PEER ``.AT2`` and rockbridge files do) or by the caller —
@@ -16,22 +17,16 @@ from __future__ import annotations
 
 import json
 import math
-import platform
 import re
-import time
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-import scipy
 
-from . import __version__
-from .config.records import RecordSetConfig
-from .core import ec8, matching, spectra
-from .core.quantities import STANDARD_GRAVITY
-from .errors import InputError
-from .paths import read_input_text, writable
+from ..core.quantities import STANDARD_GRAVITY
+from ..errors import InputError
+from ..paths import read_input_text
 
 #: Accepted spellings of the two units, mapped to their canonical names.
 UNIT_NAMES = {
@@ -485,11 +480,11 @@ def _format_header_value(value: Any) -> str:
 
 
 # ---------------------------------------------------------------------------------------------
-# Record sets
+# Record sets written by `sets.generate_record_set`
 
 
 def read_manifest(folder: str | Path) -> dict[str, Any]:
-    """The manifest of a record set written by `generate_record_set`.
+    """The manifest of a record set written by `sets.generate_record_set`.
 
     Raises
     ------
@@ -520,7 +515,7 @@ def read_manifest(folder: str | Path) -> dict[str, Any]:
 
 
 def read_record_set(folder: str | Path) -> list[Record]:
-    """Read every record of a set written by `generate_record_set`, in manifest order.
+    """Read every record of a set written by `sets.generate_record_set`, in manifest order.
 
     Raises
     ------
@@ -538,361 +533,3 @@ def read_record_set(folder: str | Path) -> list[Record]:
             )
         records.append(read_record(path))
     return records
-
-
-@dataclass(frozen=True)
-class RecordSummary:
-    """How one generated record turned out.
-
-    Attributes
-    ----------
-    name, file
-        record name and file name in the set's folder.
-    peak_acceleration
-        PGA [m/s²].
-    min_ratio, max_ratio
-        min and max over the check periods of computed / target spectrum [-].
-    final_velocity, final_displacement
-        ground velocity [m/s] and displacement [m] at the end of the record.
-    significant_duration
-        D5–95 [s].
-    attempts, iterations
-        phase sets tried and matching iterations of the kept one [-].
-    """
-
-    name: str
-    file: str
-    peak_acceleration: float
-    min_ratio: float
-    max_ratio: float
-    final_velocity: float
-    final_displacement: float
-    significant_duration: float
-    attempts: int
-    iterations: int
-
-
-@dataclass(frozen=True)
-class RecordSetReport:
-    """The outcome of `generate_record_set`.
-
-    Attributes
-    ----------
-    folder
-        where the set was written.
-    records
-        one summary per record.
-    compliance
-        the EN 1998-1 §3.2.3.1.2 check over the band.
-    band
-        the checked periods' range [s].
-    check_periods
-        number of checked periods [-].
-    wall_time
-        time taken to generate and write the set [s].
-    """
-
-    folder: Path
-    records: tuple[RecordSummary, ...]
-    compliance: ec8.ComplianceReport
-    band: tuple[float, float]
-    check_periods: int
-    wall_time: float
-
-
-@dataclass(frozen=True)
-class TargetDefinition:
-    """The resolved target of a record set, in SI units.
-
-    Attributes
-    ----------
-    spectrum_type, ground_type, damping
-        as in the config.
-    design_acceleration
-        a_g [m/s²].
-    surface_pga
-        a_g·S, the records' PGA [m/s²].
-    """
-
-    spectrum_type: int
-    ground_type: str
-    damping: float
-    design_acceleration: float
-    surface_pga: float
-
-    def evaluate(self, periods: np.ndarray, extrapolate: bool = False) -> np.ndarray:
-        """Se at the given periods [m/s²]."""
-        return ec8.compute_elastic_spectrum(
-            periods,
-            self.spectrum_type,
-            self.ground_type,
-            design_acceleration=self.design_acceleration,
-            damping=self.damping,
-            extrapolate=extrapolate,
-        )
-
-
-def resolve_target(config: RecordSetConfig) -> TargetDefinition:
-    """a_g and a_g·S of a config in m/s², whichever of ``ag_g`` and ``pga_g`` it gives."""
-    target = config.target
-    soil = ec8.get_spectrum_shape(target.spectrum_type, target.ground_type).soil_factor
-    if target.ag_g is not None:
-        design = target.ag_g * config.gravity
-    else:
-        design = target.pga_g * config.gravity / soil
-    return TargetDefinition(
-        target.spectrum_type, target.ground_type, target.damping, design, design * soil
-    )
-
-
-def generate_record_set(
-    config: RecordSetConfig, folder: str | Path, config_name: str = ""
-) -> RecordSetReport:
-    """Generate a matched record set and write it: one rockbridge file per record + manifest.
-
-    Record i uses ``numpy.random.default_rng`` seeded with child i of
-    ``numpy.random.SeedSequence(config.seed)``, so the same config gives the same bytes.
-
-    Parameters
-    ----------
-    config
-        the record-set config.
-    folder
-        output folder (created if needed; files of the same names are replaced).
-    config_name
-        name of the config (e.g. its file stem), stored in the manifest.
-    """
-    started = time.perf_counter()
-    folder = writable(folder, folder=True)
-    target = resolve_target(config)
-    periods = matching.compute_matching_periods(config.band, config.check_periods, config.time_step)
-    settings = matching.MatchSettings(
-        tolerance=config.tolerance,
-        max_iterations=config.max_iterations,
-        max_attempts=config.attempts,
-        damping=target.damping,
-    )
-    envelope = matching.Envelope(
-        config.envelope.rise,
-        config.envelope.stationary,
-        config.envelope.decay,
-        config.envelope.end_level,
-    )
-    goal = target.evaluate(periods, extrapolate=True)
-    width = max(2, len(str(config.count)))
-    children = np.random.SeedSequence(config.seed).spawn(config.count)
-    records, matches = [], []
-    for index, child in enumerate(children):
-        matched = matching.generate_matched_record(
-            periods,
-            goal,
-            target.surface_pga,
-            config.time_step,
-            envelope,
-            np.random.default_rng(child),
-            settings,
-            band=tuple(config.band),
-        )
-        name = f"{config.name_prefix}{index + 1:0{width}d}"
-        records.append(Record(name, config.time_step, matched.acceleration, "generate-records"))
-        matches.append(matched)
-    check = np.geomspace(*config.band, config.check_periods)
-    summaries, compliance = _summarise(records, matches, check, target, config)
-    for index, record in enumerate(records):
-        write_record(folder / f"{record.name}.txt", record, _record_header(config, target, index))
-    manifest = _round_floats(_build_manifest(config, config_name, target, summaries, compliance))
-    (folder / MANIFEST).write_text(json.dumps(manifest, indent=2) + "\n", encoding="utf-8")
-    return RecordSetReport(
-        folder,
-        tuple(summaries),
-        compliance,
-        tuple(config.band),
-        config.check_periods,
-        time.perf_counter() - started,
-    )
-
-
-def _summarise(records, matches, check, target, config):
-    """Per-record statistics, the EN 1998-1 check and the config's per-record tolerance, at the
-    check periods."""
-    goal = target.evaluate(check)
-    computed = np.array(
-        [spectra.compute_psa(r.acceleration, r.time_step, check, target.damping) for r in records]
-    )
-    compliance = ec8.check_compliance(
-        computed,
-        goal,
-        np.array([r.peak_acceleration for r in records]),
-        target.surface_pga,
-        config.envelope.stationary,
-        config.tolerance,
-    )
-    summaries = []
-    for record, matched, low, high in zip(
-        records, matches, compliance.record_min_ratio, compliance.record_max_ratio, strict=True
-    ):
-        velocity, displacement = matching.compute_final_motion(
-            record.acceleration, record.time_step
-        )
-        summaries.append(
-            RecordSummary(
-                record.name,
-                f"{record.name}.txt",
-                record.peak_acceleration,
-                low,
-                high,
-                velocity,
-                displacement,
-                matching.compute_significant_duration(record.acceleration, record.time_step),
-                matched.attempts,
-                matched.iterations,
-            )
-        )
-    return summaries, compliance
-
-
-def _record_header(config: RecordSetConfig, target: TargetDefinition, index: int) -> dict:
-    return {
-        "pga": target.surface_pga,
-        "pga_g": target.surface_pga / config.gravity,
-        "seed": config.seed,
-        "record_index": index,
-        "target": f"{config.target.code} type {target.spectrum_type} ground {target.ground_type}"
-        f" a_g={target.design_acceleration / config.gravity:g}g"
-        f" damping={target.damping:g}",
-        "generator": f"rockbridge {__version__}",
-    }
-
-
-def _build_manifest(config, config_name, target, summaries, compliance) -> dict[str, Any]:
-    shape = ec8.get_spectrum_shape(target.spectrum_type, target.ground_type)
-    return {
-        "format": "rockbridge-record-set 1",
-        "generator": f"rockbridge {__version__}",
-        # The last printed digit of the samples depends on these (FFT and linear algebra).
-        "environment": {
-            "python": platform.python_version(),
-            "numpy": np.__version__,
-            "scipy": scipy.__version__,
-        },
-        "config_name": config_name,
-        "config": config.model_dump(mode="json"),
-        "target": {
-            "code": config.target.code,
-            "spectrum_type": target.spectrum_type,
-            "ground_type": target.ground_type,
-            "damping": target.damping,
-            "soil_factor": shape.soil_factor,
-            "corner_periods_s": [shape.corner_b, shape.corner_c, shape.corner_d],
-            "design_acceleration_m_s2": target.design_acceleration,
-            "surface_pga_m_s2": target.surface_pga,
-            "gravity_m_s2": config.gravity,
-        },
-        "check": {"band_s": list(config.band), "periods": config.check_periods},
-        "seed": config.seed,
-        "records": [
-            {
-                "name": s.name,
-                "file": s.file,
-                "record_index": index,
-                "pga_m_s2": s.peak_acceleration,
-                "pga_g": s.peak_acceleration / config.gravity,
-                "min_ratio": s.min_ratio,
-                "max_ratio": s.max_ratio,
-                "final_velocity_m_s": s.final_velocity,
-                "final_displacement_m": s.final_displacement,
-                "d5_95_s": s.significant_duration,
-                "stationary_duration_s": config.envelope.stationary,
-                "attempts": s.attempts,
-                "iterations": s.iterations,
-            }
-            for index, s in enumerate(summaries)
-        ],
-        "mean": {"min_ratio": compliance.mean_min_ratio, "max_ratio": compliance.mean_max_ratio},
-        "compliance": {
-            "count": compliance.count,
-            "count_ok": compliance.count_ok,
-            "mean_zero_period_m_s2": compliance.mean_zero_period,
-            "zero_period_ok": compliance.zero_period_ok,
-            "mean_ok": compliance.mean_ok,
-            "stationary_ok": compliance.stationary_ok,
-            "tolerance": compliance.tolerance,
-            "records_ok": compliance.records_ok,
-            "compliant": compliance.compliant,
-        },
-    }
-
-
-def _round_floats(value: Any) -> Any:
-    """Floats to 10 significant digits, recursively: a readable, stable manifest."""
-    if isinstance(value, float):
-        return float(f"{value:.10g}")
-    if isinstance(value, dict):
-        return {key: _round_floats(item) for key, item in value.items()}
-    if isinstance(value, list):
-        return [_round_floats(item) for item in value]
-    return value
-
-
-def read_set_target(folder: str | Path) -> TargetDefinition:
-    """The target spectrum stored in a record set's manifest (SI units).
-
-    Raises
-    ------
-    InputError
-        The manifest is missing or corrupt, or lacks the target.
-    """
-    manifest = read_manifest(folder)
-    target = manifest.get("target")
-    keys = (
-        "spectrum_type",
-        "ground_type",
-        "damping",
-        "design_acceleration_m_s2",
-        "surface_pga_m_s2",
-    )
-    if not isinstance(target, dict) or any(key not in target for key in keys):
-        raise InputError(Path(folder) / MANIFEST, [("target", "missing or incomplete")])
-    return TargetDefinition(*(target[key] for key in keys))
-
-
-def format_report(report: RecordSetReport) -> str:
-    """The EN 1998-1 §3.2.3.1.2 compliance report of a generated set, as text."""
-    c = report.compliance
-    low, high = report.band
-    lines = [
-        f"Wrote {len(report.records)} records and {MANIFEST} to {report.folder}",
-        f"Spectra at {report.check_periods} periods over {low:g}-{high:g} s, computed/target:",
-        "  record   PGA/(ag*S)   min    max   v_end[cm/s]  d_end[cm]  D5-95[s]  iterations",
-    ]
-    for s in report.records:
-        lines.append(
-            f"  {s.name:<8} {s.peak_acceleration / c.surface_pga:9.5f} {s.min_ratio:6.3f} "
-            f"{s.max_ratio:6.3f} {s.final_velocity * 100:+11.1e} "
-            f"{s.final_displacement * 100:+10.1e} {s.significant_duration:8.1f}  "
-            f"{s.iterations:4d} ({s.attempts} attempts)"
-        )
-    lines += [
-        f"  {'mean':<8} {'':9} {c.mean_min_ratio:6.3f} {c.mean_max_ratio:6.3f}",
-        "EN 1998-1 §3.2.3.1.2:",
-        f"  (4)a at least 3 records: {c.count} -> {_verdict(c.count_ok)}",
-        f"  (4)b mean zero-period value {c.mean_zero_period:.4g} m/s2 >= a_g*S "
-        f"{c.surface_pga:.4g} m/s2 -> {_verdict(c.zero_period_ok)}",
-        f"  (4)c mean >= 90% of target over {low:g}-{high:g} s (min {c.mean_min_ratio:.3f}) -> "
-        f"{_verdict(c.mean_ok)}",
-        f"  (3) stationary part {c.stationary_duration:g} s >= 10 s -> {_verdict(c.stationary_ok)}",
-        f"The config's tolerance: every record within {c.tolerance:.0%} of the target over "
-        f"{low:g}-{high:g} s -> {_verdict(c.records_ok)}",
-        *(
-            f"  {s.name} misses it by {miss:.3f} (min {s.min_ratio:.3f}, max {s.max_ratio:.3f})"
-            for s, miss in zip(report.records, c.record_misses, strict=True)
-            if miss
-        ),
-        f"  overall: {'compliant' if c.compliant else 'NOT compliant'}",
-        f"Wall time: {report.wall_time:.1f} s",
-    ]
-    return "\n".join(lines)
-
-
-def _verdict(ok: bool | None) -> str:
-    return "unknown" if ok is None else ("yes" if ok else "NO")
