@@ -22,6 +22,7 @@ import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import h5py
 import numpy as np
@@ -211,8 +212,9 @@ def _stripe_fragility(bridge, mine, intensity, rng, bootstrap) -> list[Fragility
             record: next((float(x) for x, r in zip(levels, row, strict=True) if r == 1), None)
             for record, row in zip(records, table, strict=True)
         }
+        median, beta = fit or (None, None)
         found.append(Fragility(
-            bridge, state, intensity["measure"], *(fit or (None, None)), interval,
+            bridge, state, intensity["measure"], median, beta, interval,
             levels.tolist(), (counts[0] / np.maximum(counts[1], 1)).tolist(), reached_at,
         ))  # fmt: skip
     return found
@@ -256,8 +258,9 @@ def _ida_fragility(bridge, mine, intensity, rng, bootstrap) -> list[Fragility]:
         reached = np.array([c for c in capacities.values() if c is not None])
         levels = sorted(set(reached.tolist()))
         fractions = [float(np.sum(reached <= level)) / len(coded) for level in levels]
+        median, beta = fit or (None, None)
         found.append(Fragility(
-            bridge, state, intensity["measure"], *(fit or (None, None)), interval, levels,
+            bridge, state, intensity["measure"], median, beta, interval, levels,
             fractions, capacities,
         ))  # fmt: skip
     return found
@@ -307,7 +310,7 @@ def store(file: h5py.File) -> None:
     )
     group.attrs["measure"] = intensity["measure"]
     group.attrs["records"] = json.dumps(records)
-    columns = {
+    columns: dict[str, tuple[str, list[Any]]] = {
         "bridge": ("-", [item.bridge for item in found]),
         "limit_state": ("-", [item.limit_state for item in found]),
         "median": (MEASURE_UNITS[intensity["measure"]], [_number(item.median) for item in found]),

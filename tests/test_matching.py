@@ -16,7 +16,7 @@ import pytest
 
 from rockbridge_cli.config.loading import load
 from rockbridge_cli.config.records import RecordSetConfig
-from rockbridge_cli.core import matching
+from rockbridge_cli.core import baseline, matching, wavelets
 from rockbridge_cli.core.ec8 import compute_elastic_spectrum
 from rockbridge_cli.core.spectra import compute_psa, find_peak_responses
 from rockbridge_cli.records.files import read_record_set
@@ -34,7 +34,7 @@ def measure(records, target):
     goal = target.evaluate(CHECK)
     ratios = np.array([compute_psa(r.acceleration, r.time_step, CHECK) / goal for r in records])
     pga = np.array([r.peak_acceleration / target.surface_pga for r in records])
-    motion = np.array([matching.compute_final_motion(r.acceleration, r.time_step) for r in records])
+    motion = np.array([baseline.compute_final_motion(r.acceleration, r.time_step) for r in records])
     return ratios, pga, motion
 
 
@@ -72,19 +72,19 @@ def test_final_motion_is_exact_for_linear_segments():
     for a0, a1 in zip(acceleration[:-1], acceleration[1:], strict=True):
         displacement += step * velocity + step**2 * (2 * a0 + a1) / 6  # exact for linear a
         velocity += step * (a0 + a1) / 2
-    v, d = matching.compute_final_motion(acceleration, step)
+    v, d = baseline.compute_final_motion(acceleration, step)
     assert v == pytest.approx(velocity, rel=1e-12)
     assert d == pytest.approx(displacement, rel=1e-12)
     # a ≡ 1 for 2 s: v = 2, d = t²/2 = 2
-    assert matching.compute_final_motion(np.ones(101), 0.02) == pytest.approx((2.0, 2.0))
+    assert baseline.compute_final_motion(np.ones(101), 0.02) == pytest.approx((2.0, 2.0))
 
 
 def test_baseline_correction_zeroes_final_motion():
     rng = np.random.default_rng(1)
     envelope = matching.compute_envelope(np.arange(1001) * 0.01, matching.Envelope(1, 6, 3))
     record = rng.normal(size=1001) + 0.3
-    corrected = matching.correct_baseline(record, 0.01, envelope)
-    v, d = matching.compute_final_motion(corrected, 0.01)
+    corrected = baseline.correct_baseline(record, 0.01, envelope)
+    v, d = baseline.compute_final_motion(corrected, 0.01)
     assert abs(v) < 1e-12 and abs(d) < 1e-12
     assert corrected[0] == record[0]  # the correction follows the envelope, which is 0 at t = 0
 
@@ -92,7 +92,7 @@ def test_baseline_correction_zeroes_final_motion():
 def test_significant_duration_of_a_steady_signal():
     # |a| constant for 20 s: the Arias intensity grows linearly, so D5-95 = 0.9·20 s
     record = np.where(np.arange(2001) % 2 == 0, 1.0, -1.0)
-    assert matching.compute_significant_duration(record, 0.01) == pytest.approx(18.0, abs=0.01)
+    assert baseline.compute_significant_duration(record, 0.01) == pytest.approx(18.0, abs=0.01)
 
 
 def test_matching_periods_contain_the_check_grid():
@@ -113,18 +113,18 @@ def test_influence_matrix_is_the_exact_first_order_effect():
     )
     values, peak_times = find_peak_responses(record, step, periods)
     omegas = 2 * np.pi / periods
-    delay = matching._find_wavelet_delay(0.75, 0.05)
-    wavelets = matching._build_wavelets(
+    delay = wavelets.find_wavelet_delay(0.75, 0.05)
+    patterns = wavelets.build_wavelets(
         np.ones_like(times), step, omegas, 0.05, peak_times[:, 0], 0.75, delay
     )
-    matrix = matching._compute_influence(
-        peak_times[:, 0], omegas, 0.05, step, *wavelets.arrays, np.array([0])
+    matrix = wavelets.compute_influence(
+        peak_times[:, 0], omegas, 0.05, step, *patterns.arrays, np.array([0])
     )
     for column in (0, 12, 29):
         amplitudes = np.zeros(periods.size)
         amplitudes[column] = 1e-4
         changed = find_peak_responses(
-            record + matching._superpose(wavelets, amplitudes, record.size), step, periods
+            record + wavelets.superpose(patterns, amplitudes, record.size), step, periods
         )[0]
         effect = omegas**2 * (changed[:, 0] - values[:, 0]) / 1e-4
         np.testing.assert_allclose(effect, matrix[:-1, column], rtol=0.02, atol=1e-3)

@@ -108,8 +108,8 @@ def test_energy_is_conserved_between_impacts_and_across_them_with_the_mass_ratio
         eta_n=math.sqrt(mass[-1.0] / mass[1.0]),
         pounding=1.0,
     )
-    opts = fidelity.settings(fidelity.knobs("reference"))
-    result = integrate(frame, conservative, EXACT, np.zeros(2001), DT, opts, 0.004, 0.0)
+    settings = fidelity.settings(fidelity.knobs("reference"))
+    result = integrate(frame, conservative, EXACT, np.zeros(2001), DT, settings, 0.004, 0.0)
     events = result.events
     hits = events[events[:, EVENT_KIND] == IMPACT]
     assert len(hits) >= 10 and result.error == NO_ERROR
@@ -252,9 +252,9 @@ def test_compiled_and_plain_python_kernels_agree():
     """The compiled integrator and its plain-Python source give the same response."""
     bridge = studied_bridge(1.25)
     acc = ground_motion(duration=4.0, seed=9)
-    opts = fidelity.settings(fidelity.knobs("default"))
-    compiled = integrate(bridge, Bridge(bridge).laws(), EXACT, acc, DT, opts, 0.0, 0.0)
-    plain = integrate.py_func(bridge, Bridge(bridge).laws(), EXACT, acc, DT, opts, 0.0, 0.0)
+    settings = fidelity.settings(fidelity.knobs("default"))
+    compiled = integrate(bridge, Bridge(bridge).laws(), EXACT, acc, DT, settings, 0.0, 0.0)
+    plain = integrate.py_func(bridge, Bridge(bridge).laws(), EXACT, acc, DT, settings, 0.0, 0.0)
     for x, y in zip(compiled, plain, strict=True):
         np.testing.assert_allclose(x, y, rtol=1e-12, atol=1e-15)
 

@@ -68,7 +68,7 @@ def analyze(
         response = run_analysis(
             config.to_bridge(), motion.acceleration, motion.time_step, fidelity, tail=tail
         )
-        summary = response.summary()
+        summary = response.peak_row()
     else:  # the same analysis, through the study runner, so that the file has run's layout
         import dataclasses
 

@@ -219,8 +219,8 @@ def peaks(results: Path, csv_file: str | None, as_json: bool) -> None:
              ("t_onset", "onset [s]", 1), ("n_impacts_significant", "impacts", 1),
              ("n_poundings", "poundings", 1), ("failure_mode", "failure", 1),
              ("dcr_backfill", "backfill d/c", 1), ("status", "status", 1)]  # fmt: skip
-    rows = zip(*(_scaled(columns[name], scale) for name, _, scale in shown), strict=True)
-    click.echo(table_text([header for _, header, _ in shown], list(rows)))
+    table = zip(*(_scaled(columns[name], scale) for name, _, scale in shown), strict=True)
+    click.echo(table_text([header for _, header, _ in shown], list(table)))
 
 
 def _shard(shard: str | None, count: int | None) -> tuple[int, int] | None:

@@ -167,9 +167,11 @@ class BridgeConfig(StrictModel):
         H2 = 0.5 * heights[1]
         L1, L2 = self.spans.side, self.spans.central
         length = 2.0 * L1 + L2
-        md = (
-            self.deck.mass if self.deck.mass is not None else self.density * self.deck.area * length
-        )
+        if self.deck.mass is not None:
+            md = self.deck.mass
+        else:
+            assert self.deck.area is not None  # the deck gives exactly one of the two
+            md = self.density * self.deck.area * length
         inertia = self.deck.inertia or geometry.deck_inertia(md, length, self.deck.depth)
         m1 = geometry.pier_mass(self.density, B, H1)
         m2 = geometry.pier_mass(self.density, B, H2)

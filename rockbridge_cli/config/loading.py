@@ -8,6 +8,7 @@ from typing import Any, TypeVar
 
 import yaml
 from pydantic import BaseModel, ConfigDict, ValidationError, ValidationInfo, field_validator
+from pydantic_core import ErrorDetails
 
 from ..errors import InputError
 from ..paths import read_input_text
@@ -122,7 +123,7 @@ def load(model: type[ModelT], path: str | Path, **context: Any) -> ModelT:
     return validate(model, read_yaml(path), path, base_dir=path.parent, **context)
 
 
-def _describe(error: dict[str, Any]) -> tuple[str, str]:
+def _describe(error: ErrorDetails) -> tuple[str, str]:
     where = ".".join(str(part) for part in error["loc"])
     reason = error["msg"].removeprefix("Value error, ")
     if error["type"] == "extra_forbidden":

@@ -615,7 +615,7 @@ def _resolve_records(records: Records, base: Path) -> list[StudyRecord]:
     if records.record_set is not None:
         folder = records.record_set
         manifest = read_manifest(base / folder)
-        files = [
+        files: list[tuple[str, Path, str | None, float | None]] = [
             (entry.get("name") or Path(entry["file"]).stem, folder / entry["file"], None, None)
             for entry in manifest["records"]
         ]

@@ -82,7 +82,7 @@ class Response:
     steps: int
     rejected_steps: int
 
-    def summary(self) -> dict[str, object]:
+    def peak_row(self) -> dict[str, object]:
         """Flat dictionary of the scalar results (peaks as ``<name>_max`` and ``<name>_time``)."""
         out: dict[str, object] = {}
         for name, (value, when) in self.peaks.items():
@@ -164,11 +164,11 @@ def analyze(
         raise ValueError("the ground motion has non-finite values")
     if not (time_step > 0.0 and np.isfinite(time_step)):
         raise ValueError(f"the time step must be positive, got {time_step}")
-    values = fidelity.knobs(preset, **overrides)
-    if not (values["tail"] >= 0.0 and math.isfinite(values["tail"])):
-        raise ValueError(f"the tail must be a finite time ≥ 0 s, got {values['tail']}")
-    acc = np.concatenate([acc, np.zeros(int(round(values["tail"] / time_step)))])
-    kin = _kinematics(model, values["kinematics"])
+    knobs = fidelity.knobs(preset, **overrides)
+    if not (knobs["tail"] >= 0.0 and math.isfinite(knobs["tail"])):
+        raise ValueError(f"the tail must be a finite time ≥ 0 s, got {knobs['tail']}")
+    acc = np.concatenate([acc, np.zeros(int(round(knobs["tail"] / time_step)))])
+    kin = _kinematics(model, knobs["kinematics"])
     sign = bridge.sign
     laws = bridge.laws()
 
@@ -179,7 +179,7 @@ def analyze(
         kin,
         sign * acc,
         float(time_step),
-        fidelity.settings(values),
+        fidelity.settings(knobs),
         sign * float(initial[0]),
         sign * float(initial[1]),
     )
@@ -207,8 +207,8 @@ def analyze(
     return Response(
         model=kind(model),
         fidelity=preset,
-        knobs=values,
-        time=np.arange(theta1.size) * values["output_step"],
+        knobs=knobs,
+        time=np.arange(theta1.size) * knobs["output_step"],
         histories=histories,
         events={
             "time": events[:, EVENT_TIME],

@@ -155,7 +155,8 @@ def _resolve_design_acceleration(
     """a_g from either a_g itself or the surface PGA, since Se(0) = a_g·S (Eq. 3.2 at T = 0)."""
     if (design_acceleration is None) == (surface_pga is None):
         raise ValueError("give exactly one of design_acceleration (a_g) and surface_pga (a_g*S)")
-    ag = design_acceleration if surface_pga is None else surface_pga / soil_factor
+    ag = surface_pga / soil_factor if surface_pga is not None else design_acceleration
+    assert ag is not None
     if not ag > 0.0:
         raise ValueError(f"the ground acceleration must be positive, got {ag!r}")
     return float(ag)

@@ -15,9 +15,11 @@ A record is built in four steps, all deterministic for a given random generator:
    low-order correction in the spirit of Boore 2001) and an exact scaling to the target PGA, so
    that every iterate is a finished record; the best one is kept.
 
-The wavelet system uses the exact response of the discrete (piecewise-linear) record, so it stays
-accurate for periods of a few time steps. When the best misfit stays above the tolerance, a new
-set of random phases is drawn from the same generator (a bounded number of attempts).
+Step 3's wavelets and their linear system are in `wavelets`, step 4's baseline correction in
+`baseline`. The wavelet system uses the exact response of the discrete (piecewise-linear) record,
+so it stays accurate for periods of a few time steps. When the best misfit stays above the
+tolerance, a new set of random phases is drawn from the same generator (a bounded number of
+attempts).
 
 References
 ----------
@@ -43,11 +45,24 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import fft
 
-from ._jit import jit
+from .baseline import (
+    correct_baseline,
+    final_motion_weights,
+)
 from .spectra import compute_psa, find_peak_responses
-
-#: Local peaks of |a| within this fraction of the PGA are held in place while matching [-].
-PEAK_MARGIN = 0.05
+from .wavelets import (
+    build_baseline_basis,
+    build_peak_patterns,
+    build_wavelets,
+    compute_influence,
+    compute_pattern_motion,
+    find_peak_samples,
+    find_wavelet_delay,
+    select_crests,
+    solve_regularised,
+    stack_patterns,
+    superpose,
+)
 
 
 @dataclass(frozen=True)
@@ -247,97 +262,9 @@ def generate_matched_record(
             best = (*matched, attempt)
         if best[2] <= settings.tolerance:
             break
+    assert best is not None  # attempts ≥ 1
     acceleration, iterations, misfit, _ = best
     return MatchedRecord(acceleration, time_step, attempt, iterations, misfit)
-
-
-def correct_baseline(acceleration: np.ndarray, time_step: float, shape: np.ndarray) -> np.ndarray:
-    """Remove an enveloped linear trend so that the final velocity and displacement are zero.
-
-    The correction is I(t)·(c0 + c1·t/t_end), I being the envelope, with c0 and c1 solving the two
-    linear conditions v(t_end) = 0 and d(t_end) = 0, both integrated exactly for a piecewise-linear
-    acceleration. It is the least-change member of Boore's (2001) polynomial corrections: it
-    vanishes where the record does and only touches periods far longer than the record's band.
-
-    Parameters
-    ----------
-    acceleration
-        ground acceleration [m/s²].
-    time_step
-        time step [s].
-    shape
-        envelope at the samples [-].
-    """
-    basis = _baseline_values(shape)
-    matrix = np.stack([_compute_final_motion(row, time_step) for row in basis], axis=1)
-    coefficients = np.linalg.solve(matrix, _compute_final_motion(acceleration, time_step))
-    return acceleration - coefficients @ basis
-
-
-def compute_final_motion(acceleration: np.ndarray, time_step: float) -> tuple[float, float]:
-    """Final ground velocity and displacement, integrating a piecewise-linear acceleration exactly.
-
-    Parameters
-    ----------
-    acceleration
-        ground acceleration, starting from rest [m/s²].
-    time_step
-        time step [s].
-
-    Returns
-    -------
-    tuple of float
-        velocity [m/s] and displacement [m] at the last sample.
-    """
-    velocity, displacement = _compute_final_motion(np.asarray(acceleration, float), time_step)
-    return float(velocity), float(displacement)
-
-
-def compute_significant_duration(
-    acceleration: np.ndarray, time_step: float, start: float = 0.05, end: float = 0.95
-) -> float:
-    """Significant duration D5–95: time between 5% and 95% of the Arias intensity.
-
-    The Arias intensity grows as ∫a²dt (trapezoidal here); the crossing times are interpolated
-    linearly between samples (Trifunac & Brady 1975).
-
-    Parameters
-    ----------
-    acceleration
-        ground acceleration [m/s²].
-    time_step
-        time step [s].
-    start, end
-        fractions of the total intensity that bound the duration [-].
-    """
-    squared = np.asarray(acceleration, dtype=float) ** 2
-    cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (squared[1:] + squared[:-1]))])
-    if cumulative[-1] <= 0.0:
-        raise ValueError("a record of zeros has no significant duration")
-    fraction = cumulative / cumulative[-1]
-    times = np.arange(fraction.size) * time_step
-    return float(np.interp(end, fraction, times) - np.interp(start, fraction, times))
-
-
-def _compute_final_motion(acceleration: np.ndarray, time_step: float) -> np.ndarray:
-    """[v_end, d_end] as weighted sums of the samples (exact for linear segments, from rest)."""
-    edges = 0.5 * (acceleration[0] + acceleration[-1])
-    velocity = time_step * (acceleration.sum() - edges)
-    displacement = time_step**2 * (acceleration @ _displacement_weights(acceleration.size))
-    return np.array([velocity, displacement])
-
-
-def _displacement_weights(n: int) -> np.ndarray:
-    """w_i with d_end = h²·Σ w_i·a_i for N = n − 1 linear steps from rest.
-
-    Summing d_k+1 = d_k + h·v_k + h²·(2a_k + a_k+1)/6 over the steps gives w_0 = N/2 − 1/6,
-    w_i = N − i inside and w_N = 1/6 (for a ≡ 1 they add up to N²/2, i.e. d = t²/2).
-    """
-    last = n - 1
-    weights = (last - np.arange(n)).astype(float)
-    weights[0] = last / 2.0 - 1.0 / 6.0
-    weights[-1] = 1.0 / 6.0
-    return weights
 
 
 def _check_matching_inputs(periods, target, peak_acceleration, time_step) -> None:
@@ -440,7 +367,7 @@ def _match_in_time_domain(problem: _Problem, acceleration: np.ndarray):
         the best record [m/s²], the iterations run and the best worst-misfit [-].
     """
     settings = problem.settings
-    delay = _find_wavelet_delay(settings.wavelet_width, settings.damping)
+    delay = find_wavelet_delay(settings.wavelet_width, settings.damping)
     acceleration = problem.finish(acceleration)
     crests, score = problem.measure(acceleration)
     best = (score[0], acceleration)
@@ -479,12 +406,12 @@ def _compute_correction(problem: _Problem, acceleration, crests, delay, weight) 
     that peak together give nearly equal rows, hence the Tikhonov weight ``weight``.
     """
     settings, time_step, pga = problem.settings, problem.time_step, problem.pga
-    rows, row_times, current = _select_crests(crests, problem.omegas, problem.target)
+    rows, row_times, current = select_crests(crests, problem.omegas, problem.target)
     omegas = problem.omegas[rows]
-    samples = _find_peak_samples(acceleration, pga)
+    samples = find_peak_samples(acceleration, pga)
     half_width = max(1, int(round(0.5 * problem.periods[0] / time_step)))
-    patterns = _stack_patterns(
-        _build_wavelets(
+    patterns = stack_patterns(
+        build_wavelets(
             problem.taper,
             time_step,
             omegas,
@@ -493,17 +420,17 @@ def _compute_correction(problem: _Problem, acceleration, crests, delay, weight) 
             settings.wavelet_width,
             delay,
         ),
-        _build_peak_patterns(acceleration, samples, half_width),
+        build_peak_patterns(acceleration, samples, half_width),
     )
-    basis = _build_baseline_basis(problem.shape)
+    basis = build_baseline_basis(problem.shape)
     arguments = (row_times, omegas, settings.damping, time_step)
-    influence = _compute_influence(*arguments, *patterns.arrays, samples)
-    weights = _final_motion_weights(acceleration.size, time_step)
+    influence = compute_influence(*arguments, *patterns.arrays, samples)
+    weights = final_motion_weights(acceleration.size, time_step)
     coupling = np.linalg.solve(
-        _compute_pattern_motion(*basis.arrays, weights),
-        _compute_pattern_motion(*patterns.arrays, weights),
+        compute_pattern_motion(*basis.arrays, weights),
+        compute_pattern_motion(*patterns.arrays, weights),
     )
-    influence -= _compute_influence(*arguments, *basis.arrays, samples) @ coupling
+    influence -= compute_influence(*arguments, *basis.arrays, samples) @ coupling
     signed_psa = omegas**2 * current
     held = np.minimum(np.abs(acceleration[samples]), pga)
     wanted = np.concatenate(
@@ -513,295 +440,6 @@ def _compute_correction(problem: _Problem, acceleration, crests, delay, weight) 
         ]
     )
     scale = weight * np.mean(np.max(np.abs(influence), axis=0))
-    amplitudes = _solve_regularised(influence, wanted, scale)
-    change = _superpose(patterns, amplitudes, acceleration.size)
+    amplitudes = solve_regularised(influence, wanted, scale)
+    change = superpose(patterns, amplitudes, acceleration.size)
     return change - (coupling @ amplitudes) @ basis.values
-
-
-def _build_baseline_basis(shape: np.ndarray) -> _Patterns:
-    """The two functions of `correct_baseline` as full-length patterns."""
-    return _Patterns(
-        np.zeros(2, np.int64), np.full(2, shape.size, np.int64), _baseline_values(shape)
-    )
-
-
-def _baseline_values(shape: np.ndarray) -> np.ndarray:
-    """The baseline correction's functions I(t) and I(t)·t/t_end at the samples, shape (2, n)."""
-    return np.stack([shape, shape * np.linspace(0.0, 1.0, shape.size)])
-
-
-def _final_motion_weights(n: int, time_step: float) -> np.ndarray:
-    """Rows w_v, w_d with v_end = w_v·a and d_end = w_d·a (see `_compute_final_motion`)."""
-    velocity = np.full(n, time_step)
-    velocity[[0, -1]] *= 0.5
-    return np.stack([velocity, time_step**2 * _displacement_weights(n)])
-
-
-@jit
-def _compute_pattern_motion(starts, lengths, values, weights):
-    """Final velocity and displacement that each pattern adds (2 × patterns)."""
-    motion = np.zeros((2, starts.size))
-    for j in range(starts.size):
-        for k in range(lengths[j]):
-            motion[0, j] += weights[0, starts[j] + k] * values[j, k]
-            motion[1, j] += weights[1, starts[j] + k] * values[j, k]
-    return motion
-
-
-def _select_crests(crests, omegas, target):
-    """The crests to constrain: each oscillator's peak, and its other crests above the target.
-
-    Returns the oscillator index, time [s] and signed displacement [m] of each selected crest.
-    """
-    values, times = crests
-    keep = omegas[:, None] ** 2 * np.abs(values) > target[:, None]
-    keep[:, 0] = True
-    rows, columns = np.nonzero(keep)
-    return rows, times[rows, columns], values[rows, columns]
-
-
-@dataclass(frozen=True)
-class _Patterns:
-    """Sampled correction patterns: pattern j is values[j, :lengths[j]] from sample starts[j]."""
-
-    starts: np.ndarray
-    lengths: np.ndarray
-    values: np.ndarray
-
-    @property
-    def arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        return self.starts, self.lengths, self.values
-
-
-def _stack_patterns(first: _Patterns, second: _Patterns) -> _Patterns:
-    width = max(first.values.shape[1], second.values.shape[1])
-    values = np.zeros((first.values.shape[0] + second.values.shape[0], width))
-    values[: first.values.shape[0], : first.values.shape[1]] = first.values
-    values[first.values.shape[0] :, : second.values.shape[1]] = second.values
-    return _Patterns(
-        np.concatenate([first.starts, second.starts]),
-        np.concatenate([first.lengths, second.lengths]),
-        values,
-    )
-
-
-def _superpose(patterns: _Patterns, amplitudes: np.ndarray, n: int) -> np.ndarray:
-    change = np.zeros(n)
-    for j in range(amplitudes.size):
-        start, length = patterns.starts[j], patterns.lengths[j]
-        change[start : start + length] += amplitudes[j] * patterns.values[j, :length]
-    return change
-
-
-def _build_wavelets(taper, time_step, omegas, damping, peak_times, width, delay) -> _Patterns:
-    """One tapered-cosine wavelet per crest, placed so that its oscillator's response peaks there.
-
-    w_j(t) = cos(ω_d,j·(t − c_j))·exp(−((t − c_j)/γ_j)²) with γ_j = width·T_j; the centre
-    c_j = t_j − δ·T_j puts the peak response of the oscillator to its own wavelet at the crest
-    time t_j (δ = ``delay``, from `_find_wavelet_delay`). A Gaussian-tapered cosine this wide is
-    free of drift to within e^(−(πγ/T)²). ``taper`` (the envelope's build-up) keeps the record at
-    rest at its start.
-    """
-    n = taper.size
-    periods = 2.0 * np.pi / omegas
-    widths = width * periods
-    centres = peak_times - delay * periods
-    starts = np.clip(np.floor((centres - 3.0 * widths) / time_step), 0, n - 1).astype(np.int64)
-    stops = np.clip(np.ceil((centres + 3.0 * widths) / time_step) + 1, 1, n).astype(np.int64)
-    lengths = np.maximum(stops - starts, 1)
-    damped = omegas * math.sqrt(1.0 - damping**2)
-    values = _sample_wavelets(taper, time_step, starts, lengths, centres, widths, damped)
-    return _Patterns(starts, lengths, values)
-
-
-@jit
-def _sample_wavelets(taper, time_step, starts, lengths, centres, widths, damped):
-    values = np.zeros((starts.size, lengths.max()))
-    for j in range(starts.size):
-        for k in range(lengths[j]):
-            t = (starts[j] + k) * time_step - centres[j]
-            values[j, k] = (
-                math.cos(damped[j] * t) * math.exp(-((t / widths[j]) ** 2)) * taper[starts[j] + k]
-            )
-    return values
-
-
-def _build_peak_patterns(acceleration, samples, half_width) -> _Patterns:
-    """For each sample to bring to the target PGA, the record around it under a Hann window.
-
-    Scaling such a pattern raises or lowers a whole local peak of the record with its shape, so
-    its neighbouring samples do not become new peaks.
-    """
-    n = acceleration.size
-    offsets = np.arange(-half_width, half_width + 1)
-    window = np.cos(0.5 * np.pi * offsets / (half_width + 1)) ** 2
-    starts = np.clip(samples - half_width, 0, n - 1)
-    stops = np.clip(samples + half_width + 1, 1, n)
-    lengths = stops - starts
-    values = np.zeros((samples.size, offsets.size))
-    for q, sample in enumerate(samples):
-        index = np.arange(starts[q], stops[q])
-        values[q, : lengths[q]] = acceleration[index] * window[index - sample + half_width]
-    return _Patterns(starts.astype(np.int64), lengths.astype(np.int64), values)
-
-
-def _find_wavelet_delay(width: float, damping: float) -> float:
-    """Time from a wavelet's centre to its oscillator's peak response, in periods [-].
-
-    The wavelet scales with the period, so one run of a unit-period oscillator (200 steps per
-    period) gives the delay for all.
-    """
-    time_step = 1.0 / 200.0
-    times = np.arange(-4.0 * width, 4.0 * width + 10.0, time_step)
-    damped = 2.0 * np.pi * math.sqrt(1.0 - damping**2)
-    wavelet = np.cos(damped * times) * np.exp(-((times / width) ** 2))
-    _, peak_times = find_peak_responses(wavelet, time_step, np.array([1.0]), damping)
-    return float(peak_times[0, 0] + times[0])
-
-
-def _find_peak_samples(
-    acceleration: np.ndarray, pga: float, margin: float = PEAK_MARGIN, limit: int = 8
-) -> np.ndarray:
-    """Sample indices of the (up to ``limit`` largest) local peaks of |a| above (1 − margin)·pga.
-
-    Always includes the largest sample. These are held at min(|a|, pga): the record's PGA can
-    then neither grow nor jump to another peak.
-    """
-    size = np.abs(acceleration)
-    inner = size[1:-1]
-    high = (inner >= size[:-2]) & (inner > size[2:]) & (inner > (1.0 - margin) * pga)
-    local = np.union1d(np.flatnonzero(high) + 1, [int(np.argmax(size))])
-    return np.sort(local[np.argsort(size[local])[::-1][:limit]])
-
-
-@jit
-def _compute_influence(peak_times, omegas, damping, time_step, starts, lengths, values, samples):
-    """Matrix of first-order effects of the correction patterns on the piecewise-linear record.
-
-    Rows: d(ω_i²·u_i(t_i)) for each oscillator, then d(a) at each of ``samples``. Columns: unit
-    amplitude of each pattern. A unit sample (a hat of half-width h) excites the oscillator with
-    u(s) = −R(s), R being the second difference of the ramp response H2 (see `_ramp_response`);
-    for s >= h, R(s) = Re(K·e^(λs)) is a damped sinusoid, stepped by complex multiplication.
-    """
-    m = omegas.size
-    columns = starts.size
-    matrix = np.zeros((m + samples.size, columns))
-    for i in range(m):
-        omega = omegas[i]
-        t_i = peak_times[i]
-        last = int(math.floor(t_i / time_step)) + 1  # samples after t_i + h do not count
-        # samples more than ln(10⁴)/(ξω) before t_i have decayed below 10⁻⁴ of their effect
-        memory = 9.2 / (damping * omega) if damping > 0.0 else t_i + time_step
-        earliest = max(0, int(math.floor((t_i - memory) / time_step)))
-        kernel = _sample_hat_responses(t_i, omega, damping, time_step, earliest, last)
-        for j in range(columns):
-            first = max(starts[j], earliest)
-            stop = min(starts[j] + lengths[j], last + 1)
-            total = 0.0
-            for k in range(first, stop):
-                total += values[j, k - starts[j]] * kernel[k - earliest]
-            matrix[i, j] = total
-    for q in range(samples.size):
-        for j in range(columns):
-            offset = samples[q] - starts[j]
-            if 0 <= offset < lengths[j]:
-                matrix[m + q, j] = values[j, offset]
-    return matrix
-
-
-@jit
-def _sample_hat_responses(t_i, omega, damping, time_step, first, last):
-    """−ω²·u(t_i) for a unit sample at each of samples first..last (see `_compute_influence`)."""
-    lam = complex(-damping * omega, omega * math.sqrt(1.0 - damping**2))
-    back = np.exp(-lam * time_step)
-    z = _hat_response_coefficient(omega, damping, time_step) * np.exp(
-        lam * (t_i - first * time_step)
-    )
-    kernel = np.empty(max(last - first + 1, 0))
-    for k in range(first, last + 1):
-        s = t_i - k * time_step
-        if s >= time_step:
-            response = z.real
-        else:
-            response = _hat_response_near(s, omega, damping, time_step)
-        kernel[k - first] = -omega * omega * response
-        z *= back
-    return kernel
-
-
-@jit
-def _solve_regularised(matrix, rhs, scale):
-    """x minimising |A·x − b|² + scale²·|x|², by Cholesky on the normal equations.
-
-    Written out (not LAPACK) so that the result does not depend on the BLAS threads.
-    """
-    n = matrix.shape[1]
-    columns = np.ascontiguousarray(matrix.T)
-    normal = np.zeros((n, n))
-    x = np.zeros(n)
-    for i in range(n):
-        for j in range(i + 1):
-            total = 0.0
-            for k in range(columns.shape[1]):
-                total += columns[i, k] * columns[j, k]
-            normal[i, j] = total
-        normal[i, i] += scale * scale
-        total = 0.0
-        for k in range(columns.shape[1]):
-            total += columns[i, k] * rhs[k]
-        x[i] = total
-    for j in range(n):  # Cholesky, lower triangle in place
-        pivot = normal[j, j]
-        for k in range(j):
-            pivot -= normal[j, k] * normal[j, k]
-        pivot = math.sqrt(pivot)
-        normal[j, j] = pivot
-        for i in range(j + 1, n):
-            value = normal[i, j]
-            for k in range(j):
-                value -= normal[i, k] * normal[j, k]
-            normal[i, j] = value / pivot
-    for i in range(n):  # forward: L·y = b
-        for k in range(i):
-            x[i] -= normal[i, k] * x[k]
-        x[i] /= normal[i, i]
-    for i in range(n - 1, -1, -1):  # backward: Lᵀ·x = y
-        for k in range(i + 1, n):
-            x[i] -= normal[k, i] * x[k]
-        x[i] /= normal[i, i]
-    return x
-
-
-@jit
-def _hat_response_coefficient(omega, damping, time_step):
-    """K with R(s) = Re(K·e^(λs)) for s >= h: the free part of H2, second-differenced."""
-    lam = complex(-damping * omega, omega * math.sqrt(1.0 - damping**2))
-    omega_d = lam.imag
-    u0 = 2.0 * damping / omega**3
-    v0 = -1.0 / omega**2
-    amplitude = complex(u0, -(v0 + damping * omega * u0) / omega_d)
-    return amplitude * (np.exp(lam * time_step) + np.exp(-lam * time_step) - 2.0) / time_step
-
-
-@jit
-def _hat_response_near(s, omega, damping, time_step):
-    """R(s) for −h < s < h, from the ramp response H2 (zero for negative arguments)."""
-    return (
-        _ramp_response(s + time_step, omega, damping)
-        - 2.0 * _ramp_response(s, omega, damping)
-        + _ramp_response(s - time_step, omega, damping)
-    ) / time_step
-
-
-@jit
-def _ramp_response(x, omega, damping):
-    """H2(x): response to a unit force ramp from rest, u'' + 2ξωu' + ω²u = x; 0 for x <= 0."""
-    if x <= 0.0:
-        return 0.0
-    omega_d = omega * math.sqrt(1.0 - damping**2)
-    u0 = 2.0 * damping / omega**3
-    v0 = -1.0 / omega**2
-    free = math.exp(-damping * omega * x) * (
-        u0 * math.cos(omega_d * x) + (v0 + damping * omega * u0) / omega_d * math.sin(omega_d * x)
-    )
-    return x / omega**2 - u0 + free

@@ -84,7 +84,7 @@ _THETA1_PEAK = PEAK_NAMES.index("theta1")
 
 
 class Settings(NamedTuple):
-    """Numerical knobs of one analysis (see `fidelity` for the named presets).
+    """The fidelity knobs of one analysis, as the solver reads them (`fidelity.settings`).
 
     Attributes
     ----------
@@ -288,7 +288,9 @@ def _failure_event(watch: int) -> int:
 
 
 @jit
-def _locate(model, kin, s, contact, acc, dt, k, t, y, w, f0, h, watch, glo, ghi, y1, w1, f1, opts):
+def _locate(
+    model, kin, s, contact, acc, dt, k, t, y, w, f0, h, watch, glo, ghi, y1, w1, f1, settings
+):
     """Length τ ≤ h of the step that ends just past the event of ``watch``, and the state there
     (θ1, θ̇1, θ̈1).
 
@@ -300,10 +302,10 @@ def _locate(model, kin, s, contact, acc, dt, k, t, y, w, f0, h, watch, glo, ghi,
     """
     lo, hi = 0.0, h
     if glo == 0.0:
-        while hi > opts.event_tol:
+        while hi > settings.event_tol:
             probe = 0.5 * hi
             yp, wp, _, _, fp = _step(
-                model, kin, s, contact, acc, dt, k, t, y, w, f0, probe, opts.scheme
+                model, kin, s, contact, acc, dt, k, t, y, w, f0, probe, settings.scheme
             )
             gp = _watch(model, s, contact, yp, wp, kin)[0][watch]
             if gp < 0.0:
@@ -313,13 +315,15 @@ def _locate(model, kin, s, contact, acc, dt, k, t, y, w, f0, h, watch, glo, ghi,
         if glo == 0.0:
             return 0.0, y, w, f0
     side = 0
-    while hi - lo > opts.event_tol:
-        if opts.bisection:
+    while hi - lo > settings.event_tol:
+        if settings.bisection:
             mid = 0.5 * (lo + hi)
         else:
             mid = hi - ghi * (hi - lo) / (ghi - glo)
             mid = min(max(mid, lo + 0.01 * (hi - lo)), hi - 0.01 * (hi - lo))
-        ym, wm, _, _, fm = _step(model, kin, s, contact, acc, dt, k, t, y, w, f0, mid, opts.scheme)
+        ym, wm, _, _, fm = _step(
+            model, kin, s, contact, acc, dt, k, t, y, w, f0, mid, settings.scheme
+        )
         gm = _watch(model, s, contact, ym, wm, kin)[0][watch]
         if gm > 0.0:
             hi, ghi, y1, w1, f1 = mid, gm, ym, wm, fm
@@ -364,11 +368,11 @@ def _next_onset(acc, dt, laws, k, t):
 
 
 @inlined
-def _controlled(opts, y, w, y1, w1, err_y, err_w, h, h_step):
+def _controlled(settings, y, w, y1, w1, err_y, err_w, h, h_step):
     """DOPRI5's error control after a trial step of h_step: (accepted, next step size)."""
     scale = max(
-        abs(err_y) / (opts.atol + opts.rtol * max(abs(y), abs(y1))),
-        abs(err_w) / (opts.atol + opts.rtol * max(abs(w), abs(w1))),
+        abs(err_y) / (settings.atol + settings.rtol * max(abs(y), abs(y1))),
+        abs(err_w) / (settings.atol + settings.rtol * max(abs(w), abs(w1))),
     )
     if not scale <= 1.0:
         return False, h_step * (max(0.2, 0.9 * scale**-0.2) if np.isfinite(scale) else 0.2)
@@ -377,7 +381,9 @@ def _controlled(opts, y, w, y1, w1, err_y, err_w, h, h_step):
 
 
 @jit
-def _first_event(model, kin, s, contact, acc, dt, k, t, y, w, f0, g0, h, y1, w1, f1, watched, opts):
+def _first_event(
+    model, kin, s, contact, acc, dt, k, t, y, w, f0, g0, h, y1, w1, f1, watched, settings
+):
     """The first event due within a step of length h from t, if any.
 
     ``g0`` are the watched functions at the step's start, (y1, w1, f1) the state after the full
@@ -394,10 +400,10 @@ def _first_event(model, kin, s, contact, acc, dt, k, t, y, w, f0, g0, h, y1, w1,
     while watch >= 0:
         located, y1, w1, f1 = _locate(
             model, kin, s, contact, acc, dt, k, t, y, w, f0, tau, watch, g0[watch], g1[watch],
-            y1, w1, f1, opts,
+            y1, w1, f1, settings,
         )  # fmt: skip
         g1, d1 = _watch(model, s, contact, y1, w1, kin)
-        if previous >= 0 and tau - located <= opts.event_tol:
+        if previous >= 0 and tau - located <= settings.event_tol:
             return min(watch, previous), located, y1, w1, f1, g1, d1
         tau = located
         earlier = _fired(g0, g1, watched, watch)
@@ -430,7 +436,7 @@ def _sample(theta1, rate, mode, next_out, output_step, s, t, tau, t_new, y, w, y
 
 
 @jit
-def _impact(events, n_events, t, s, w, laws, acc, dt, k, opts):
+def _impact(events, n_events, t, s, w, laws, acc, dt, k, settings):
     """An impact at the rocking interfaces ends mode s: θ̇1 ← η_s·θ̇1 and the mode reverses;
     then the chatter guard puts a slow bridge the ground cannot drive back at rest.
 
@@ -442,7 +448,7 @@ def _impact(events, n_events, t, s, w, laws, acc, dt, k, opts):
     n_events = _log(events, n_events, t, IMPACT, s, before, w)
     ground = _ground(acc, dt, min(k, acc.size - 2), t)
     driven = ground > laws.onset_p if s > 0.0 else ground < laws.onset_n
-    if abs(w) < opts.rest_velocity and not driven:
+    if abs(w) < settings.rest_velocity and not driven:
         s, w = 0.0, 0.0
         n_events = _log(events, n_events, t, REST, 0.0, before, 0.0)
     return s, w, n_events
@@ -455,7 +461,7 @@ def integrate(
     kin: Kinematics,
     acc: np.ndarray,
     dt: float,
-    opts: Settings,
+    settings: Settings,
     theta0: float = 0.0,
     omega0: float = 0.0,
 ) -> Integration:
@@ -473,7 +479,7 @@ def integrate(
         Ground acceleration at uniform samples, positive to the right [m/s²].
     dt
         Sample interval [s].
-    opts
+    settings
         `Settings`.
     theta0, omega0
         Initial rotation [rad] and angular velocity [rad/s]; when either is non-zero the bridge
@@ -484,16 +490,16 @@ def integrate(
     `Integration`
     """
     t_end = (acc.size - 1) * dt
-    n_out = int(np.floor(t_end / opts.output_step + 1e-9)) + 1
+    n_out = int(np.floor(t_end / settings.output_step + 1e-9)) + 1
     theta1 = np.zeros(n_out)
     rate = np.zeros(n_out)
     mode = np.zeros(n_out, dtype=np.int8)
-    events = np.zeros((opts.max_events, 5))
+    events = np.zeros((settings.max_events, 5))
     peaks = np.zeros((len(PEAK_NAMES), 2))
     n_events = next_out = steps = rejected = 0
     error, failure = NO_ERROR, NOT_FAILED
-    watched = WATCH_TURNING + 1 if opts.turning_points else WATCH_TURNING
-    t, k, y, w, h = 0.0, 0, theta0, omega0, opts.step
+    watched = WATCH_TURNING + 1 if settings.turning_points else WATCH_TURNING
+    t, k, y, w, h = 0.0, 0, theta0, omega0, settings.step
     # θ̈1 and the watched functions at the current state, carried from one step to the next
     # (known = False after anything that changes the state other than a step).
     f0, g0, known = np.nan, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0), False
@@ -508,10 +514,10 @@ def integrate(
             s, t, k = _next_onset(acc, dt, laws, k, t)
             if s == 0.0:
                 break
-            y, w, h, known = 0.0, 0.0, opts.step, False
+            y, w, h, known = 0.0, 0.0, settings.step, False
             contact = model.u_jo <= 0.0
             n_events = _log(events, n_events, t, ONSET, s, 0.0, 0.0)
-            while next_out < n_out and next_out * opts.output_step <= t:
+            while next_out < n_out and next_out * settings.output_step <= t:
                 next_out += 1  # samples at rest stay zero
             if t >= (k + 1) * dt:
                 k += 1
@@ -524,18 +530,18 @@ def integrate(
             g0 = _watch(model, s, contact, y, w, kin)[0]
             known = True
         boundary = (k + 1) * dt
-        h_step = min(h, opts.max_step, boundary - t)
+        h_step = min(h, settings.max_step, boundary - t)
         y1, w1, err_y, err_w, f1 = _step(
-            model, kin, s, contact, acc, dt, k, t, y, w, f0, h_step, opts.scheme
+            model, kin, s, contact, acc, dt, k, t, y, w, f0, h_step, settings.scheme
         )
         steps += 1
         if not (np.isfinite(y1) and np.isfinite(w1)):
-            if opts.scheme == RK4:
+            if settings.scheme == RK4:
                 error = NON_FINITE_STATE
                 break
             err_y = np.inf
-        if opts.scheme == DOPRI5:
-            accepted, h = _controlled(opts, y, w, y1, w1, err_y, err_w, h, h_step)
+        if settings.scheme == DOPRI5:
+            accepted, h = _controlled(settings, y, w, y1, w1, err_y, err_w, h, h_step)
             if not accepted:
                 rejected += 1
                 if h < 1e-14:
@@ -543,13 +549,30 @@ def integrate(
                     break
                 continue
         watch, tau, y1, w1, f1, g1, d1 = _first_event(
-            model, kin, s, contact, acc, dt, k, t, y, w, f0, g0, h_step, y1, w1, f1, watched, opts
+            model,
+            kin,
+            s,
+            contact,
+            acc,
+            dt,
+            k,
+            t,
+            y,
+            w,
+            f0,
+            g0,
+            h_step,
+            y1,
+            w1,
+            f1,
+            watched,
+            settings,
         )
 
         # Accept the step: histories and peaks.
         t_new = boundary if (watch < 0 and tau == boundary - t) else t + tau
         next_out = _sample(
-            theta1, rate, mode, next_out, opts.output_step, s, t, tau, t_new, y, w, y1, w1
+            theta1, rate, mode, next_out, settings.output_step, s, t, tau, t_new, y, w, y1, w1
         )
         values = _tracked(y1, d1)
         for i in range(len(PEAK_NAMES)):
@@ -563,11 +586,11 @@ def integrate(
 
         # Apply the event: the state changes.
         known = False
-        if n_events >= opts.max_events - 2:
+        if n_events >= settings.max_events - 2:
             error = TOO_MANY_EVENTS
             break
         if watch == WATCH_IMPACT:
-            s, w, n_events = _impact(events, n_events, t, s, w, laws, acc, dt, k, opts)
+            s, w, n_events = _impact(events, n_events, t, s, w, laws, acc, dt, k, settings)
             y = 0.0
         elif watch == WATCH_GAP and contact:  # the end gap reopens
             contact = False

@@ -56,7 +56,7 @@ def plot_record_spectra(
     output = check_format(output)
     records, target, band = _load(paths, units, time_step)
     gravity = STANDARD_GRAVITY  # spectra in the unit g
-    periods = np.geomspace(*band, 200)
+    periods = np.geomspace(band[0], band[1], 200)
     values = (
         np.array([compute_psa(r.acceleration, r.time_step, periods, damping) for r in records])
         / gravity

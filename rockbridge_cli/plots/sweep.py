@@ -75,7 +75,7 @@ def plot_sweep(
             low, high = fit.median_90 if fit is not None and fit.median_90 else (middle, middle)
         else:
             values = columns[quantity][columns["bridge"] == bridge]
-            middle, low, high = np.percentile(values, [50.0, 16.0, 84.0])
+            middle, low, high = (float(v) for v in np.percentile(values, [50.0, 16.0, 84.0]))
         lines.setdefault(key, []).append((swept[bridge][field], middle, low, high))
     factor, unit = (1.0, "g" if intensity and intensity["measure"] != "scale" else "-")
     if not capacity:
@@ -83,11 +83,11 @@ def plot_sweep(
     figure = Figure(figsize=(6.5, 4.5), layout="constrained")
     axes = figure.subplots()
     for index, ((source, others), points) in enumerate(lines.items()):
-        x, middle, low, high = (np.array(v) for v in zip(*sorted(points), strict=True))
+        x, middles, lows, highs = (np.array(v) for v in zip(*sorted(points), strict=True))
         look = style(index)
         label = source + "".join(f", {p} = {v:.4g}" for p, v in others)
-        axes.plot(x, middle * factor, label=label, **look)
-        axes.fill_between(x, low * factor, high * factor, color=look["color"], alpha=0.12,
+        axes.plot(x, middles * factor, label=label, **look)
+        axes.fill_between(x, lows * factor, highs * factor, color=look["color"], alpha=0.12,
                           linewidth=0)  # fmt: skip
     what = f"capacity: {quantity.replace('_', ' ')}" if capacity else quantity
     band = "median, 90 % interval" if capacity else "median over the records, 16–84 %"

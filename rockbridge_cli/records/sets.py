@@ -15,7 +15,7 @@ import scipy
 
 from .. import __version__
 from ..config.records import RecordSetConfig
-from ..core import ec8, matching, spectra
+from ..core import baseline, ec8, matching, spectra
 from ..errors import InputError
 from ..paths import writable
 from .files import MANIFEST, Record, read_manifest, write_record
@@ -120,6 +120,7 @@ def resolve_target(config: RecordSetConfig) -> TargetDefinition:
     if target.ag_g is not None:
         design = target.ag_g * config.gravity
     else:
+        assert target.pga_g is not None  # the config gives exactly one of the two
         design = target.pga_g * config.gravity / soil
     return TargetDefinition(
         target.spectrum_type, target.ground_type, target.damping, design, design * soil
@@ -172,7 +173,7 @@ def generate_record_set(
             envelope,
             np.random.default_rng(child),
             settings,
-            band=tuple(config.band),
+            band=config.band,
         )
         name = f"{config.name_prefix}{index + 1:0{width}d}"
         records.append(Record(name, config.time_step, matched.acceleration, "generate-records"))
@@ -187,7 +188,7 @@ def generate_record_set(
         folder,
         tuple(summaries),
         compliance,
-        tuple(config.band),
+        config.band,
         config.check_periods,
         time.perf_counter() - started,
     )
@@ -212,7 +213,7 @@ def _summarise(records, matches, check, target, config):
     for record, matched, low, high in zip(
         records, matches, compliance.record_min_ratio, compliance.record_max_ratio, strict=True
     ):
-        velocity, displacement = matching.compute_final_motion(
+        velocity, displacement = baseline.compute_final_motion(
             record.acceleration, record.time_step
         )
         summaries.append(
@@ -224,7 +225,7 @@ def _summarise(records, matches, check, target, config):
                 high,
                 velocity,
                 displacement,
-                matching.compute_significant_duration(record.acceleration, record.time_step),
+                baseline.compute_significant_duration(record.acceleration, record.time_step),
                 matched.attempts,
                 matched.iterations,
             )

@@ -124,7 +124,7 @@ COUNT_COLUMNS = (
     "rechecked",
 )
 
-COMPRESSION = {"compression": "gzip", "compression_opts": 4, "shuffle": True}
+COMPRESSION: dict[str, Any] = {"compression": "gzip", "compression_opts": 4, "shuffle": True}
 """HDF5 filters of the compressed datasets (records, histories): byte shuffle, then deflate."""
 
 

@@ -80,7 +80,7 @@ class AnalysisResult:
         cls, bridge: str, record: str, response: Response, keep: Sequence[str], wall_time: float
     ) -> AnalysisResult:
         """The result of a finished analysis, keeping the histories named in ``keep``."""
-        values = {k: v for k, v in response.summary().items() if k in PEAK_COLUMNS}
+        values = {k: v for k, v in response.peak_row().items() if k in PEAK_COLUMNS}
         ok = response.status == "ok"
         values.update(
             status="ok" if ok else "solver_error",

@@ -103,7 +103,7 @@ def read_peaks(path: str | Path) -> pd.DataFrame:
         columns, units = peak_columns(file), peak_units(file)
     frame = pd.DataFrame(
         {
-            name: pd.array(np.where(values < 0, None, values), dtype="Int64")
+            name: pd.array(_missing_below_zero(values), dtype="Int64")
             if name in COUNT_COLUMNS
             else values
             for name, values in columns.items()
@@ -258,3 +258,10 @@ def _decoded(values: np.ndarray) -> np.ndarray:
 
 def _item(value: Any) -> Any:
     return value.item() if isinstance(value, np.generic) else value
+
+
+def _missing_below_zero(counts: np.ndarray) -> np.ndarray:
+    """A count column with None where the file stores −1 (no result)."""
+    out = counts.astype(object)
+    out[counts < 0] = None
+    return out

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import json
 import platform
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import h5py
 import numpy as np
@@ -281,7 +281,8 @@ def _write_bridges(group: h5py.Group, study: Study) -> None:
         for name, unit in SUMMARY_UNITS.items():
             node.attrs[name] = np.nan if summary[name] is None else summary[name]
             units[name] = unit
-        for limit, rotations in summary["capacities"].items():  # capacity_<limit>_<p|n>
+        capacities = cast(dict[str, dict[str, float]], summary["capacities"])
+        for limit, rotations in capacities.items():  # capacity_<limit>_<p|n>
             for mode, value in rotations.items():
                 node.attrs[f"capacity_{limit}_{mode}"] = value
                 units[f"capacity_{limit}_{mode}"] = "rad"

@@ -42,7 +42,7 @@ class Cell(NamedTuple):
     intensity level and factor the record is scaled by for this analysis alone (an IDA's; NaN
     and 1 when the record is analysed as listed)."""
 
-    index: int
+    index: int  # type: ignore[assignment]  # the cell's index, not tuple.index
     bridge: int
     record: int
     level: float = float("nan")

@@ -89,7 +89,9 @@ def walk(
     reaches
         For a lattice index, the limit states its analysis reached, or None if it has not run.
     """
-    wanted, visited, reached_so_far = set(), set(), set()
+    wanted: set[int] = set()
+    visited: set[int] = set()
+    reached_so_far: set[str] = set()
     scanned = []
     for n in range(0, lattice.count, lattice.stride):
         found = reaches(n)

@@ -263,9 +263,15 @@ def _merged(
 ) -> Iterator[Packed | AnalysisResult]:
     """The journalled analyses and those of the earlier file, in the order of the results; the
     journal's where both have one."""
-    journalled = ((cell, Packed.unpack(*rest)) for cell, *rest in journal.packed())
+    journalled = (
+        (cell, Packed.unpack(bridge, record, blob))
+        for cell, bridge, record, blob in journal.packed()
+    )
     last = None
-    for cell, analysis in heapq.merge(journalled, earlier, key=lambda item: item[0]):
+    both: Iterator[tuple[int, Packed | AnalysisResult]] = heapq.merge(
+        journalled, earlier, key=lambda item: item[0]
+    )
+    for cell, analysis in both:
         if cell != last:  # on a tie the journal's comes first: heapq.merge is stable
             yield analysis
         last = cell
