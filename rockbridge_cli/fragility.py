@@ -30,7 +30,7 @@ from scipy.optimize import minimize
 from scipy.special import log_ndtr, ndtr
 
 from . import limit_states
-from .config.study import scaled_id
+from .config.intensity import scaled_id
 from .errors import InputError
 from .limit_states import Verdict
 from .results.reading import open_results, peak_columns

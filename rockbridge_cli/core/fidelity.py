@@ -47,7 +47,7 @@ PRESETS: dict[str, dict[str, Any]] = {
 }  # fmt: skip
 
 SCHEMES = ("rk4", "dopri5")
-"""Names of the integration schemes, in the order of the solver's codes (`solver.RK4`, `DOPRI5`)."""
+"""Names of the integration schemes, in the order of their codes (`schemes.RK4`, `DOPRI5`)."""
 
 
 def knobs(preset: str, **overrides: Any) -> dict[str, Any]:

@@ -20,7 +20,7 @@ small state machine:
 Steps never straddle a record sample, so the ground acceleration is linear within each step. An
 event is located by re-stepping from the step's start with a shorter step (Illinois regula falsi,
 or the paper's plain bisection) until the event time is known to ``event_tol``; the state is then
-taken just past the event. Two one-step schemes are available: the classical fixed-step
+taken just past the event. Two one-step schemes are available (`schemes`): the classical fixed-step
 Runge–Kutta of order 4 (the paper's) and the adaptive embedded Dormand–Prince 5(4) pair
 (Dormand & Prince 1980) with error control on θ1 and θ̇1.
 """
@@ -37,9 +37,7 @@ from .dynamics import acceleration
 from .geometry import Model
 from .kinematics import Displacements, Kinematics, displacements
 from .quantities import PEAK_NAMES
-
-RK4, DOPRI5 = 0, 1
-"""Integration schemes."""
+from .schemes import DOPRI5, RK4, ground_at, take_step
 
 ONSET, IMPACT, POUNDING, REOPENING, REST, ABUTMENT_FAILURE, PIER1_OVERTURNING, PIER2_OVERTURNING = (
     range(8)
@@ -160,81 +158,6 @@ class Integration(NamedTuple):
 
 
 @inlined
-def _ground(acc: np.ndarray, dt: float, k: int, t: float) -> float:
-    """Ground acceleration at time t inside sample interval k (linear between samples) [m/s²]."""
-    return acc[k] + (acc[k + 1] - acc[k]) * (t / dt - k)
-
-
-@jit
-def _step(model, kin, s, contact, acc, dt, k, t, y, w, f0, h, scheme):
-    """One step of length h from (θ1, θ̇1) = (y, w) at time t, where θ̈1 = f0 (NaN: unknown).
-
-    Returns the new (θ1, θ̇1), for DOPRI5 the local error estimates of both (zero for RK4), and
-    θ̈1 at the new state (DOPRI5's last stage, which the next step reuses; NaN for RK4).
-    """
-    if not np.isfinite(f0):
-        f0 = acceleration(model, s, y, w, _ground(acc, dt, k, t), contact, kin)
-    if scheme == RK4:
-        f1 = f0
-        y2, w2 = y + 0.5 * h * w, w + 0.5 * h * f1
-        f2 = acceleration(model, s, y2, w2, _ground(acc, dt, k, t + 0.5 * h), contact, kin)
-        y3, w3 = y + 0.5 * h * w2, w + 0.5 * h * f2
-        f3 = acceleration(model, s, y3, w3, _ground(acc, dt, k, t + 0.5 * h), contact, kin)
-        y4, w4 = y + h * w3, w + h * f3
-        f4 = acceleration(model, s, y4, w4, _ground(acc, dt, k, t + h), contact, kin)
-        return (
-            y + h / 6.0 * (w + 2.0 * w2 + 2.0 * w3 + w4),
-            w + h / 6.0 * (f1 + 2.0 * f2 + 2.0 * f3 + f4),
-            0.0,
-            0.0,
-            np.nan,
-        )
-    # Dormand–Prince 5(4): the stages of θ1 are the θ̇1 values, those of θ̇1 the accelerations.
-    a1 = f0
-    v1 = w
-    y2 = y + h * (v1 / 5.0)
-    v2 = w + h * (a1 / 5.0)
-    a2 = acceleration(model, s, y2, v2, _ground(acc, dt, k, t + h / 5.0), contact, kin)
-    y3 = y + h * (3.0 * v1 + 9.0 * v2) / 40.0
-    v3 = w + h * (3.0 * a1 + 9.0 * a2) / 40.0
-    a3 = acceleration(model, s, y3, v3, _ground(acc, dt, k, t + 0.3 * h), contact, kin)
-    y4 = y + h * (44.0 / 45.0 * v1 - 56.0 / 15.0 * v2 + 32.0 / 9.0 * v3)
-    v4 = w + h * (44.0 / 45.0 * a1 - 56.0 / 15.0 * a2 + 32.0 / 9.0 * a3)
-    a4 = acceleration(model, s, y4, v4, _ground(acc, dt, k, t + 0.8 * h), contact, kin)
-    y5 = y + h * (
-        19372.0 / 6561.0 * v1 - 25360.0 / 2187.0 * v2 + 64448.0 / 6561.0 * v3 - 212.0 / 729.0 * v4
-    )
-    v5 = w + h * (
-        19372.0 / 6561.0 * a1 - 25360.0 / 2187.0 * a2 + 64448.0 / 6561.0 * a3 - 212.0 / 729.0 * a4
-    )
-    a5 = acceleration(model, s, y5, v5, _ground(acc, dt, k, t + 8.0 / 9.0 * h), contact, kin)
-    y6 = y + h * (
-        9017.0 / 3168.0 * v1 - 355.0 / 33.0 * v2 + 46732.0 / 5247.0 * v3
-        + 49.0 / 176.0 * v4 - 5103.0 / 18656.0 * v5
-    )  # fmt: skip
-    v6 = w + h * (
-        9017.0 / 3168.0 * a1 - 355.0 / 33.0 * a2 + 46732.0 / 5247.0 * a3
-        + 49.0 / 176.0 * a4 - 5103.0 / 18656.0 * a5
-    )  # fmt: skip
-    a6 = acceleration(model, s, y6, v6, _ground(acc, dt, k, t + h), contact, kin)
-    y_new = y + h * (
-        35.0 / 384.0 * v1 + 500.0 / 1113.0 * v3 + 125.0 / 192.0 * v4
-        - 2187.0 / 6784.0 * v5 + 11.0 / 84.0 * v6
-    )  # fmt: skip
-    w_new = w + h * (
-        35.0 / 384.0 * a1 + 500.0 / 1113.0 * a3 + 125.0 / 192.0 * a4
-        - 2187.0 / 6784.0 * a5 + 11.0 / 84.0 * a6
-    )  # fmt: skip
-    a7 = acceleration(model, s, y_new, w_new, _ground(acc, dt, k, t + h), contact, kin)
-    # Difference of the 5th- and 4th-order solutions.
-    e1, e3, e4 = 71.0 / 57600.0, -71.0 / 16695.0, 71.0 / 1920.0
-    e5, e6, e7 = -17253.0 / 339200.0, 22.0 / 525.0, -1.0 / 40.0
-    err_y = h * (e1 * v1 + e3 * v3 + e4 * v4 + e5 * v5 + e6 * v6 + e7 * w_new)
-    err_w = h * (e1 * a1 + e3 * a3 + e4 * a4 + e5 * a5 + e6 * a6 + e7 * a7)
-    return y_new, w_new, err_y, err_w, a7
-
-
-@inlined
 def _watch(model, s, contact, y, w, kin):
     """The watched functions at (θ1, θ̇1) = (y, w), indexed by ``WATCH_*``; an event is due when
     its function turns positive. Also returns the `Displacements` there."""
@@ -304,7 +227,7 @@ def _locate(
     if glo == 0.0:
         while hi > settings.event_tol:
             probe = 0.5 * hi
-            yp, wp, _, _, fp = _step(
+            yp, wp, _, _, fp = take_step(
                 model, kin, s, contact, acc, dt, k, t, y, w, f0, probe, settings.scheme
             )
             gp = _watch(model, s, contact, yp, wp, kin)[0][watch]
@@ -321,7 +244,7 @@ def _locate(
         else:
             mid = hi - ghi * (hi - lo) / (ghi - glo)
             mid = min(max(mid, lo + 0.01 * (hi - lo)), hi - 0.01 * (hi - lo))
-        ym, wm, _, _, fm = _step(
+        ym, wm, _, _, fm = take_step(
             model, kin, s, contact, acc, dt, k, t, y, w, f0, mid, settings.scheme
         )
         gm = _watch(model, s, contact, ym, wm, kin)[0][watch]
@@ -354,7 +277,7 @@ def _next_onset(acc, dt, laws, k, t):
     """At rest from time t in sample interval k: the mode (±1, or 0 if none before the record
     ends), the time and the interval of the next onset (Eq. 8) on the piecewise-linear motion."""
     while k < acc.size - 1:
-        a0 = _ground(acc, dt, k, max(t, k * dt))
+        a0 = ground_at(acc, dt, k, max(t, k * dt))
         a1 = acc[k + 1]
         if a0 > laws.onset_p or a0 < laws.onset_n:
             return (1.0 if a0 > laws.onset_p else -1.0), max(t, k * dt), k
@@ -446,7 +369,7 @@ def _impact(events, n_events, t, s, w, laws, acc, dt, k, settings):
     w *= laws.eta_p if s > 0.0 else laws.eta_n
     s = -s
     n_events = _log(events, n_events, t, IMPACT, s, before, w)
-    ground = _ground(acc, dt, min(k, acc.size - 2), t)
+    ground = ground_at(acc, dt, min(k, acc.size - 2), t)
     driven = ground > laws.onset_p if s > 0.0 else ground < laws.onset_n
     if abs(w) < settings.rest_velocity and not driven:
         s, w = 0.0, 0.0
@@ -526,12 +449,12 @@ def integrate(
         # Rocking: one step, never past the end of the current sample interval. h is the step the
         # scheme asks for (fixed for RK4), h_step the one taken.
         if not known:
-            f0 = acceleration(model, s, y, w, _ground(acc, dt, k, t), contact, kin)
+            f0 = acceleration(model, s, y, w, ground_at(acc, dt, k, t), contact, kin)
             g0 = _watch(model, s, contact, y, w, kin)[0]
             known = True
         boundary = (k + 1) * dt
         h_step = min(h, settings.max_step, boundary - t)
-        y1, w1, err_y, err_w, f1 = _step(
+        y1, w1, err_y, err_w, f1 = take_step(
             model, kin, s, contact, acc, dt, k, t, y, w, f0, h_step, settings.scheme
         )
         steps += 1

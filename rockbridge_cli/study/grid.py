@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
-from ..config.study import scaled_id
+from ..config.intensity import scaled_id
 from ..core.bridge import Bridge
 
 if TYPE_CHECKING:
@@ -26,7 +26,7 @@ class BridgeCase(NamedTuple):
 
 class RecordCase(NamedTuple):
     """A ground motion [m/s²] at ``time_step`` [s], or why it could not be read; with the
-    record it was scaled from, the intensity level and the factor (`config.study.Intensity`)."""
+    record it was scaled from, the intensity level and the factor (`config.intensity.Intensity`)."""
 
     id: str
     acceleration: np.ndarray | None

@@ -23,7 +23,8 @@ from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from ..config.study import Intensity, Study, intensity_of
+from ..config.intensity import Intensity, intensity_of
+from ..config.study import Study
 from ..limit_states import Verdict
 from .grid import Cell, Grid
 

@@ -1,0 +1,88 @@
+"""The one-step schemes of the integrator (`solver`): the classical fixed-step Runge–Kutta of order
+4 (the paper's) and the embedded Dormand–Prince 5(4) pair (Dormand & Prince 1980), on the state
+(θ1, θ̇1) with θ̈1 from `dynamics.acceleration` and the ground acceleration linear between samples."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._jit import inlined, jit
+from .dynamics import acceleration
+
+RK4, DOPRI5 = 0, 1
+"""Integration schemes."""
+
+
+@inlined
+def ground_at(acc: np.ndarray, dt: float, k: int, t: float) -> float:
+    """Ground acceleration at time t inside sample interval k (linear between samples) [m/s²]."""
+    return acc[k] + (acc[k + 1] - acc[k]) * (t / dt - k)
+
+
+@jit
+def take_step(model, kin, s, contact, acc, dt, k, t, y, w, f0, h, scheme):
+    """One step of length h from (θ1, θ̇1) = (y, w) at time t, where θ̈1 = f0 (NaN: unknown).
+
+    Returns the new (θ1, θ̇1), for DOPRI5 the local error estimates of both (zero for RK4), and
+    θ̈1 at the new state (DOPRI5's last stage, which the next step reuses; NaN for RK4).
+    """
+    if not np.isfinite(f0):
+        f0 = acceleration(model, s, y, w, ground_at(acc, dt, k, t), contact, kin)
+    if scheme == RK4:
+        f1 = f0
+        y2, w2 = y + 0.5 * h * w, w + 0.5 * h * f1
+        f2 = acceleration(model, s, y2, w2, ground_at(acc, dt, k, t + 0.5 * h), contact, kin)
+        y3, w3 = y + 0.5 * h * w2, w + 0.5 * h * f2
+        f3 = acceleration(model, s, y3, w3, ground_at(acc, dt, k, t + 0.5 * h), contact, kin)
+        y4, w4 = y + h * w3, w + h * f3
+        f4 = acceleration(model, s, y4, w4, ground_at(acc, dt, k, t + h), contact, kin)
+        return (
+            y + h / 6.0 * (w + 2.0 * w2 + 2.0 * w3 + w4),
+            w + h / 6.0 * (f1 + 2.0 * f2 + 2.0 * f3 + f4),
+            0.0,
+            0.0,
+            np.nan,
+        )
+    # Dormand–Prince 5(4): the stages of θ1 are the θ̇1 values, those of θ̇1 the accelerations.
+    a1 = f0
+    v1 = w
+    y2 = y + h * (v1 / 5.0)
+    v2 = w + h * (a1 / 5.0)
+    a2 = acceleration(model, s, y2, v2, ground_at(acc, dt, k, t + h / 5.0), contact, kin)
+    y3 = y + h * (3.0 * v1 + 9.0 * v2) / 40.0
+    v3 = w + h * (3.0 * a1 + 9.0 * a2) / 40.0
+    a3 = acceleration(model, s, y3, v3, ground_at(acc, dt, k, t + 0.3 * h), contact, kin)
+    y4 = y + h * (44.0 / 45.0 * v1 - 56.0 / 15.0 * v2 + 32.0 / 9.0 * v3)
+    v4 = w + h * (44.0 / 45.0 * a1 - 56.0 / 15.0 * a2 + 32.0 / 9.0 * a3)
+    a4 = acceleration(model, s, y4, v4, ground_at(acc, dt, k, t + 0.8 * h), contact, kin)
+    y5 = y + h * (
+        19372.0 / 6561.0 * v1 - 25360.0 / 2187.0 * v2 + 64448.0 / 6561.0 * v3 - 212.0 / 729.0 * v4
+    )
+    v5 = w + h * (
+        19372.0 / 6561.0 * a1 - 25360.0 / 2187.0 * a2 + 64448.0 / 6561.0 * a3 - 212.0 / 729.0 * a4
+    )
+    a5 = acceleration(model, s, y5, v5, ground_at(acc, dt, k, t + 8.0 / 9.0 * h), contact, kin)
+    y6 = y + h * (
+        9017.0 / 3168.0 * v1 - 355.0 / 33.0 * v2 + 46732.0 / 5247.0 * v3
+        + 49.0 / 176.0 * v4 - 5103.0 / 18656.0 * v5
+    )  # fmt: skip
+    v6 = w + h * (
+        9017.0 / 3168.0 * a1 - 355.0 / 33.0 * a2 + 46732.0 / 5247.0 * a3
+        + 49.0 / 176.0 * a4 - 5103.0 / 18656.0 * a5
+    )  # fmt: skip
+    a6 = acceleration(model, s, y6, v6, ground_at(acc, dt, k, t + h), contact, kin)
+    y_new = y + h * (
+        35.0 / 384.0 * v1 + 500.0 / 1113.0 * v3 + 125.0 / 192.0 * v4
+        - 2187.0 / 6784.0 * v5 + 11.0 / 84.0 * v6
+    )  # fmt: skip
+    w_new = w + h * (
+        35.0 / 384.0 * a1 + 500.0 / 1113.0 * a3 + 125.0 / 192.0 * a4
+        - 2187.0 / 6784.0 * a5 + 11.0 / 84.0 * a6
+    )  # fmt: skip
+    a7 = acceleration(model, s, y_new, w_new, ground_at(acc, dt, k, t + h), contact, kin)
+    # Difference of the 5th- and 4th-order solutions.
+    e1, e3, e4 = 71.0 / 57600.0, -71.0 / 16695.0, 71.0 / 1920.0
+    e5, e6, e7 = -17253.0 / 339200.0, 22.0 / 525.0, -1.0 / 40.0
+    err_y = h * (e1 * v1 + e3 * v3 + e4 * v4 + e5 * v5 + e6 * v6 + e7 * w_new)
+    err_w = h * (e1 * a1 + e3 * a3 + e4 * a4 + e5 * a5 + e6 * a6 + e7 * a7)
+    return y_new, w_new, err_y, err_w, a7
