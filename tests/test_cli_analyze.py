@@ -53,6 +53,21 @@ def test_output_file_holds_the_same_analysis(tmp_path):
         assert file["peaks/u_deck_max"][0] == pytest.approx(printed["u_deck_max"], rel=1e-12)
 
 
+def test_output_file_with_a_tail_is_the_tailed_analysis(tmp_path):
+    """-o runs the same analysis as the library call, tail included: the stored histories run
+    to the record's end plus the tail, and the peaks agree with `analyze(..., tail=...)`."""
+    out = tmp_path / "tail.h5"
+    result = invoke("analyze", BRIDGE, RECORD, "--fidelity", "fast", "--tail", "5", "-o", out)
+    assert result.exit_code == 0, result.output
+    record = read_record(RECORD)
+    bridge = load_bridge(BRIDGE).to_bridge()
+    expected = analyze(bridge, record.acceleration, record.time_step, "fast", tail=5.0)
+    with h5py.File(out, "r") as file:
+        assert json.loads(file.attrs["knobs"])["tail"] == 5.0
+        assert file["peaks/u_deck_max"][0] == pytest.approx(expected.peaks["u_deck"][0], rel=1e-12)
+        assert file["peaks/n_impacts"][0] == expected.n_impacts
+
+
 @pytest.mark.parametrize(
     ("text", "reason"),
     [

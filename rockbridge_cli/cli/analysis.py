@@ -70,20 +70,15 @@ def analyze(
         )
         summary = response.peak_row()
     else:  # the same analysis, through the study runner, so that the file has run's layout
-        import dataclasses
-
         from ..config.study import single_analysis
         from ..study.run import run_study
 
-        study = single_analysis(bridge, record, units, time_step, fidelity, output)
-        study = dataclasses.replace(
-            study, knobs={**study.knobs, "tail": tail}, overrides={**study.overrides, "tail": tail}
-        )
+        study = single_analysis(bridge, record, units, time_step, fidelity, output, tail)
         report = run_study(study, workers=1, overwrite=overwrite)
-        summary = report.peaks.iloc[0].to_dict()
+        summary = {**report.peaks.iloc[0].to_dict(), "fidelity": fidelity}
         if summary["status"] == "error":
             raise click.ClickException(f"the analysis could not run: {summary['message']}")
-        summary.update(fidelity=fidelity, output=str(report.output))
+        summary["output"] = str(report.output)
     if as_json:
         echo_json({**summary, "bridge": config.label(bridge.stem), "record": motion.name})
     else:

@@ -359,6 +359,7 @@ def single_analysis(
     time_step: float | None,
     preset: str,
     output: Path,
+    tail: float = 0.0,
 ) -> Study:
     """The study of one bridge under one record (``rockbridge analyze -o``), written to ``output``.
 
@@ -371,7 +372,10 @@ def single_analysis(
     preset
         Fidelity preset.
     output
-        The HDF5 results file.
+        The HDF5 results file; the study is named after it, ``<output>.study.yaml``, in messages
+        and in the file (every path in it is absolute).
+    tail
+        Free vibration after the record [s] (`core.fidelity`).
     """
     record_id = re.sub(r"[^A-Za-z0-9_.+-]", "_", Path(record).stem)
     entry: dict[str, Any] = {"path": str(Path(record).resolve()), "id": record_id}
@@ -380,7 +384,7 @@ def single_analysis(
         "description": f"rockbridge analyze {bridge} {record}",
         "bridges": [str(Path(bridge).resolve())],
         "records": {"files": [entry]},
-        "fidelity": preset,
+        "fidelity": {"preset": preset, **({"tail": tail} if tail else {})},
     }
     source = Path(output).with_suffix(".study.yaml")
     return study_from_data(data, source, yaml.safe_dump(data, sort_keys=False), None, output)
