@@ -91,7 +91,7 @@ def analyze(
 
 
 def _rows(bridge: str, record: str, s: dict) -> list[tuple[str, str]]:
-    from ..core.quantities import PEAK_UNITS
+    from ..core.quantities import NO_FAILURE, PEAK_UNITS
 
     onset = s["t_onset"]
     failure = s["failure_mode"]
@@ -108,7 +108,7 @@ def _rows(bridge: str, record: str, s: dict) -> list[tuple[str, str]]:
             "impacts (significant) / poundings",
             f"{s['n_impacts']} ({s['n_impacts_significant']}) / {s['n_poundings']}",
         ),
-        ("failure", failure + ("" if failure == "none" else f" at {s['failure_time']:.3f} s")),
+        ("failure", failure + ("" if failure == NO_FAILURE else f" at {s['failure_time']:.3f} s")),
         ("backfill demand/capacity", _ratio(s["dcr_backfill"], "(|u_deck| − u_jo)/u_ab")),
         ("overturning demand/capacity", _ratio(s["dcr_overturning"], "|u_pier|/B")),
         ("status", s["status"]),

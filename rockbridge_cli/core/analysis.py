@@ -50,7 +50,7 @@ class Response:
         does not have (a single block has no deck and no pier 2)
     t_onset : time of the first onset of rocking, NaN if the bridge never rocks [s]
     n_impacts, n_poundings : counts of impacts at the rocking interfaces and on the backwall [-]
-    failure_mode : ``none``, ``abutment``, ``overturning_pier1`` or ``overturning_pier2``
+    failure_mode : `quantities.NO_FAILURE` or one of `quantities.FAILURE_MODES`
     failure_time : time of failure, NaN without [s]
     n_impacts_significant : impacts whose |θ̇1| before the impact exceeds `SIGNIFICANT_RATE` [-]
     dcr_backfill : the paper's demand/capacity ratio, the backfill's deformation over its

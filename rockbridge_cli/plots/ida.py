@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
+from ..core.quantities import NO_FAILURE
 from ..errors import InputError
 from ..fragility import fragilities_of
 from ..results.reading import open_results, peak_columns, peak_units
@@ -66,7 +67,7 @@ def plot_ida(results: str | Path, output: str | Path, quantity: str = "u_deck_ma
             rows = np.flatnonzero(mine["base_record"] == record)
             rows = rows[np.argsort(mine["intensity"][rows])]
             axes.plot(response[rows], mine["intensity"][rows], color="0.6", linewidth=0.7)
-            failed = rows[mine["failure_mode"][rows] != "none"]
+            failed = rows[mine["failure_mode"][rows] != NO_FAILURE]
             axes.plot(response[failed], mine["intensity"][failed], linestyle="none",
                       marker="x", color="0.3", markersize=4)  # fmt: skip
             for index, state in enumerate(states):

@@ -9,6 +9,7 @@ from typing import NamedTuple
 
 from ..core.analysis import Response, analyze
 from ..core.fidelity import RECHECK_MARGIN
+from ..core.quantities import NO_FAILURE
 from ..limit_states import Verdict
 from ..results.packing import AnalysisResult
 from .grid import BridgeCase, Cell, Grid, RecordCase
@@ -110,4 +111,4 @@ def _analyse(grid: Grid, bridge: BridgeCase, record: RecordCase) -> AnalysisResu
 def _near_a_limit(response: Response) -> bool:
     """Whether an analysis ended in a failure or within `RECHECK_MARGIN` of a capacity."""
     ratios = [r for r in (response.dcr_backfill, response.dcr_overturning) if r == r]  # not NaN
-    return response.failure_mode != "none" or any(r >= 1.0 - RECHECK_MARGIN for r in ratios)
+    return response.failure_mode != NO_FAILURE or any(r >= 1.0 - RECHECK_MARGIN for r in ratios)
