@@ -138,3 +138,14 @@ def test_non_finite_values_are_refused(tmp_path):
     result = invoke("describe", bridge)
     assert result.exit_code == 2
     assert "abutments.stiffness: Input should be a finite number" in result.output
+
+
+def test_the_symmetric_deck_does_not_rotate_in_print():
+    """h̄ = 1: the deck only translates (docs/model.md §3), but the arithmetic leaves ~1e-16 rad;
+    the table shows 0, and --json keeps the computed value."""
+    symmetric = REPO / "configs" / "bridges" / "studied-hbar1.00.yaml"
+    text = invoke("analyze", symmetric, RECORD).output
+    line = next(row for row in text.splitlines() if row.startswith("max theta_deck"))
+    assert line.split()[2] == "0", line
+    data = json.loads(invoke("analyze", symmetric, RECORD, "--json").output)
+    assert 0.0 <= data["theta_deck_max"] < 1e-12

@@ -3,6 +3,8 @@ every figure written in each format, with its labels and units."""
 
 from __future__ import annotations
 
+import re
+
 import matplotlib
 import numpy as np
 import pytest
@@ -15,6 +17,7 @@ from rockbridge_cli.errors import InputError
 from rockbridge_cli.plots import parametric
 from rockbridge_cli.plots.history import plot_history
 from rockbridge_cli.plots.peaks import plot_peaks
+from rockbridge_cli.results import read_peaks
 from rockbridge_cli.study.run import run_study
 
 MAGIC = {".png": b"\x89PNG", ".pdf": b"%PDF", ".svg": b"<?xml"}
@@ -148,3 +151,54 @@ def test_history_figure(done, tmp_path):
         plot_history(done, "R1", tmp_path / "x.png", bridges=["nope"])
     with pytest.raises(InputError, match="unknown figure format '.gif'"):
         plot_history(done, "R1", tmp_path / "x.gif")
+
+
+def test_peaks_figure_marks_the_means_and_each_bridges_limits(tmp_path):
+    """Two bridges with different gaps: each gets its own limit lines (one legend entry per
+    kind), and each panel ends with the bridges' means over the records."""
+    original = (BRIDGES / f"{STUDIED[1]}.yaml").read_text(encoding="utf-8")
+    narrow = original.replace("gap: 0.12", "gap: 0.06").replace("highly asymmetric", "narrow gap")
+    (tmp_path / "narrow.yaml").write_text(narrow, encoding="utf-8")
+    path = write_study(tmp_path, extra="output: {path: out.h5}\n")
+    text = path.read_text(encoding="utf-8").replace(
+        "bridges:\n", f"bridges:\n  - {(tmp_path / 'narrow.yaml').as_posix()}\n", 1
+    )
+    path.write_text(text, encoding="utf-8")
+    study = load_study(path)
+    run_study(study, workers=1)
+    with matplotlib.rc_context({"svg.fonttype": "none"}):
+        figure = svg_text(plot_peaks(study.output, tmp_path / "peaks.svg"))
+    assert "mean" in figure and "each bridge's, in its shade" in figure
+    assert "= 120 mm" not in figure  # no single gap is claimed for all bridges
+
+
+def test_history_figure_has_the_ground_motion_and_the_events(done, tmp_path):
+    """Panel A is the record (in g, from the results file), onsets and poundings are in the
+    legend, and the panels follow the five responses of a bridge."""
+    with matplotlib.rc_context({"svg.fonttype": "none"}):
+        text = svg_text(plot_history(done, "R1", tmp_path / "h.svg"))
+    assert "onset of rocking" in text and "pounding on the backwall" in text
+    assert all(f"({letter})" in text for letter in "ABCDEF") and "(G)" not in text
+
+
+def test_history_of_a_single_block_draws_only_what_a_block_has(tmp_path):
+    """A free-standing block has no deck and no short pier: ground and θ1 only, not four empty
+    panels; a block that overturns gets the failure line and its legend entry."""
+    (tmp_path / "block.yaml").write_text(
+        "name: slender block\npiers: {width: 0.4, heights: [4.0]}\n", encoding="utf-8"
+    )
+    path = write_study(tmp_path, bridges=(), extra="output: {path: out.h5}\n")
+    text = path.read_text(encoding="utf-8").replace(
+        "bridges:\n", f"bridges:\n  - {(tmp_path / 'block.yaml').as_posix()}\n", 1
+    )
+    path.write_text(text, encoding="utf-8")
+    study = load_study(path)
+    run_study(study, workers=1)
+    with matplotlib.rc_context({"svg.fonttype": "none"}):
+        figure = svg_text(plot_history(study.output, "R1", tmp_path / "block.svg"))
+    assert "(A)" in figure and "(B)" in figure and "(C)" not in figure
+    assert "tall pier" in figure and "short pier" not in figure
+    # a 0.4 m × 4 m block (α = 0.1 rad, p = 2.7 rad/s) overturns under R1's 0.51 g, 1 s burst
+    assert read_peaks(study.output).set_index("record").loc["R1", "failure_mode"] != "none"
+    legend = re.findall(r"<text[^>]*>([^<]*)</text>", figure)
+    assert "failure" in legend and "pounding on the backwall" not in legend

@@ -9,7 +9,7 @@ import click
 
 from ..core.fidelity import PRESETS
 from . import main
-from .output import echo_json, echo_table
+from .output import echo_json, echo_table, shown
 
 
 @main.command()
@@ -102,7 +102,8 @@ def _rows(bridge: str, record: str, s: dict) -> list[tuple[str, str]]:
         ("onset of rocking", "never (at rest)" if math.isnan(onset) else f"{onset:.3f} s"),
     ]
     for name, unit in PEAK_UNITS.items():
-        rows.append((f"max {name}", f"{s[name + '_max']:.5g} {unit} at {s[name + '_time']:.3f} s"))
+        peak = shown(s[name + "_max"])
+        rows.append((f"max {name}", f"{peak:.5g} {unit} at {s[name + '_time']:.3f} s"))
     rows += [
         (
             "impacts (significant) / poundings",

@@ -10,7 +10,7 @@ import click
 
 from ..core.fidelity import PRESETS
 from . import main, plot
-from .output import echo_json, export_csv, figure_option, table_text
+from .output import echo_json, export_csv, figure_option, shown, table_text
 
 _DISPLAY = (
     ("u_deck_max", "u_deck [mm]", 1e3),
@@ -274,13 +274,16 @@ def _bridge_table(columns: dict) -> str:
     demand/capacity ratio, and how many analyses ended in a failure of the bridge."""
     import numpy as np
 
+    from ..core.quantities import NO_FAILURE
+
     headers = ["bridge", "ok", *(header for _, header, _ in _DISPLAY), "backfill d/c", "failures"]
     rows = []
     for bridge in dict.fromkeys(columns["bridge"]):
         mine = columns["bridge"] == bridge
         ok = f"{int(np.sum(columns['status'][mine] == 'ok'))}/{int(np.sum(mine))}"
-        largest = [_largest(columns[name][mine]) * scale for name, _, scale in _DISPLAY]
-        failed = np.isin(columns["failure_mode"][mine], ("", "none"), invert=True)
+        largest = _scaled([_largest(columns[name][mine]) for name, _, _ in _DISPLAY], 1.0)
+        largest = [value * scale for value, (_, _, scale) in zip(largest, _DISPLAY, strict=True)]
+        failed = np.isin(columns["failure_mode"][mine], ("", NO_FAILURE), invert=True)
         rows.append([bridge, ok, *largest, _largest(columns["dcr_backfill"][mine]),
                      int(np.sum(failed))])  # fmt: skip
     return table_text(headers, rows)
@@ -312,10 +315,9 @@ def _with_missing_counts(columns: dict) -> dict:
 
 
 def _scaled(values, scale: float) -> list:
-    """A column for display: numbers times ``scale`` (text and missing values as they are)."""
-    if scale == 1:
-        return list(values)
-    return [None if v is None else v * scale for v in values]
+    """A column for display: numbers times ``scale``, round-off as 0 (text and missing values as
+    they are)."""
+    return [shown(v) * scale if isinstance(v, float) else v for v in values]
 
 
 @plot.command("peaks")

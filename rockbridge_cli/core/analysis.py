@@ -14,11 +14,10 @@ from ._jit import jit
 from .bridge import Bridge
 from .geometry import Model, kind
 from .kinematics import EXACT, Displacements, Kinematics, displacements, simplified
-from .quantities import HISTORY_UNITS, PEAK_NAMES, SIGNIFICANT_RATE
+from .quantities import EVENT_NAMES, HISTORY_UNITS, PEAK_NAMES, SIGNIFICANT_RATE
 from .solver import (
     EVENT_KIND,
     EVENT_MODE,
-    EVENT_NAMES,
     EVENT_RATE_AFTER,
     EVENT_RATE_BEFORE,
     EVENT_TIME,

@@ -22,6 +22,16 @@ ABUTMENT, PIER1_OVERTURNING, PIER2_OVERTURNING = FAILURE_MODES = (
 NO_FAILURE = "none"
 """The failure mode of an analysis in which nothing failed."""
 
+EVENT_NAMES = (
+    "onset", "impact", "pounding", "reopening", "rest",
+    "abutment_failure", "overturning_pier1", "overturning_pier2",
+)  # fmt: skip
+"""What can happen in an analysis, in the order of the solver's event codes; the last three end
+it in a failure (`FAILURE_EVENTS`)."""
+
+FAILURE_EVENTS = dict(zip(EVENT_NAMES[-3:], FAILURE_MODES, strict=True))
+"""The failure mode of each failure event."""
+
 SIGNIFICANT_RATE = 1e-3
 """|θ̇1| before an impact above which it counts in ``n_impacts_significant`` [rad/s]. Measured on
 the paper's Fig. 9 study (2871 impacts): the rates before impacts fall in two groups, chatter near

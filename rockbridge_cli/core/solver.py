@@ -42,11 +42,7 @@ from .schemes import DOPRI5, RK4, ground_at, take_step
 ONSET, IMPACT, POUNDING, REOPENING, REST, ABUTMENT_FAILURE, PIER1_OVERTURNING, PIER2_OVERTURNING = (
     range(8)
 )
-EVENT_NAMES = (
-    "onset", "impact", "pounding", "reopening", "rest",
-    "abutment_failure", "overturning_pier1", "overturning_pier2",
-)  # fmt: skip
-"""Event kinds as the log records them, by code; the results file and the CLI use these names."""
+"""Event kinds as the log records them: codes of `quantities.EVENT_NAMES`."""
 
 EVENT_TIME, EVENT_KIND, EVENT_MODE, EVENT_RATE_BEFORE, EVENT_RATE_AFTER = range(5)
 """Columns of the event log: time [s], kind (`EVENT_NAMES`), rocking mode after the event (0 at

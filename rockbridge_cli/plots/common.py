@@ -1,12 +1,14 @@
 """What the figures share: file formats, a print-friendly style per series, saving.
 
-Each series differs by marker, line style and shade, not by colour alone, so that the figures read
-in print and in greyscale. Dotted and dashed black lines are kept for limits (gap, failure).
+Each series differs by marker, line style and shade of grey, as in the paper's figures, so that
+the figures read in print: 3 shades, 8 markers and 6 line styles tell 24 series apart. Dotted and
+dashed black lines are kept for limits (gap, failure).
 """
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
@@ -18,7 +20,14 @@ FORMATS = (".png", ".pdf", ".svg")
 
 _MARKERS = ("o", "s", "^", "D", "v", "P", "X", "*")
 _LINES = ("-", "--", "-.", (0, (5, 1, 1, 1)), (0, (1, 3)), (0, (8, 2)))
-_SHADES = ("black", "0.45", "0.7", "tab:blue", "tab:red", "tab:green")
+_SHADES = ("black", "0.45", "0.7")
+
+
+GAP_LINE: dict[str, Any] = {"color": "black", "linestyle": ":", "linewidth": 1.0}
+"""A limit that is reached without harm: the end-joint gap closing."""
+
+FAILURE_LINE: dict[str, Any] = {"color": "black", "linestyle": "--", "linewidth": 1.0}
+"""A failure: its limit (abutment–backfill, 100 % of a capacity) or its time."""
 
 
 def check_format(output: str | Path) -> Path:
@@ -47,6 +56,21 @@ def style(index: int, filled: bool = True) -> dict:
         "markerfacecolor": colour if filled and index % 2 == 0 else "white",
         "markeredgecolor": colour,
     }
+
+
+def series_labels(bridges: dict[str, dict]) -> dict[str, str]:
+    """Each bridge's legend label: its name, or its id where names repeat (a sweep's variants
+    share their base bridge's name)."""
+    names = [attributes["name"] for attributes in bridges.values()]
+    return {
+        bridge: attributes["name"] if names.count(attributes["name"]) == 1 else bridge
+        for bridge, attributes in bridges.items()
+    }
+
+
+def legend_columns(entries: int) -> int:
+    """Columns of a figure legend above the panels, so that it stays within the figure."""
+    return 1 if entries <= 2 else (2 if entries <= 6 else 3)
 
 
 def panel_label(axes, letter: str) -> None:

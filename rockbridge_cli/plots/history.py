@@ -1,8 +1,10 @@
 """Fig. 10 of Thomaidis, Camara & Kappos (2022): response histories of several bridges under one
-record.
+record, with the ground motion and the events that shape them.
 
-(A) u_deck, with the end-joint gap ±u_jo (dotted); (B) v_deck; (C) θ_deck; (D) θ1 (tall pier);
-(E) θ2 (short pier); one line style per bridge.
+(A) the ground acceleration, with each bridge's onset of rocking marked on it; then u_deck with
+the end-joint gap ±u_jo (dotted) and each pounding marked, v_deck, θ_deck, θ1 (tall pier) and θ2
+(short pier); one line style per bridge, and a dashed line where an analysis ends in failure.
+A panel that no drawn model has (a single block has no deck and no short pier) is left out.
 """
 
 from __future__ import annotations
@@ -11,20 +13,29 @@ import math
 from collections.abc import Sequence
 from pathlib import Path
 
+import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 
+from ..core.quantities import FAILURE_EVENTS, STANDARD_GRAVITY
 from ..errors import InputError
-from ..results.reading import bridge_attributes, history_arrays, open_results
-from .common import check_format, panel_label, save, style
+from ..results.reading import (
+    bridge_attributes,
+    event_arrays,
+    ground_motion,
+    history_arrays,
+    open_results,
+)
+from .common import FAILURE_LINE, GAP_LINE, check_format, panel_label, save, series_labels, style
 
 PANELS = (
     ("u_deck", 1e3, r"$u_{deck}^{CG}$ [mm]"),
     ("v_deck", 1e3, r"$v_{deck}^{CG}$ [mm]"),
     ("theta_deck", 1e3, r"$\theta_{deck}$ [mrad]"),
-    ("theta1", 1e3, r"$\theta_1$ [mrad]"),
-    ("theta2", 1e3, r"$\theta_2$ [mrad]"),
+    ("theta1", 1e3, r"$\theta_1$ (tall pier) [mrad]"),
+    ("theta2", 1e3, r"$\theta_2$ (short pier) [mrad]"),
 )
-"""History, scale from SI to the axis unit, axis label."""
+"""Response panels: history, scale from SI to the axis unit, axis label."""
 
 
 def plot_history(
@@ -59,28 +70,75 @@ def plot_history(
                 [("", f"no bridge {', '.join(unknown)}; the file has {', '.join(table)}")],
             )
         histories = {b: history_arrays(file, results, b, record) for b in chosen}
+        events = {b: event_arrays(file, results, b, record) for b in chosen}
+        time_step, ground = ground_motion(file, results, chosen[0], record)
     for bridge, arrays in histories.items():
         missing = [name for name, _, _ in PANELS if name not in arrays]
         if missing:
             raise InputError(
                 results, [(f"analyses/{bridge}/{record}", f"no {', '.join(missing)} history")]
             )
-    figure = Figure(figsize=(8.0, 11.0), layout="constrained")
-    axes_list = figure.subplots(len(PANELS), 1, sharex=True)
-    for (name, scale, label), axes, letter in zip(PANELS, axes_list, "ABCDE", strict=True):
+    panels = [p for p in PANELS if any(np.isfinite(h[p[0]]).any() for h in histories.values())]
+    figure = Figure(figsize=(8.0, 1.2 + 1.95 * (len(panels) + 1)), layout="constrained")
+    axes_list = figure.subplots(len(panels) + 1, 1, sharex=True, squeeze=False)[:, 0]
+    letters = iter("ABCDEFG")
+    labels = series_labels({b: table[b] for b in chosen})
+
+    axes = axes_list[0]
+    ground_time = np.arange(ground.size) * time_step
+    axes.plot(ground_time, ground / STANDARD_GRAVITY, color="0.35", linewidth=0.6)
+    axes.set_ylabel(r"$\ddot{u}_g$ [g]")
+    _grid(axes, next(letters))
+    for index, found in enumerate(events.values()):
+        onsets = found["time"][found["kind"] == "onset"]
+        if onsets.size:  # the first onset, on the ground motion that caused it
+            look = style(index)
+            axes.plot(onsets[0], np.interp(onsets[0], ground_time, ground) / STANDARD_GRAVITY,
+                      linestyle="none", marker=look["marker"], color=look["color"],
+                      markerfacecolor=look["markerfacecolor"], markersize=7, zorder=3)  # fmt: skip
+
+    for (name, scale, label), axes in zip(panels, axes_list[1:], strict=True):
         for index, (bridge, arrays) in enumerate(histories.items()):
-            axes.plot(arrays["time"], arrays[name] * scale, linewidth=1.0, marker="none",
-                      label=table[bridge]["name"],
-                      **{k: v for k, v in style(index).items() if "marker" not in k})  # fmt: skip
+            look = {k: v for k, v in style(index).items() if "marker" not in k}
+            axes.plot(arrays["time"], arrays[name] * scale, linewidth=1.0, label=labels[bridge],
+                      **look)  # fmt: skip
+            if name == "u_deck":
+                times = events[bridge]["time"][events[bridge]["kind"] == "pounding"]
+                at = np.interp(times, arrays["time"], arrays[name]) * scale
+                axes.plot(times, at, linestyle="none", marker="x", ms=4, color=look["color"])
         axes.set_ylabel(label)
-        axes.grid(True, color="0.9", linewidth=0.5)
-        panel_label(axes, letter)
-    gaps = {table[b]["model_u_jo"] for b in chosen} - {math.inf}
-    for gap in sorted(gaps):
-        for sign in (1.0, -1.0):
-            axes_list[0].axhline(sign * gap * 1e3, color="black", linestyle=":", linewidth=0.8)
-    handles, labels = axes_list[0].get_legend_handles_labels()
-    figure.legend(handles, labels, loc="outside upper center", ncols=3, frameon=False)
-    axes_list[0].set_title(f"record {record}" + (" (dotted: end-joint gap ±u_jo)" if gaps else ""))
+        _grid(axes, next(letters))
+        if name == "u_deck":
+            for gap in sorted({table[b]["model_u_jo"] for b in chosen} - {math.inf}):
+                for sign in (1.0, -1.0):
+                    axes.axhline(sign * gap * 1e3, **GAP_LINE)
+
+    failures = [_failure_time(found) for found in events.values()]
+    for when in (t for t in failures if t is not None):
+        for axes in axes_list:
+            axes.axvline(when, **FAILURE_LINE)
+    handles, labels = axes_list[min(1, len(panels))].get_legend_handles_labels()
+    handles.append(Line2D([], [], linestyle="none", marker="o", color="0.35"))
+    labels.append("onset of rocking (on $\\ddot{u}_g$)")
+    if any(name == "u_deck" for name, _, _ in panels):
+        handles += [Line2D([], [], linestyle="none", marker="x", color="0.35"),
+                    Line2D([], [], **GAP_LINE)]  # fmt: skip
+        labels += ["pounding on the backwall", r"end-joint gap $\pm u_{jo}$"]
+    if any(t is not None for t in failures):
+        handles.append(Line2D([], [], **FAILURE_LINE))
+        labels.append("failure")
+    figure.legend(handles, labels, loc="outside upper center", ncols=2, frameon=False)
+    axes_list[0].set_title(f"record {record}")
     axes_list[-1].set_xlabel("time t [s]")
     return save(figure, output)
+
+
+def _grid(axes, letter: str) -> None:
+    axes.grid(True, color="0.9", linewidth=0.5)
+    panel_label(axes, letter)
+
+
+def _failure_time(events: dict[str, np.ndarray]) -> float | None:
+    """When the analysis failed, or None (the failure is its last event)."""
+    kinds = events["kind"]
+    return float(events["time"][-1]) if kinds.size and kinds[-1] in FAILURE_EVENTS else None

@@ -72,13 +72,13 @@ def plot_onset(bridge: str | Path, output: str | Path, h_max: float | None = Non
     curves = onset_curves(config, h_bars)
     own = onset_curves(config, np.array([model.H1 / model.H2]))
     figure, axes = _figure()
+    _short_pier_axis(axes, model)
     for index, (mode, values) in enumerate(curves.items()):
         axes.plot(h_bars, values, markevery=6, label=f"mode {mode}", **style(index))
-        axes.plot(model.H1 / model.H2, own[mode][0], linestyle="none", marker="*", color="black",
-                  markersize=11, label="this bridge" if index == 0 else None)  # fmt: skip
+    _mark_own(axes, model.H1 / model.H2, [values[0] for values in own.values()])
     axes.set_xlabel(r"$\bar{h} = H_1/H_2$ [-]")
     axes.set_ylabel(r"$\ddot{u}_{g,min}$ [g]")
-    axes.set_title(f"{config.label(Path(bridge).stem)}: onset of rocking (Eq. 8)")
+    axes.set_title(f"{config.label(Path(bridge).stem)}\nonset of rocking (Eq. 8; Fig. 3)")
     axes.legend(frameon=False)
     return save(figure, output)
 
@@ -92,11 +92,10 @@ def plot_q(bridge: str | Path, output: str | Path, h_max: float | None = None) -
     q = np.array([ratios(m)["q"] for m in variants]) * 1e6
     figure, axes = _figure()
     axes.plot(mass, q, markevery=6, label="q", **style(0))
-    axes.plot(model.m2 / 1e4, ratios(model)["q"] * 1e6, linestyle="none", marker="*",
-              color="black", markersize=11, label="this bridge")  # fmt: skip
+    _mark_own(axes, model.m2 / 1e4, [ratios(model)["q"] * 1e6])
     axes.set_xlabel(r"$m_{pier,2}$ [$10^4$ kg]")
     axes.set_ylabel(r"$q$ [$10^{-3}$ m/kN]")
-    axes.set_title(f"{config.label(Path(bridge).stem)}: abutment parameter q")
+    axes.set_title(f"{config.label(Path(bridge).stem)}\nabutment parameter q (Fig. 4)")
     axes.legend(frameon=False)
     return save(figure, output)
 
@@ -107,12 +106,17 @@ def plot_restitution(bridge: str | Path, output: str | Path, h_max: float | None
     config, model = _two_piers(bridge)
     h_bars = h_bar_range(model, h_max)
     curves = restitution_curves(config, [with_short_pier(model, h) for h in h_bars])
+    own = restitution_curves(config, [model])
     figure, axes = _figure()
+    _short_pier_axis(axes, model)
     for index, (name, values) in enumerate(curves.items()):
         axes.plot(h_bars, values, markevery=6, label=name, **style(index))
+    _mark_own(axes, model.H1 / model.H2, [values[0] for values in own.values()])
     axes.set_xlabel(r"$\bar{h} = H_1/H_2$ [-]")
     axes.set_ylabel(r"$\eta$ [-]")
-    axes.set_title(f"{config.label(Path(bridge).stem)}: restitution at the rocking interfaces")
+    axes.set_title(
+        f"{config.label(Path(bridge).stem)}\nrestitution at the rocking interfaces (Fig. 7)"
+    )
     axes.legend(frameon=False)
     return save(figure, output)
 
@@ -138,12 +142,14 @@ def plot_spans(bridge: str | Path, output: str | Path) -> Path:
         curves = restitution_curves(config, variants, frame=False)
         for index, (name, values) in enumerate(curves.items()):
             axes.plot(spans, values, markevery=6, label=name, **style(index))
+        own = restitution_curves(config, [model], frame=False)
+        _mark_own(axes, getattr(model, field), [values[0] for values in own.values()])
         axes.set_xlabel(label)
         axes.grid(True, color="0.9", linewidth=0.5)
         panel_label(axes, letter)
     panels[0].set_ylabel(r"$\eta$ [-]")
     panels[0].legend(frameon=False)
-    figure.suptitle(f"{config.label(Path(bridge).stem)}: restitution vs span lengths")
+    figure.suptitle(f"{config.label(Path(bridge).stem)}: restitution vs span lengths (Fig. 8)")
     return save(figure, output)
 
 
@@ -156,6 +162,23 @@ def _two_piers(bridge: str | Path) -> tuple[BridgeConfig, Model]:
 
 def _span_range(length: float) -> tuple[float, float]:
     return length / 3.0, 2.0 * length
+
+
+def _mark_own(axes, x: float, values: list[float]) -> None:
+    """The bridge's own point on each curve, with one legend entry."""
+    axes.plot([x] * len(values), values, linestyle="none", marker="*", color="black",
+              markersize=11, label="this bridge", zorder=4)  # fmt: skip
+
+
+def _short_pier_axis(axes, model: Model) -> None:
+    """A top axis in the variable the paper varies, the short pier's height 2H2 = 2H1/h̄ [m]."""
+
+    def swap(x):  # h̄ ↔ 2H2, its own inverse; matplotlib also asks at 0
+        x = np.asarray(x, dtype=float)
+        return np.divide(2.0 * model.H1, x, out=np.full_like(x, np.inf), where=x != 0.0)
+
+    top = axes.secondary_xaxis("top", functions=(swap, swap))
+    top.set_xlabel(r"short pier height $2H_2$ [m]")
 
 
 def _figure():

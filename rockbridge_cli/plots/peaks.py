@@ -1,9 +1,10 @@
 """Fig. 9 of Thomaidis, Camara & Kappos (2022): peak responses per record, one marker per bridge.
 
 (A) u_deck, with the end-joint gap u_jo (dotted) and the abutment–backfill failure u_jo + u_ab
-(dashed); (B) v_deck; (C) θ_deck; (D) θ1 (tall pier); (E) θ2 (short pier); (F) the paper's
-demand/capacity ratio, the backfill's (|u_deck| − u_jo)/u_ab (docs/model.md §8), with failure at
-100 %.
+(dashed), one pair of lines per bridge where their gaps differ; (B) v_deck; (C) θ_deck; (D) θ1
+(tall pier); (E) θ2 (short pier); (F) the paper's demand/capacity ratio, the backfill's
+(|u_deck| − u_jo)/u_ab (docs/model.md §8), with failure at 100 %. Right of the records, each
+bridge's mean over them.
 """
 
 from __future__ import annotations
@@ -15,7 +16,16 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from ..results.reading import bridge_attributes, open_results, peak_columns
-from .common import check_format, panel_label, save, style
+from .common import (
+    FAILURE_LINE,
+    GAP_LINE,
+    check_format,
+    legend_columns,
+    panel_label,
+    save,
+    series_labels,
+    style,
+)
 
 PANELS = (
     ("u_deck_max", 1e3, r"$u_{deck}^{CG}$ [mm]"),
@@ -26,6 +36,9 @@ PANELS = (
     ("dcr_backfill", 100.0, r"backfill demand/capacity [%]"),
 )
 """Column of the peak table, scale from SI to the axis unit, axis label."""
+
+MAX_TICKS = 24
+"""Records labelled on the x axis at most (every k-th beyond)."""
 
 
 def plot_peaks(results: str | Path, output: str | Path) -> Path:
@@ -51,47 +64,58 @@ def plot_peaks(results: str | Path, output: str | Path) -> Path:
     grid = figure.subplots(3, 2, sharex=True)
     width = 0.5 / max(len(bridges), 1)
     positions = {record: index for index, record in enumerate(records)}
+    mean_at = len(records) + 0.5  # the means, apart from the records
+    labels = series_labels(bridges)
+    every = math.ceil(len(records) / MAX_TICKS)  # label at most MAX_TICKS records
     for (column, scale, label), axes, letter in zip(PANELS, grid.flat, "ABCDEF", strict=True):
-        for index, (bridge, attributes) in enumerate(bridges.items()):
+        for index, bridge in enumerate(bridges):
             mine = peaks["bridge"] == bridge
             offset = (index - (len(bridges) - 1) / 2) * width
             x = np.array([positions[record] for record in peaks["record"][mine]]) + offset
-            axes.plot(
-                x, peaks[column][mine] * scale, linestyle="none", markersize=6,
-                label=attributes["name"],
-                **{k: v for k, v in style(index).items() if k != "linestyle"},
-            )  # fmt: skip
+            values = peaks[column][mine] * scale
+            look = {k: v for k, v in style(index).items() if k != "linestyle"}
+            axes.plot(x, values, linestyle="none", markersize=6, label=labels[bridge], **look)
+            if np.isfinite(values).any():
+                axes.plot(mean_at + offset, np.nanmean(values), linestyle="none", markersize=8,
+                          **look)  # fmt: skip
+        axes.axvline(len(records) - 0.25, color="0.6", linewidth=0.6)
         axes.set_ylabel(label)
         axes.grid(True, axis="y", color="0.9", linewidth=0.5)
-        axes.set_xticks(np.arange(len(records)), records, rotation=45 if len(records) > 12 else 0)
+        ticks = [*range(0, len(records), every), mean_at]
+        names = [*records[::every], "mean"]
+        crowded = len(ticks) > 9
+        axes.set_xticks(ticks, names, rotation=45 if crowded else 0,
+                        ha="right" if crowded else "center", rotation_mode="anchor")  # fmt: skip
         axes.tick_params(labelbottom=True)
         panel_label(axes, letter)
     _limits(grid[0, 0], bridges)
-    grid[-1, -1].axhline(100.0, color="black", linestyle="--", linewidth=1.0)  # backfill failure
+    grid[-1, -1].axhline(100.0, **FAILURE_LINE)
     for axes in grid.flat:  # from zero, with the markers and limit lines clear of the top frame
         axes.set_ylim(0.0, 1.08 * axes.get_ylim()[1])
     for axes in grid[-1]:
         axes.set_xlabel("record")
-    handles, labels = grid[0, 0].get_legend_handles_labels()
-    figure.legend(handles, labels, loc="outside upper center", ncols=3, frameon=False)
+    handles, texts = grid[0, 0].get_legend_handles_labels()
+    figure.legend(handles, texts, loc="outside upper center", ncols=legend_columns(len(texts)),
+                  frameon=False, fontsize="small" if len(texts) > 6 else "medium")  # fmt: skip
     return save(figure, output)
 
 
 def _limits(axes, bridges: dict) -> None:
-    """Horizontal lines of the end-joint gap and of abutment failure (bridges with abutments)."""
-    seen = set()
-    for bridge in bridges.values():
-        gap, ultimate = bridge["model_u_jo"], bridge["model_u_ab"]
-        if not math.isfinite(gap) or (gap, ultimate) in seen:
-            continue
-        seen.add((gap, ultimate))
-        lines = (
-            (gap, ":", f"contact, $u_{{jo}}$ = {gap * 1e3:.0f} mm"),
-            (
-                gap + ultimate,
-                "--",
-                f"failure, $u_{{jo}} + u_{{ab}}$ = {(gap + ultimate) * 1e3:.0f} mm",
-            ),
-        )
-        for value, line, label in lines:
-            axes.axhline(value * 1e3, color="black", linestyle=line, linewidth=1.0, label=label)
+    """Horizontal lines of the end-joint gap and of abutment failure (bridges with abutments):
+    one black pair when the bridges share them, else one pair per bridge in its shade."""
+    limits = {(a["model_u_jo"], a["model_u_ab"]): index for index, a in
+              enumerate(bridges.values()) if math.isfinite(a["model_u_jo"])}  # fmt: skip
+    if len(limits) == 1:
+        ((gap, ultimate),) = limits
+        axes.axhline(gap * 1e3, **GAP_LINE, label=f"contact, $u_{{jo}}$ = {gap * 1e3:.0f} mm")
+        failure = (gap + ultimate) * 1e3
+        label = f"failure, $u_{{jo}} + u_{{ab}}$ = {failure:.0f} mm"
+        axes.axhline(failure, **FAILURE_LINE, label=label)
+        return
+    for (gap, ultimate), index in limits.items():
+        shade = {"color": style(index)["color"]}
+        axes.axhline(gap * 1e3, **{**GAP_LINE, **shade})
+        axes.axhline((gap + ultimate) * 1e3, **{**FAILURE_LINE, **shade})
+    if limits:  # one legend entry for each kind of line
+        axes.plot([], [], **GAP_LINE, label=r"contact, $u_{jo}$ (each bridge's, in its shade)")
+        axes.plot([], [], **FAILURE_LINE, label=r"failure, $u_{jo} + u_{ab}$")

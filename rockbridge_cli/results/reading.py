@@ -151,6 +151,43 @@ def history_arrays(
     return {name: group[name][()] for name in names}
 
 
+def event_arrays(
+    file: h5py.File, path: str | Path, bridge: str, record: str
+) -> dict[str, np.ndarray]:
+    """The events of one analysis of an open results file (`EVENT_COLUMNS`) [SI].
+
+    Raises
+    ------
+    InputError
+        No such analysis.
+    """
+    starts = _event_starts(file["peaks/n_events"][()])
+    return _events(file, starts, _row(file, path, bridge, record))
+
+
+def ground_motion(
+    file: h5py.File, path: str | Path, bridge: str, record: str
+) -> tuple[float, np.ndarray]:
+    """The ground motion of one analysis of an open results file: the time step [s] and the
+    acceleration from t = 0 [m/s²], scaled by the analysis's factor where an IDA scales the
+    stored record per analysis.
+
+    Raises
+    ------
+    InputError
+        No such analysis, or its record was not read.
+    """
+    row = _row(file, path, bridge, record)
+    node, scale = file.get(f"records/{record}"), 1.0
+    if node is None and "base_record" in file["peaks"]:  # an IDA's: the base record × scale
+        node = file.get(f"records/{file['peaks/base_record'].asstr()[row]}")
+        scale = float(file["peaks/scale"][row])
+    if node is None or "acceleration" not in node:
+        reason = "no ground motion (the record was not read)"
+        raise InputError(path, [(f"records/{record}", reason)])
+    return float(node.attrs["time_step"]), scale * node["acceleration"][()]
+
+
 def read_history(path: str | Path, bridge: str, record: str) -> pd.DataFrame:
     """The stored histories of one analysis, indexed by time [s]; units in ``DataFrame.attrs``.
 
@@ -174,8 +211,7 @@ def read_events(path: str | Path, bridge: str, record: str) -> pd.DataFrame:
     import pandas as pd
 
     with open_results(path) as file:
-        starts = _event_starts(file["peaks/n_events"][()])
-        events = _events(file, starts, _row(file, path, bridge, record))
+        events = event_arrays(file, path, bridge, record)
     frame = pd.DataFrame(events)
     frame.attrs["units"] = {name: unit for name, (unit, _) in EVENT_COLUMNS.items()}
     return frame
