@@ -65,7 +65,7 @@ def plot() -> None:
 
 def _register() -> None:
     # each module adds its commands
-    from . import analysis, bridge, fragility, parametric, records, study  # noqa: F401
+    from . import analysis, bridge, fragility, parametric, records, report, study  # noqa: F401
 
 
 _register()

@@ -43,11 +43,6 @@ def echo_table(rows: list[tuple[str, str]]) -> None:
         click.echo(f"{label:<{width}}  {value}")
 
 
-ROUND_OFF = 1e-12
-"""A peak below this in SI units (a picometre, a picoradian) is round-off and shows as 0: the deck
-of a symmetric bridge does not rotate, though the arithmetic leaves ~1e-16 rad."""
-
-
 def table_text(headers: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
     """Columns under their headers: numbers right-aligned with 4 significant digits, text
     left-aligned; NaN and missing counts (−1 is not used: pass None) as "-"."""
@@ -118,5 +113,7 @@ def _is_number(value: Any) -> bool:
 
 
 def shown(value: float) -> float:
-    """A peak for display: 0 where it is round-off (`ROUND_OFF`), else as it is."""
+    """A peak for display: 0 where it is round-off (`quantities.ROUND_OFF`), else as it is."""
+    from ..core.quantities import ROUND_OFF
+
     return 0.0 if abs(value) < ROUND_OFF else value

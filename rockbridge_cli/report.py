@@ -1,0 +1,387 @@
+"""One self-contained HTML page of a study's results (``rockbridge report``): what was run and
+with what (provenance), the demand/capacity summary, the paper's Figs. 9 and 10, the peak table
+with units, the failures with their messages, the record set's EN 1998-1 compliance and, for a
+study with an intensity section, the IDA and fragility curves.
+
+Figures are PNG images embedded as data URIs and the style sheet is inline, so the one file can be
+mailed, archived or opened offline; the layout reflows to a phone's width and prints on A4.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import json
+import tempfile
+from collections.abc import Callable, Iterable, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .core.quantities import NO_FAILURE, ROUND_OFF
+from .errors import InputError
+from .paths import writable
+from .results.layout import PEAK_COLUMNS
+from .results.reading import bridge_attributes, open_results, peak_columns
+
+TABLE_COLUMNS = (
+    "bridge", "record", "u_deck_max", "v_deck_max", "theta_deck_max", "theta1_max", "theta2_max",
+    "t_onset", "n_impacts_significant", "n_poundings", "failure_mode", "dcr_backfill", "status",
+)  # fmt: skip
+"""The peak table's columns the page shows (all of them are in the results file)."""
+
+DISPLAY_UNITS = {"m": ("mm", 1e3), "rad": ("mrad", 1e3)}
+"""SI units shown in smaller ones, with the factor."""
+
+MAX_ROWS = 500
+"""Rows of the peak table shown at most; the page says how many more the file holds."""
+
+STYLE = """
+body { font: 16px/1.45 system-ui, -apple-system, "Segoe UI", Roboto, sans-serif; color: #111;
+       max-width: 64rem; margin: 0 auto; padding: 1rem; }
+h1 { font-size: 1.6rem; margin-bottom: 0.2rem; } h2 { font-size: 1.25rem; margin-top: 2rem;
+       border-bottom: 1px solid #ccc; }
+figure { margin: 1rem 0; break-inside: avoid; } figure img { width: 100%; height: auto; }
+figcaption { font-size: 0.9rem; color: #444; }
+.scroll { overflow-x: auto; } table { border-collapse: collapse; font-size: 0.85rem; }
+th, td { padding: 0.2rem 0.5rem; border-bottom: 1px solid #e4e4e4; text-align: right;
+         white-space: nowrap; } th { background: #f4f4f4; } td.text, th.text { text-align: left; }
+dl { display: grid; grid-template-columns: max-content 1fr; gap: 0.2rem 1rem; }
+dt { font-weight: 600; } dd { margin: 0; overflow-wrap: anywhere; }
+.bad { color: #a00; font-weight: 600; } .note { color: #555; font-size: 0.9rem; }
+@media print { body { max-width: none; font-size: 11pt; } h2 { break-after: avoid; } }
+"""
+
+
+def write_report(results: str | Path, output: str | Path, record: str | None = None) -> Path:
+    """Write the HTML report of a results file.
+
+    Parameters
+    ----------
+    results
+        The HDF5 results file (`rockbridge_cli.results`).
+    output
+        The HTML file to write.
+    record
+        The record of the history figure (Fig. 10); default the study's first record. A study
+        that kept no histories gets none.
+
+    Returns
+    -------
+    pathlib.Path
+        The page.
+
+    Raises
+    ------
+    InputError
+        ``output`` is the results file itself, or ``record`` is not in the file.
+    """
+    results, output = Path(results), Path(output)
+    if output.resolve() == results.resolve():
+        raise InputError(output, [("", "the report would overwrite the results file it reads")])
+    output = writable(output)
+    with open_results(results) as file:
+        attributes = {key: _plain(value) for key, value in file.attrs.items()}
+        columns, bridges = peak_columns(file), bridge_attributes(file)
+        units = json.loads(file["peaks"].attrs.get("units", "{}")) or _peak_units()
+        sources = {
+            name: str(file["records"][name].attrs.get("source", "")) for name in file["records"]
+        }
+        kept = bool(json.loads(attributes.get("histories", "[]")))
+    intensity = json.loads(attributes.get("intensity", "null"))
+    records = list(dict.fromkeys(columns["record"]))
+    if record is not None and record not in records:
+        raise InputError(results, [("", f"no record {record}; the file has {', '.join(records)}")])
+    chosen = record or (records[0] if records and kept and not _is_ida(intensity) else None)
+    title = _description(attributes) or Path(str(attributes.get("study_file", results))).stem
+    parts = [
+        f"<h1>{_text(title)}</h1>",
+        f'<p class="note">{_text(results.name)}: {len(columns["bridge"])} analyses of '
+        f"{len(bridges)} bridges under {len(records)} records, written by rockbridge "
+        f"{_text(attributes.get('rockbridge_version', '?'))} on "
+        f"{_text(attributes.get('finished', attributes.get('created', '?')))}</p>",
+        _provenance(attributes),
+        _summary(columns, bridges),
+    ]
+    with tempfile.TemporaryDirectory() as folder:
+        figure = _figure_maker(Path(folder))
+        if not _is_ida(intensity):
+            from .plots.peaks import plot_peaks
+
+            parts.append(_section("Peaks per record (Fig. 9)", figure(plot_peaks, results),
+                                  "One marker per bridge and record; right: the means over the "
+                                  "records. (A) with the end-joint gap (dotted) and the "
+                                  "abutment–backfill failure (dashed)."))  # fmt: skip
+        if chosen is not None:
+            from .plots.history import plot_history
+
+            parts.append(_section(f"Response histories under {chosen} (Fig. 10)",
+                                  figure(plot_history, results, chosen),
+                                  "Ground motion with each bridge's onset of rocking, then the "
+                                  "responses; × marks a pounding on the backwall."))  # fmt: skip
+        if intensity is not None:
+            parts.append(_intensity_section(results, intensity, figure))
+    parts += [
+        _peak_table(columns, units),
+        _failures(columns),
+        _record_sets(attributes, sources),
+        _warnings(attributes),
+    ]
+    page = (
+        '<!DOCTYPE html>\n<html lang="en">\n<head>\n<meta charset="utf-8">\n'
+        '<meta name="viewport" content="width=device-width, initial-scale=1">\n'
+        f"<title>{_text(title)}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n"
+        + "\n".join(part for part in parts if part)
+        + "\n</body>\n</html>\n"
+    )
+    output.write_text(page, encoding="utf-8")
+    return output
+
+
+def _description(attributes: dict[str, Any]) -> str:
+    """The study's ``description``, from the study YAML the results file keeps."""
+    import yaml
+
+    try:
+        study = yaml.safe_load(str(attributes.get("study_yaml", "")))
+    except yaml.YAMLError:
+        return ""
+    return str(study.get("description") or "") if isinstance(study, dict) else ""
+
+
+def _is_ida(intensity: dict | None) -> bool:
+    return bool(intensity and intensity.get("ida"))
+
+
+def _figure_maker(folder: Path) -> Callable[..., str]:
+    """A function that draws a figure with a plot function into ``folder`` and returns it as an
+    embedded ``<img>``."""
+    count = iter(range(1000))
+
+    def figure(draw: Callable[..., Path], results: Path, *args: Any) -> str:
+        path = (
+            draw(results, *args, folder / f"figure{next(count)}.png")
+            if args
+            else draw(results, folder / f"figure{next(count)}.png")
+        )
+        encoded = base64.b64encode(path.read_bytes()).decode("ascii")
+        return f'<img alt="figure" src="data:image/png;base64,{encoded}">'
+
+    return figure
+
+
+def _section(heading: str, image: str, caption: str) -> str:
+    return (
+        f"<h2>{_text(heading)}</h2>\n<figure>{image}"
+        f"<figcaption>{_text(caption)}</figcaption></figure>"
+    )
+
+
+def _provenance(attributes: dict[str, Any]) -> str:
+    knobs = json.loads(attributes.get("knobs", "{}"))
+    items = [
+        ("study", attributes.get("study_file", "-")),
+        ("config hash", attributes.get("config_hash", "-")),
+        ("fidelity", f"{attributes.get('fidelity', '-')}: "
+                     + ", ".join(f"{k} = {v}" for k, v in knobs.items())),
+        ("versions", ", ".join(f"{name} {attributes[f'{name}_version']}" for name in
+                               ("rockbridge", "python", "numpy", "scipy", "h5py", "hdf5")
+                               if f"{name}_version" in attributes)),
+        ("machine", attributes.get("host", "-")),
+        ("run", f"{attributes.get('created', '-')} to {attributes.get('finished', '-')}"),
+        ("complete", f"{attributes.get('n_complete', '-')} of {attributes.get('n_analyses', '-')} "
+                     "analyses"),
+    ]  # fmt: skip
+    rows = "".join(f"<dt>{_text(k)}</dt><dd>{_text(v)}</dd>" for k, v in items)
+    return f"<h2>Provenance</h2>\n<dl>{rows}</dl>"
+
+
+def _summary(columns: dict[str, np.ndarray], bridges: dict[str, dict]) -> str:
+    """Per bridge: analyses that ran, the backfill's demand/capacity ratio (largest and mean over
+    the records) and the failures by mode."""
+    rows = []
+    for bridge, attributes in bridges.items():
+        mine = columns["bridge"] == bridge
+        ratio = columns["dcr_backfill"][mine]
+        ratio = ratio[np.isfinite(ratio)]
+        modes = columns["failure_mode"][mine]
+        failed = {
+            m: int(np.sum(modes == m)) for m in dict.fromkeys(modes) if m not in ("", NO_FAILURE)
+        }
+        rows.append([
+            attributes["name"],
+            f"{int(np.sum(columns['status'][mine] == 'ok'))}/{int(np.sum(mine))}",
+            f"{100 * ratio.max():.1f} %" if ratio.size else "-",
+            f"{100 * ratio.mean():.1f} %" if ratio.size else "-",
+            ", ".join(f"{n} {m}" for m, n in failed.items()) or "none",
+        ])  # fmt: skip
+    headers = ["bridge", "ran ok", "backfill d/c, largest", "backfill d/c, mean", "failures"]
+    return (
+        "<h2>Demand and capacity</h2>\n<p>The paper's demand/capacity ratio is the backfill's "
+        "deformation over its capacity, max(0, |u<sub>deck</sub>| − u<sub>jo</sub>)/u<sub>ab"
+        "</sub>: 0 while the end joint stays open, 100 % at abutment failure (docs/model.md §8)."
+        f"</p>\n{_table(headers, rows, text_columns=(0, 4))}"
+    )
+
+
+def _intensity_section(results: Path, intensity: dict, figure: Callable[..., str]) -> str:
+    from .fragility import fragilities
+    from .plots.fragility import plot_fragility
+    from .plots.ida import plot_ida
+
+    found = fragilities(results)
+    rows = [[item.bridge, item.limit_state, _number(item.median), _number(item.beta),
+             "-" if item.median_90 is None else f"{item.median_90[0]:.3g}–{item.median_90[1]:.3g}"]
+            for item in found]  # fmt: skip
+    measure = intensity["measure"]
+    parts = [
+        _section(f"IDA curves ({measure})", figure(plot_ida, results),
+                 "Each record's peak against its intensity level; a cross ends a curve where "
+                 "the bridge failed.") if _is_ida(intensity) else "",
+        _section(f"Fragility ({measure})", figure(plot_fragility, results),
+                 "Share of the records reaching each limit state, and the fitted lognormal."),
+        _table(["bridge", "limit state", "median", "β", "median, 5–95 %"], rows,
+               text_columns=(0, 1)),
+    ]  # fmt: skip
+    return "\n".join(part for part in parts if part)
+
+
+def _peak_table(columns: dict[str, np.ndarray], units: dict[str, str]) -> str:
+    shown = [name for name in TABLE_COLUMNS if name in columns]
+    headers, scales = [], []
+    for name in shown:
+        unit = units.get(name, "-")
+        unit, scale = DISPLAY_UNITS.get(unit, (unit, 1.0))
+        headers.append(name if unit in ("-", "") else f"{name} [{unit}]")
+        scales.append(scale)
+    count = len(columns["bridge"])
+    rows = [
+        [_cell(columns[name][i], scale) for name, scale in zip(shown, scales, strict=True)]
+        for i in range(min(count, MAX_ROWS))
+    ]
+    more = f'<p class="note">{count - MAX_ROWS} more rows in the results file.</p>' if (
+        count > MAX_ROWS) else ""  # fmt: skip
+    texts = tuple(i for i, name in enumerate(shown) if columns[name].dtype.kind in "OUS")
+    return (
+        '<h2>Peak table</h2>\n<p class="note">Largest values over each analysis; the results '
+        f"file has every column (rockbridge peaks {_text('RESULTS')}).</p>\n"
+        f"{_table(headers, rows, text_columns=texts)}{more}"
+    )
+
+
+def _failures(columns: dict[str, np.ndarray]) -> str:
+    failed = (columns["failure_mode"] != NO_FAILURE) | (columns["status"] != "ok")
+    if not failed.any():
+        return "<h2>Failures</h2>\n<p>No analysis ended in a failure of the bridge or an error.</p>"
+    messages = columns.get("message", np.full(failed.size, ""))
+    rows = [
+        [columns["bridge"][i], columns["record"][i], columns["failure_mode"][i],
+         _cell(columns["failure_time"][i], 1.0), columns["status"][i], messages[i] or "-"]
+        for i in np.flatnonzero(failed)
+    ]  # fmt: skip
+    headers = ["bridge", "record", "failure", "at [s]", "status", "message"]
+    return f"<h2>Failures</h2>\n{_table(headers, rows, text_columns=(0, 1, 2, 4, 5))}"
+
+
+def _record_sets(attributes: dict[str, Any], sources: dict[str, str]) -> str:
+    """The EN 1998-1 §3.2.3.1.2 check of each generated record set the study read, from the
+    set's manifest (found from the record sources, relative to the study file)."""
+    study_folder = Path(str(attributes.get("study_file", "."))).parent
+    folders = dict.fromkeys((study_folder / source).parent for source in sources.values() if source)
+    parts = []
+    for folder in folders:
+        try:
+            manifest = json.loads((folder / "manifest.json").read_text(encoding="utf-8"))
+            parts.append(_compliance(folder.name, manifest))
+        except (OSError, ValueError, KeyError, TypeError):  # not a generated set, or unreadable
+            continue
+    if not parts:
+        return ""
+    return "<h2>Record sets: EN 1998-1 §3.2.3.1.2</h2>\n" + "\n".join(parts)
+
+
+def _compliance(name: str, manifest: dict[str, Any]) -> str:
+    target, check, verdict = manifest["target"], manifest["compliance"], manifest["check"]
+    low, high = verdict["band_s"]
+    surface = target["surface_pga_m_s2"]
+    rows = [
+        [r["name"], f"{r['pga_m_s2'] / surface:.4f}", f"{r['min_ratio']:.3f}",
+         f"{r['max_ratio']:.3f}", f"{r['d5_95_s']:.1f}"]
+        for r in manifest["records"]
+    ]  # fmt: skip
+    rows.append(["mean", "", f"{manifest['mean']['min_ratio']:.3f}",
+                 f"{manifest['mean']['max_ratio']:.3f}", ""])  # fmt: skip
+
+    def said(ok: bool | None) -> str:
+        return "unknown" if ok is None else ("yes" if ok else '<span class="bad">NO</span>')
+
+    checks = [
+        ("(4)a at least 3 records", check["count_ok"]),
+        ("(4)b mean zero-period value ≥ a<sub>g</sub>·S", check["zero_period_ok"]),
+        (f"(4)c mean ≥ 90 % of the target over {low:g}–{high:g} s", check["mean_ok"]),
+        ("(3) stationary part ≥ 10 s", check["stationary_ok"]),
+        (f"every record within ±{check['tolerance']:.0%} of the target (the set's tolerance, "
+         "rockbridge)", check["records_ok"]),
+    ]  # fmt: skip
+    items = "".join(f"<li>{label}: {said(ok)}</li>" for label, ok in checks)
+    overall = "compliant" if check["compliant"] else '<span class="bad">NOT compliant</span>'
+    return (
+        f"<h3>{_text(name)}: EN 1998-1 type {_text(target['spectrum_type'])}, ground "
+        f"{_text(target['ground_type'])}, a<sub>g</sub>·S = {surface:.4g} m/s²</h3>\n"
+        + _table(
+            ["record", "PGA/(a_g·S)", "spectrum/target, min", "max", "D5–95 [s]"],
+            rows,
+            text_columns=(0,),
+        )  # fmt: skip
+        + f"\n<ul>{items}</ul>\n<p>Overall: {overall}.</p>"
+    )
+
+
+def _warnings(attributes: dict[str, Any]) -> str:
+    warnings = json.loads(attributes.get("warnings", "[]"))
+    if not warnings:
+        return ""
+    items = "".join(f"<li>{_text(w)}</li>" for w in warnings)
+    return f"<h2>Warnings</h2>\n<ul>{items}</ul>"
+
+
+def _table(headers: Sequence[str], rows: Iterable[Sequence[Any]], text_columns=()) -> str:
+    def cell(tag: str, index: int, value: Any) -> str:
+        kind = ' class="text"' if index in text_columns else ""
+        return f"<{tag}{kind}>{_text(value)}</{tag}>"
+
+    head = "".join(cell("th", i, h) for i, h in enumerate(headers))
+    body = "".join(
+        "<tr>" + "".join(cell("td", i, v) for i, v in enumerate(row)) + "</tr>" for row in rows
+    )
+    table = f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
+    return f'<div class="scroll">{table}</div>'
+
+
+def _cell(value: Any, scale: float) -> str:
+    if isinstance(value, (float, np.floating)):
+        return "-" if not np.isfinite(value) else f"{_rounded(float(value)) * scale:.4g}"
+    if isinstance(value, (int, np.integer)):
+        return "-" if value < 0 else str(int(value))
+    return str(value)
+
+
+def _rounded(value: float) -> float:
+    return 0.0 if abs(value) < ROUND_OFF else value
+
+
+def _number(value: float | None) -> str:
+    return "-" if value is None else f"{value:.3g}"
+
+
+def _text(value: Any) -> str:
+    return html.escape(str(value))
+
+
+def _plain(value: Any) -> Any:
+    return value.item() if isinstance(value, np.generic) else value
+
+
+def _peak_units() -> dict[str, str]:
+    return {name: unit for name, (unit, _) in PEAK_COLUMNS.items()}

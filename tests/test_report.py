@@ -1,0 +1,198 @@
+"""``rockbridge report``: the page is parsed and checked against the results file it was made from
+(read back through `read_peaks`, `read_config_hash`, the HDF5 attributes), it stands alone (no
+script, no link, every figure an embedded PNG), and a real browser (headless Chromium, where the
+machine has it) loads every figure."""
+
+from __future__ import annotations
+
+import base64
+import re
+import shutil
+import subprocess
+from html.parser import HTMLParser
+
+import h5py
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from studies import write_study
+
+from rockbridge_cli.cli import main
+from rockbridge_cli.config.study import load_study
+from rockbridge_cli.report import write_report
+from rockbridge_cli.results import read_config_hash, read_peaks
+from rockbridge_cli.study.run import run_study
+
+BROWSERS = ("chromium", "chromium-browser", "google-chrome")
+
+
+class Page(HTMLParser):
+    """The parts of the page the tests read: headings, images, links, scripts and table rows."""
+
+    def __init__(self, text: str) -> None:
+        super().__init__()
+        self.headings: list[str] = []
+        self.images: list[str] = []
+        self.references: list[str] = []
+        self.scripts = 0
+        self.tables: list[list[list[str]]] = []
+        self._cell: list[str] | None = None
+        self._heading: list[str] | None = None
+        self.feed(text)
+
+    def handle_starttag(self, tag, attrs):
+        values = dict(attrs)
+        if tag == "img":
+            self.images.append(values.get("src", ""))
+        if tag in ("link", "a", "iframe", "object", "embed") or "href" in values:
+            self.references.append(values.get("href") or values.get("src") or tag)
+        self.scripts += tag == "script"
+        if tag == "table":
+            self.tables.append([])
+        elif tag == "tr":
+            self.tables[-1].append([])
+        elif tag in ("td", "th"):
+            self._cell = []
+        elif tag in ("h1", "h2", "h3"):
+            self._heading = []
+
+    def handle_endtag(self, tag):
+        if tag in ("td", "th") and self._cell is not None:
+            self.tables[-1][-1].append("".join(self._cell).strip())
+            self._cell = None
+        elif tag in ("h1", "h2", "h3") and self._heading is not None:
+            self.headings.append("".join(self._heading).strip())
+            self._heading = None
+
+    def handle_data(self, data):
+        for part in (self._cell, self._heading):
+            if part is not None:
+                part.append(data)
+
+
+@pytest.fixture(scope="module")
+def study(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("report")
+    study = load_study(write_study(folder, extra="output: {path: out.h5}\n"))
+    run_study(study, workers=1)
+    return study
+
+
+@pytest.fixture(scope="module")
+def page(study):
+    path = write_report(study.output, study.output.with_name("report.html"))
+    return path, Page(path.read_text(encoding="utf-8"))
+
+
+def test_the_page_states_what_was_run(study, page):
+    _, parsed = page
+    with h5py.File(study.output, "r") as file:
+        version = file.attrs["rockbridge_version"]
+    assert "Provenance" in parsed.headings and "Peak table" in parsed.headings
+    source = page[0].read_text(encoding="utf-8")
+    assert read_config_hash(study.output) in source and f"rockbridge {version}" in source
+
+
+def test_the_peak_table_is_the_files(study, page):
+    """Every analysis is a row, in the file's order, with u_deck in mm and the failure mode."""
+    _, parsed = page
+    rows = next(t for t in parsed.tables if "u_deck_max [mm]" in t[0])
+    header, body = rows[0], rows[1:]
+    peaks = read_peaks(study.output)
+    assert len(body) == len(peaks)
+    column = header.index("u_deck_max [mm]")
+    for row, (_, expected) in zip(body, peaks.iterrows(), strict=True):
+        assert row[0] == expected["bridge"] and row[1] == expected["record"]
+        assert float(row[column]) == pytest.approx(expected["u_deck_max"] * 1e3, rel=1e-3)
+        assert row[header.index("failure_mode")] == expected["failure_mode"]
+
+
+def test_the_summary_is_the_files_demand_over_capacity(study, page):
+    _, parsed = page
+    summary = next(t for t in parsed.tables if "backfill d/c, largest" in t[0])
+    peaks = read_peaks(study.output)
+    for row in summary[1:]:
+        with h5py.File(study.output, "r") as file:
+            ids = [b for b in file["bridges"] if file["bridges"][b].attrs["name"] == row[0]]
+        mine = peaks[peaks["bridge"] == ids[0]]["dcr_backfill"]
+        assert row[2] == f"{100 * mine.max():.1f} %" and row[3] == f"{100 * mine.mean():.1f} %"
+
+
+def test_the_failures_are_listed(study, page, tmp_path):
+    """No failure in the studied bridges under the two bursts: the page says so. A slender block
+    (0.4 m × 4 m, α = 0.1 rad) overturns under R1 (0.51 g): it is listed with its time."""
+    assert "No analysis ended in a failure" in page[0].read_text(encoding="utf-8")
+    (tmp_path / "block.yaml").write_text(
+        "name: slender block\npiers: {width: 0.4, heights: [4.0]}\n", encoding="utf-8"
+    )
+    path = write_study(tmp_path, bridges=(), extra="output: {path: out.h5}\n")
+    text = path.read_text(encoding="utf-8")
+    path.write_text(text.replace("bridges:\n", f"bridges:\n  - {tmp_path / 'block.yaml'}\n"))
+    study = load_study(path)
+    run_study(study, workers=1)
+    parsed = Page(write_report(study.output, tmp_path / "r.html").read_text(encoding="utf-8"))
+    table = next(t for t in parsed.tables if t[0][:3] == ["bridge", "record", "failure"])
+    peaks = read_peaks(study.output)
+    failed = peaks[peaks["failure_mode"] != "none"]
+    assert len(table) - 1 == len(failed) >= 1
+    assert table[1][2] == "overturning_pier1"
+    assert float(table[1][3]) == pytest.approx(failed["failure_time"].iloc[0], rel=1e-3)
+
+
+def test_the_page_stands_alone(page):
+    """Fig. 9 and Fig. 10 as embedded PNGs; nothing fetched, nothing run."""
+    _, parsed = page
+    assert len(parsed.images) == 2 and parsed.scripts == 0 and not parsed.references
+    for source in parsed.images:
+        assert source.startswith("data:image/png;base64,")
+        assert base64.b64decode(source.split(",", 1)[1])[:4] == b"\x89PNG"
+
+
+def test_a_study_with_stripes_gets_its_fragility(tmp_path):
+    extra = (
+        "intensity: {measure: pga_g, levels: [0.2, 0.6]}\n"
+        "output: {path: stripes.h5, histories: none}\n"
+    )
+    study = load_study(write_study(tmp_path, extra=extra))
+    run_study(study, workers=1)
+    parsed = Page(write_report(study.output, tmp_path / "r.html").read_text(encoding="utf-8"))
+    assert any(h.startswith("Fragility") for h in parsed.headings)
+    assert len(parsed.images) == 2  # Fig. 9 of the scaled records and the fragility curves
+    fits = next(t for t in parsed.tables if t[0][:2] == ["bridge", "limit state"])
+    assert len(fits) - 1 == 2 * 4  # two bridges × the four default limit states
+
+
+def test_the_command_writes_beside_the_results_and_never_over_them(study):
+    runner = CliRunner()
+    result = runner.invoke(main, ["report", str(study.output)])
+    assert result.exit_code == 0, result.output
+    assert study.output.with_name("out-report.html").is_file()
+    refused = runner.invoke(main, ["report", str(study.output), "-o", str(study.output)])
+    assert refused.exit_code == 2 and "would overwrite the results file" in refused.output
+    missing = runner.invoke(main, ["report", str(study.output), "--record", "nope"])
+    assert missing.exit_code == 2 and "no record nope" in missing.output
+    with h5py.File(study.output, "r") as file:  # the results are intact
+        assert file.attrs["complete"] in (True, "True", np.True_)
+
+
+@pytest.mark.skipif(not any(map(shutil.which, BROWSERS)), reason="no headless Chromium here")
+def test_a_browser_renders_every_figure(page, tmp_path):
+    """Chromium loads the page; a probe added to a copy counts the figures it decoded."""
+    browser = next(b for b in map(shutil.which, BROWSERS) if b)
+    probe = tmp_path / "probe.html"
+    text = page[0].read_text(encoding="utf-8")
+    script = (
+        "<script>addEventListener('load', () => { const i = [...document.images]; "
+        "document.title = 'decoded ' + i.filter(x => x.naturalWidth > 0).length + ' of ' "
+        "+ i.length; });</script>"
+    )
+    probe.write_text(text.replace("</body>", script + "</body>"), encoding="utf-8")
+    flags = ["--headless", "--no-sandbox", "--disable-gpu", "--virtual-time-budget=10000"]
+    dom = subprocess.run([browser, *flags, "--dump-dom", probe.as_uri()], capture_output=True,
+                         text=True, timeout=180, check=True).stdout  # fmt: skip
+    assert re.search(r"<title>decoded 2 of 2</title>", dom), dom[:300]
+    shot = tmp_path / "page.png"
+    subprocess.run([browser, *flags, "--hide-scrollbars", "--window-size=1000,1400",
+                    f"--screenshot={shot}", page[0].as_uri()], capture_output=True, timeout=180,
+                   check=True)  # fmt: skip
+    assert shot.read_bytes()[:4] == b"\x89PNG" and shot.stat().st_size > 20_000
