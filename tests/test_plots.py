@@ -202,3 +202,19 @@ def test_history_of_a_single_block_draws_only_what_a_block_has(tmp_path):
     assert read_peaks(study.output).set_index("record").loc["R1", "failure_mode"] != "none"
     legend = re.findall(r"<text[^>]*>([^<]*)</text>", figure)
     assert "failure" in legend and "pounding on the backwall" not in legend
+
+
+def test_peaks_figure_of_many_bridges_keeps_its_legend_short(tmp_path):
+    """A sweep of 13 gaps: one legend entry says how many bridges, and the 13 pairs of limit
+    lines (beyond `MAX_LIMITS`) are left out with a note, instead of 26 lines and 39 entries."""
+    path = write_study(tmp_path, bridges=(STUDIED[1],), records=("R1",), extra=(
+        "sweep: {fields: {abutments.gap: {start: 0.06, stop: 0.30, count: 13}}}\n"
+        "fidelity: fast\noutput: {path: out.h5, histories: none}\n"))  # fmt: skip
+    study = load_study(path)
+    run_study(study, workers=1)
+    with matplotlib.rc_context({"svg.fonttype": "none"}):
+        texts = re.findall(r"<text[^>]*>([^<]*)</text>", svg_text(
+            plot_peaks(study.output, tmp_path / "many.svg")))  # fmt: skip
+    assert any(t.startswith("13 bridges, one marker style each") for t in texts)
+    assert "limit lines left out: 13 gaps" in texts
+    assert not any(t.startswith(STUDIED[1]) for t in texts)  # no bridge named one by one

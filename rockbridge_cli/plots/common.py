@@ -12,6 +12,7 @@ from typing import Any
 
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
+from matplotlib.ticker import FuncFormatter
 
 from ..errors import InputError
 from ..paths import writable
@@ -28,6 +29,10 @@ GAP_LINE: dict[str, Any] = {"color": "black", "linestyle": ":", "linewidth": 1.0
 
 FAILURE_LINE: dict[str, Any] = {"color": "black", "linestyle": "--", "linewidth": 1.0}
 """A failure: its limit (abutment–backfill, 100 % of a capacity) or its time."""
+
+
+PLAIN = FuncFormatter(lambda value, _: f"{value:g}")
+"""Tick labels as plain numbers (0.1, 1, 10), also on logarithmic axes."""
 
 
 def check_format(output: str | Path) -> Path:

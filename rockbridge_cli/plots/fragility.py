@@ -11,7 +11,7 @@ from matplotlib.figure import Figure
 from scipy.stats import norm
 
 from ..fragility import fragilities
-from .common import check_format, panel_label, save, style
+from .common import PLAIN, check_format, panel_label, save, style
 
 MEASURE_LABELS = {"pga_g": "PGA [g]", "sa_g": "Sa(T) [g]", "scale": "scale factor [-]"}
 
@@ -50,6 +50,7 @@ def plot_fragility(results: str | Path, output: str | Path) -> Path:
             axes.text(0.5, 0.5, "reached by no record\nat the levels run", ha="center",
                       va="center", transform=axes.transAxes, color="0.4")  # fmt: skip
         axes.set_xscale("log")
+        axes.xaxis.set_major_formatter(PLAIN)  # 0.1, 1 rather than 10⁻¹, 10⁰
         axes.set_ylim(-0.03, 1.03)
         axes.grid(True, color="0.9", linewidth=0.5)
         panel_label(axes, letter)

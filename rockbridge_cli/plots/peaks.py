@@ -40,6 +40,13 @@ PANELS = (
 MAX_TICKS = 24
 """Records labelled on the x axis at most (every k-th beyond)."""
 
+MAX_NAMED = 12
+"""Bridges named one by one in the legend at most; beyond, one entry says how many (a sweep's
+variants read better against their field: ``rockbridge plot sweep``)."""
+
+MAX_LIMITS = 4
+"""Bridges with different gaps whose limit lines are drawn at most."""
+
 
 def plot_peaks(results: str | Path, output: str | Path) -> Path:
     """Draw Fig. 9 from a results file.
@@ -74,7 +81,8 @@ def plot_peaks(results: str | Path, output: str | Path) -> Path:
             x = np.array([positions[record] for record in peaks["record"][mine]]) + offset
             values = peaks[column][mine] * scale
             look = {k: v for k, v in style(index).items() if k != "linestyle"}
-            axes.plot(x, values, linestyle="none", markersize=6, label=labels[bridge], **look)
+            label = labels[bridge] if len(bridges) <= MAX_NAMED else None
+            axes.plot(x, values, linestyle="none", markersize=6, label=label, **look)
             if np.isfinite(values).any():
                 axes.plot(mean_at + offset, np.nanmean(values), linestyle="none", markersize=8,
                           **look)  # fmt: skip
@@ -94,6 +102,10 @@ def plot_peaks(results: str | Path, output: str | Path) -> Path:
         axes.set_ylim(0.0, 1.08 * axes.get_ylim()[1])
     for axes in grid[-1]:
         axes.set_xlabel("record")
+    if len(bridges) > MAX_NAMED:
+        grid[0, 0].plot([], [], linestyle="none", marker="o", color="0.45",
+                        label=f"{len(bridges)} bridges, one marker style each (rockbridge plot "
+                        "sweep draws a peak against a swept field)")  # fmt: skip
     handles, texts = grid[0, 0].get_legend_handles_labels()
     figure.legend(handles, texts, loc="outside upper center", ncols=legend_columns(len(texts)),
                   frameon=False, fontsize="small" if len(texts) > 6 else "medium")  # fmt: skip
@@ -111,6 +123,9 @@ def _limits(axes, bridges: dict) -> None:
         failure = (gap + ultimate) * 1e3
         label = f"failure, $u_{{jo}} + u_{{ab}}$ = {failure:.0f} mm"
         axes.axhline(failure, **FAILURE_LINE, label=label)
+        return
+    if len(limits) > MAX_LIMITS:
+        axes.plot([], [], linestyle="none", label=f"limit lines left out: {len(limits)} gaps")
         return
     for (gap, ultimate), index in limits.items():
         shade = {"color": style(index)["color"]}
