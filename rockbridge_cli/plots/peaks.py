@@ -81,8 +81,8 @@ def plot_peaks(results: str | Path, output: str | Path) -> Path:
             x = np.array([positions[record] for record in peaks["record"][mine]]) + offset
             values = peaks[column][mine] * scale
             look = {k: v for k, v in style(index).items() if k != "linestyle"}
-            label = labels[bridge] if len(bridges) <= MAX_NAMED else None
-            axes.plot(x, values, linestyle="none", markersize=6, label=label, **look)
+            named = labels[bridge] if len(bridges) <= MAX_NAMED else None
+            axes.plot(x, values, linestyle="none", markersize=6, label=named, **look)
             if np.isfinite(values).any():
                 axes.plot(mean_at + offset, np.nanmean(values), linestyle="none", markersize=8,
                           **look)  # fmt: skip
