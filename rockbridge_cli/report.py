@@ -305,13 +305,26 @@ def _compliance(name: str, manifest: dict[str, Any]) -> str:
     target, check, verdict = manifest["target"], manifest["compliance"], manifest["check"]
     low, high = verdict["band_s"]
     surface = target["surface_pga_m_s2"]
+    dg = target.get("ground_displacement_m")  # sets made before it was recorded lack it
+
+    def motion(r: dict[str, Any]) -> list[str]:
+        if dg is None or "pgd_m" not in r:
+            return ["-", "-", "-"]
+        return [f"{100 * r['pgv_m_s']:.1f}", f"{100 * r['pgd_m']:.1f}", f"{r['pgd_m'] / dg:.2f}"]
+
     rows = [
         [r["name"], f"{r['pga_m_s2'] / surface:.4f}", f"{r['min_ratio']:.3f}",
-         f"{r['max_ratio']:.3f}", f"{r['d5_95_s']:.1f}"]
+         f"{r['max_ratio']:.3f}", *motion(r), f"{r['d5_95_s']:.1f}"]
         for r in manifest["records"]
     ]  # fmt: skip
     rows.append(["mean", "", f"{manifest['mean']['min_ratio']:.3f}",
-                 f"{manifest['mean']['max_ratio']:.3f}", ""])  # fmt: skip
+                 f"{manifest['mean']['max_ratio']:.3f}", "", "", "", ""])  # fmt: skip
+    headers = ["record", "PGA/(a_g·S)", "spectrum/target, min", "max", "PGV [cm/s]", "PGD [cm]",
+               "PGD/d_g", "D5–95 [s]"]  # fmt: skip
+    displacement = "" if dg is None else (
+        f"<p>EN 1998-1 §3.2.2.4 design ground displacement d<sub>g</sub> = 0.025·a<sub>g</sub>·S·"
+        f"T<sub>C</sub>·T<sub>D</sub> = {100 * dg:.1f} cm; PGD is the peak of the doubly "
+        "integrated record, from rest.</p>")  # fmt: skip
 
     def said(ok: bool | None) -> str:
         return "unknown" if ok is None else ("yes" if ok else '<span class="bad">NO</span>')
@@ -329,12 +342,8 @@ def _compliance(name: str, manifest: dict[str, Any]) -> str:
     return (
         f"<h3>{_text(name)}: EN 1998-1 type {_text(target['spectrum_type'])}, ground "
         f"{_text(target['ground_type'])}, a<sub>g</sub>·S = {surface:.4g} m/s²</h3>\n"
-        + _table(
-            ["record", "PGA/(a_g·S)", "spectrum/target, min", "max", "D5–95 [s]"],
-            rows,
-            text_columns=(0,),
-        )  # fmt: skip
-        + f"\n<ul>{items}</ul>\n<p>Overall: {overall}.</p>"
+        + _table(headers, rows, text_columns=(0,))
+        + f"\n{displacement}<ul>{items}</ul>\n<p>Overall: {overall}.</p>"
     )
 
 

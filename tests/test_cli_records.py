@@ -111,6 +111,9 @@ def test_regenerating_the_paper_set_reproduces_the_bundled_files(tmp_path):
     assert result.exit_code == 0, result.output
     assert "overall: compliant" in result.output
     assert "(4)b mean zero-period value" in result.output
+    # EN 1998-1 §3.2.2.4, type 1 ground C (S = 1.15, T_C = 0.6 s, T_D = 2 s), a_g = 0.6 g:
+    # d_g = 0.025 · 5.886 · 1.15 · 0.6 · 2.0 = 0.2031 m
+    assert "d_g = 0.025*a_g*S*T_C*T_D = 20.3 cm" in result.output
     assert record_set_differences(tmp_path / "set", BUNDLED) == []
     environment = json.loads((tmp_path / "set" / MANIFEST).read_text())["environment"]
     assert environment == {
@@ -229,3 +232,18 @@ def test_plot_files_of_a_set_and_plain_files(tmp_path):
 def test_plot_bad_input_exits_2(tmp_path, monkeypatch, args, words):
     monkeypatch.chdir(tmp_path)
     assert_user_error(run("plot", "spectra", *args), *words)
+
+
+def test_plot_record_marks_the_design_ground_displacement(tmp_path):
+    """A generated set: acceleration, velocity and displacement, with ±d_g (20.3 cm for the
+    paper's target, §3.2.2.4); plain files outside a set have no target, hence no d_g."""
+    import matplotlib
+
+    with matplotlib.rc_context({"svg.fonttype": "none"}):
+        result = run("plot", "record", BUNDLED, "-o", tmp_path / "set.svg")
+        plain = run("plot", "record", DATA / "two_columns.txt", "--units", "g",
+                    "-o", tmp_path / "plain.svg")  # fmt: skip
+    assert result.exit_code == 0 and plain.exit_code == 0, result.output + plain.output
+    text = (tmp_path / "set.svg").read_text(encoding="utf-8")
+    assert "10 records" in text and "20.3 cm (EN 1998-1 §3.2.2.4)" in text
+    assert "EN 1998-1 §3.2.2.4" not in (tmp_path / "plain.svg").read_text(encoding="utf-8")

@@ -210,3 +210,25 @@ def test_other_seed_gives_another_compliant_set(tmp_path):
     assert_targets(records, read_set_target(tmp_path))
     for new, old in zip(records, read_record_set(BUNDLED), strict=True):
         assert not np.allclose(new.acceleration, old.acceleration)
+
+
+def test_ground_motion_integrates_exactly_for_piecewise_linear_acceleration():
+    """a = c·t from rest: v = c·t²/2 and d = c·t³/6 exactly at every sample (the scheme is exact
+    for linear segments); its last values are `compute_final_motion`'s."""
+    step, c = 0.01, 0.7
+    times = np.arange(501) * step
+    velocity, displacement = baseline.integrate_motion(c * times, step)
+    np.testing.assert_allclose(velocity, c * times**2 / 2, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(displacement, c * times**3 / 6, rtol=1e-12, atol=1e-15)
+    record = np.sin(2 * np.pi * times) * np.exp(-times)
+    final = baseline.compute_final_motion(record, step)
+    motion = baseline.integrate_motion(record, step)
+    assert (motion[0][-1], motion[1][-1]) == pytest.approx(final, rel=1e-10, abs=1e-14)
+
+
+def test_design_ground_displacement_of_en1998():
+    """§3.2.2.4: d_g = 0.025·a_g·S·T_C·T_D; type 1 ground C (S 1.15, T_C 0.6 s, T_D 2.0 s) at
+    a_g = 0.6·9.81 m/s² is 0.025·5.886·1.15·0.6·2.0 = 0.2030670 m."""
+    from rockbridge_cli.core.ec8 import design_ground_displacement
+
+    assert design_ground_displacement(1, "C", 5.886) == pytest.approx(0.203067, rel=1e-12)

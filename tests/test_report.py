@@ -6,6 +6,7 @@ machine has it) loads every figure."""
 from __future__ import annotations
 
 import base64
+import json
 import re
 import shutil
 import subprocess
@@ -15,7 +16,7 @@ import h5py
 import numpy as np
 import pytest
 from click.testing import CliRunner
-from studies import write_study
+from studies import BRIDGES, REPO, write_study
 
 from rockbridge_cli.cli import main
 from rockbridge_cli.config.study import load_study
@@ -196,3 +197,26 @@ def test_a_browser_renders_every_figure(page, tmp_path):
                     f"--screenshot={shot}", page[0].as_uri()], capture_output=True, timeout=180,
                    check=True)  # fmt: skip
     assert shot.read_bytes()[:4] == b"\x89PNG" and shot.stat().st_size > 20_000
+
+
+def test_a_generated_set_brings_its_compliance_and_ground_displacement(tmp_path):
+    """A study on the bundled set: the page shows the set's EN 1998-1 check from its manifest,
+    with each record's PGD over d_g (0.2031 m, §3.2.2.4) as the manifest gives them."""
+    bundled = REPO / "records" / "ec8-type1-C-ag0.6g"
+    study_file = tmp_path / "set.yaml"
+    study_file.write_text(
+        f"bridges: [{(BRIDGES / 'studied-hbar1.25.yaml').as_posix()}]\n"
+        f"records: {{set: {bundled.as_posix()}}}\n"
+        "fidelity: fast\noutput: {path: set.h5, histories: none}\n", encoding="utf-8"
+    )  # fmt: skip
+    study = load_study(study_file)
+    run_study(study, workers=1)
+    parsed = Page(write_report(study.output, tmp_path / "r.html").read_text(encoding="utf-8"))
+    assert "Record sets: EN 1998-1 §3.2.3.1.2" in parsed.headings
+    table = next(t for t in parsed.tables if t[0][:2] == ["record", "PGA/(a_g·S)"])
+    manifest = json.loads((bundled / "manifest.json").read_text(encoding="utf-8"))
+    dg = manifest["target"]["ground_displacement_m"]
+    assert dg == pytest.approx(0.025 * 5.886 * 1.15 * 0.6 * 2.0, rel=1e-6)
+    column = table[0].index("PGD/d_g")
+    for row, entry in zip(table[1:-1], manifest["records"], strict=True):
+        assert row[0] == entry["name"] and row[column] == f"{entry['pgd_m'] / dg:.2f}"

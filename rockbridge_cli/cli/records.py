@@ -46,35 +46,54 @@ def generate_records(config: Path, out: Path | None, with_plot: bool) -> None:
         click.echo(f"Figure: {plot_record_spectra([folder], folder / 'spectra.png')}")
 
 
+def _record_inputs(command):
+    """RECORDS and the options that read plain record files: ``--units`` and ``--time-step``."""
+    command = click.option(
+        "--time-step", type=float, default=None, help="Time step of one-column record files [s]."
+    )(command)
+    command = click.option(
+        "--units", type=click.Choice(["g", "m/s2", "cm/s2"]), default=None,
+        help="Units of plain record files that do not state them.",
+    )(command)  # fmt: skip
+    return click.argument("records", nargs=-1, required=True, type=click.Path(path_type=Path))(
+        command
+    )
+
+
 @plot.command("spectra")
-@click.argument("records", nargs=-1, required=True, type=click.Path(path_type=Path))
+@_record_inputs
 @click.option(
-    "-o",
-    "--output",
-    type=click.Path(dir_okay=False, path_type=Path),
-    default=Path("spectra.png"),
-    show_default=True,
-    help="Figure file: .png, .pdf or .svg.",
-)
-@click.option(
-    "--units",
-    type=click.Choice(["g", "m/s2", "cm/s2"]),
-    default=None,
-    help="Units of plain record files that do not state them.",
-)
-@click.option(
-    "--time-step", type=float, default=None, help="Time step of one-column record files [s]."
-)
+    "-o", "--output", type=click.Path(dir_okay=False, path_type=Path),
+    default=Path("spectra.png"), show_default=True, help="Figure file: .png, .pdf or .svg.",
+)  # fmt: skip
 def plot_spectra(
     records: tuple[Path, ...], output: Path, units: str | None, time_step: float | None
 ) -> None:
     """Plot the 5%-damped spectra of RECORDS (files or generated-set folders) and their mean.
 
-    For a generated set the EN 1998-1 target, its ±10% band and the 90% line are drawn too.
+    For a generated set the EN 1998-1 target, the set's per-record tolerance and EN 1998-1's 90 %
+    line are drawn too.
     """
     from ..plots.spectra import plot_record_spectra
 
     click.echo(f"Figure: {plot_record_spectra(list(records), output, units, time_step)}")
+
+
+@plot.command("record")
+@_record_inputs
+@click.option(
+    "-o", "--output", type=click.Path(dir_okay=False, path_type=Path),
+    default=Path("record.png"), show_default=True, help="Figure file: .png, .pdf or .svg.",
+)  # fmt: skip
+def plot_record(
+    records: tuple[Path, ...], output: Path, units: str | None, time_step: float | None
+) -> None:
+    """Plot the acceleration, velocity and displacement of RECORDS (files or generated-set
+    folders), integrated exactly from rest; for a generated set, EN 1998-1's design ground
+    displacement d_g is marked."""
+    from ..plots.motion import plot_record_motion
+
+    click.echo(f"Figure: {plot_record_motion(list(records), output, units, time_step)}")
 
 
 def format_report(report: RecordSetReport) -> str:
@@ -84,17 +103,24 @@ def format_report(report: RecordSetReport) -> str:
     lines = [
         f"Wrote {len(report.records)} records and {MANIFEST} to {report.folder}",
         f"Spectra at {report.check_periods} periods over {low:g}-{high:g} s, computed/target:",
-        "  record   PGA/(ag*S)   min    max   v_end[cm/s]  d_end[cm]  D5-95[s]  iterations",
+        "  record   PGA/(ag*S)   min    max   v_end[cm/s]  d_end[cm]  PGV[cm/s]  PGD[cm]  "
+        "PGD/d_g  D5-95[s]  iterations",
     ]
+    dg = report.ground_displacement
+    largest = max((s.peak_displacement for s in report.records), default=0.0)
     for s in report.records:
         lines.append(
             f"  {s.name:<8} {s.peak_acceleration / c.surface_pga:9.5f} {s.min_ratio:6.3f} "
             f"{s.max_ratio:6.3f} {s.final_velocity * 100:+11.1e} "
-            f"{s.final_displacement * 100:+10.1e} {s.significant_duration:8.1f}  "
-            f"{s.iterations:4d} ({s.attempts} attempts)"
+            f"{s.final_displacement * 100:+10.1e} {s.peak_velocity * 100:10.1f} "
+            f"{s.peak_displacement * 100:8.1f} {s.peak_displacement / dg:8.2f} "
+            f"{s.significant_duration:9.1f}  {s.iterations:4d} ({s.attempts} attempts)"
         )
     lines += [
         f"  {'mean':<8} {'':9} {c.mean_min_ratio:6.3f} {c.mean_max_ratio:6.3f}",
+        f"EN 1998-1 §3.2.2.4 design ground displacement d_g = 0.025*a_g*S*T_C*T_D = "
+        f"{dg * 100:.1f} cm; largest PGD {largest / dg:.2f} d_g (PGD: peak of the doubly "
+        "integrated record, from rest)",
         "EN 1998-1 §3.2.3.1.2:",
         f"  (4)a at least 3 records: {c.count} -> {_verdict(c.count_ok)}",
         f"  (4)b mean zero-period value {c.mean_zero_period:.4g} m/s2 >= a_g*S "

@@ -1,10 +1,34 @@
-"""What a record leaves behind at its end, and the correction that removes it: the final ground
-velocity and displacement of a piecewise-linear acceleration, computed exactly; the baseline
-correction that zeroes both (Boore 2001); and the significant duration D5–95."""
+"""The ground's velocity and displacement under a record, and the correction that zeroes them at
+its end: both integrated exactly for a piecewise-linear acceleration; the baseline correction
+(Boore 2001); and the significant duration D5–95."""
 
 from __future__ import annotations
 
 import numpy as np
+
+
+def integrate_motion(acceleration: np.ndarray, time_step: float) -> tuple[np.ndarray, np.ndarray]:
+    """Ground velocity and displacement at every sample, from rest, integrating the acceleration
+    exactly as piecewise linear: v_k+1 = v_k + h·(a_k + a_k+1)/2 and
+    d_k+1 = d_k + h·v_k + h²·(2a_k + a_k+1)/6.
+
+    Parameters
+    ----------
+    acceleration
+        ground acceleration [m/s²].
+    time_step
+        time step [s].
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        velocity [m/s] and displacement [m], the shape of ``acceleration``.
+    """
+    a = np.asarray(acceleration, dtype=float)
+    h = float(time_step)
+    velocity = np.concatenate([[0.0], np.cumsum(0.5 * h * (a[:-1] + a[1:]))])
+    steps = h * velocity[:-1] + h * h * (2.0 * a[:-1] + a[1:]) / 6.0
+    return velocity, np.concatenate([[0.0], np.cumsum(steps)])
 
 
 def correct_baseline(acceleration: np.ndarray, time_step: float, shape: np.ndarray) -> np.ndarray:

@@ -78,6 +78,22 @@ def get_spectrum_shape(spectrum_type: int, ground_type: str) -> SpectrumShape:
     return SpectrumShape(*table[ground_type])
 
 
+def design_ground_displacement(
+    spectrum_type: int, ground_type: str, design_acceleration: float
+) -> float:
+    """EN 1998-1 §3.2.2.4's design ground displacement d_g = 0.025·a_g·S·T_C·T_D [m].
+
+    Parameters
+    ----------
+    spectrum_type, ground_type
+        as in `get_spectrum_shape`.
+    design_acceleration
+        a_g [m/s²].
+    """
+    shape = get_spectrum_shape(spectrum_type, ground_type)
+    return 0.025 * design_acceleration * shape.soil_factor * shape.corner_c * shape.corner_d
+
+
 def compute_damping_correction(damping: float) -> float:
     """Damping correction factor η = √(10 / (5 + ξ)) ≥ 0.55, ξ in percent (EN 1998-1 Eq. 3.6).
 

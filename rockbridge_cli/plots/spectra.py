@@ -62,7 +62,7 @@ def plot_record_spectra(
         the figure file.
     """
     output = check_format(output)
-    records, target, band, tolerance = _load(paths, units, time_step)
+    records, target, band, tolerance = load_records(paths, units, time_step)
     gravity = STANDARD_GRAVITY  # spectra in the unit g
     periods = np.geomspace(band[0], band[1], 200)
     values = (
@@ -108,7 +108,7 @@ def plot_record_spectra(
     return save(figure, output)
 
 
-def _load(
+def load_records(
     paths, units, time_step
 ) -> tuple[list[Record], TargetDefinition | None, tuple[float, float], float | None]:
     """Records from files and set folders; the target, band [s] and per-record tolerance [-]

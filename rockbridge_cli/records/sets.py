@@ -35,6 +35,8 @@ class RecordSummary:
         min and max over the check periods of computed / target spectrum [-].
     final_velocity, final_displacement
         ground velocity [m/s] and displacement [m] at the end of the record.
+    peak_velocity, peak_displacement
+        largest |ground velocity| [m/s] and |displacement| [m] over the record.
     significant_duration
         D5–95 [s].
     attempts, iterations
@@ -48,6 +50,8 @@ class RecordSummary:
     max_ratio: float
     final_velocity: float
     final_displacement: float
+    peak_velocity: float
+    peak_displacement: float
     significant_duration: float
     attempts: int
     iterations: int
@@ -71,6 +75,8 @@ class RecordSetReport:
         number of checked periods [-].
     wall_time
         time taken to generate and write the set [s].
+    ground_displacement
+        EN 1998-1's design ground displacement d_g of the target [m].
     """
 
     folder: Path
@@ -79,6 +85,7 @@ class RecordSetReport:
     band: tuple[float, float]
     check_periods: int
     wall_time: float
+    ground_displacement: float
 
 
 @dataclass(frozen=True)
@@ -100,6 +107,13 @@ class TargetDefinition:
     damping: float
     design_acceleration: float
     surface_pga: float
+
+    @property
+    def ground_displacement(self) -> float:
+        """EN 1998-1's design ground displacement d_g [m] (`ec8.design_ground_displacement`)."""
+        return ec8.design_ground_displacement(
+            self.spectrum_type, self.ground_type, self.design_acceleration
+        )
 
     def evaluate(self, periods: np.ndarray, extrapolate: bool = False) -> np.ndarray:
         """Se at the given periods [m/s²]."""
@@ -191,6 +205,7 @@ def generate_record_set(
         config.band,
         config.check_periods,
         time.perf_counter() - started,
+        target.ground_displacement,
     )
 
 
@@ -216,6 +231,7 @@ def _summarise(records, matches, check, target, config):
         velocity, displacement = baseline.compute_final_motion(
             record.acceleration, record.time_step
         )
+        motion = baseline.integrate_motion(record.acceleration, record.time_step)
         summaries.append(
             RecordSummary(
                 record.name,
@@ -225,6 +241,8 @@ def _summarise(records, matches, check, target, config):
                 high,
                 velocity,
                 displacement,
+                float(np.max(np.abs(motion[0]))),
+                float(np.max(np.abs(motion[1]))),
                 baseline.compute_significant_duration(record.acceleration, record.time_step),
                 matched.attempts,
                 matched.iterations,
@@ -268,6 +286,7 @@ def _build_manifest(config, config_name, target, summaries, compliance) -> dict[
             "corner_periods_s": [shape.corner_b, shape.corner_c, shape.corner_d],
             "design_acceleration_m_s2": target.design_acceleration,
             "surface_pga_m_s2": target.surface_pga,
+            "ground_displacement_m": target.ground_displacement,
             "gravity_m_s2": config.gravity,
         },
         "check": {"band_s": list(config.band), "periods": config.check_periods},
@@ -283,6 +302,8 @@ def _build_manifest(config, config_name, target, summaries, compliance) -> dict[
                 "max_ratio": s.max_ratio,
                 "final_velocity_m_s": s.final_velocity,
                 "final_displacement_m": s.final_displacement,
+                "pgv_m_s": s.peak_velocity,
+                "pgd_m": s.peak_displacement,
                 "d5_95_s": s.significant_duration,
                 "stationary_duration_s": config.envelope.stationary,
                 "attempts": s.attempts,
