@@ -136,3 +136,13 @@ def _describe(error: ErrorDetails) -> tuple[str, str]:
 def _short(value: Any, limit: int = 60) -> str:
     text = repr(value)
     return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+ID_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9_.+-]*$"
+"""Bridge and record ids: they name HDF5 groups and files, so no slashes or spaces."""
+
+
+def resolve_path(path: Path, info: ValidationInfo) -> Path:
+    """A path of a config, against the folder of the config file (`load` passes it)."""
+    base = (info.context or {}).get("base_dir")
+    return Path(base) / path if base is not None else path

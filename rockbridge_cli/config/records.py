@@ -1,4 +1,5 @@
-"""The record-set config: what `rockbridge generate-records` reads.
+"""Record configs: one record file (as a study or a record set lists it), and the record-set
+config that `rockbridge generate-records` reads.
 
 Every length of time is in seconds, accelerations given in g are named ``*_g``.
 """
@@ -6,11 +7,35 @@ Every length of time is in seconds, accelerations given in g are named ``*_g``.
 from __future__ import annotations
 
 import math
+from pathlib import Path
 from typing import Literal
 
-from pydantic import Field, model_validator
+from pydantic import Field, PositiveFloat, ValidationInfo, field_validator, model_validator
 
-from .loading import StrictModel
+from .loading import ID_PATTERN, StrictModel, resolve_path
+
+
+class RecordFile(StrictModel):
+    """One record file."""
+
+    path: Path = Field(description="Record file, relative to the config file")
+    units: Literal["g", "m/s2", "cm/s2"] | None = Field(
+        None, description="Units of a file that does not state them (g, m/s2 or cm/s2)"
+    )
+    time_step: PositiveFloat | None = Field(
+        None, description="Sample interval, only for one-column files [s]"
+    )
+    id: str | None = Field(
+        None, pattern=ID_PATTERN, description="Record id in the results; default the file stem"
+    )
+
+    @field_validator("path")
+    @classmethod
+    def _exists(cls, path: Path, info: ValidationInfo) -> Path:
+        if not resolve_path(path, info).is_file():
+            raise ValueError(f"record file not found: {path}")
+        return path
+
 
 #: EN 1998-1 §3.2.3.1.2(3): shortest stationary part of an artificial accelerogram [s].
 MIN_STATIONARY = 10.0
@@ -82,15 +107,28 @@ class EnvelopeConfig(StrictModel):
 
 
 class RecordSetConfig(StrictModel):
-    """A set of artificial accelerograms matched to an EN 1998-1 elastic spectrum."""
+    """A set of accelerograms matched to an EN 1998-1 elastic spectrum: ``count`` artificial
+    records, or one per recorded ``seeds`` file (EN 1998-1 §3.2.3.1.3)."""
 
     target: TargetSpectrum = Field(description="The target spectrum.")
-    count: int = Field(ge=1, le=1000, description="Number of records [-]; EN 1998-1 asks >= 3.")
-    duration: float = Field(gt=0.0, le=600.0, description="Duration of each record [s].")
-    time_step: float = Field(gt=0.0, le=0.05, description="Time step of the records [s].")
-    envelope: EnvelopeConfig = Field(
-        description="Intensity envelope; rise + stationary + decay must equal the duration."
+    count: int | None = Field(
+        None, ge=1, le=1000, description="Number of artificial records [-]; EN 1998-1 asks >= 3."
     )
+    seeds: list[RecordFile] | None = Field(
+        None, min_length=1, max_length=1000,
+        description="Recorded motions to match, one record each, instead of count; each keeps "
+        "its time step, length, phases and envelope.",
+    )  # fmt: skip
+    duration: float | None = Field(
+        None, gt=0.0, le=600.0, description="Duration of each artificial record [s]."
+    )
+    time_step: float | None = Field(
+        None, gt=0.0, le=0.05, description="Time step of the artificial records [s]."
+    )
+    envelope: EnvelopeConfig | None = Field(
+        None, description="Intensity envelope of the artificial records; rise + stationary + "
+        "decay must equal the duration.",
+    )  # fmt: skip
     band: tuple[float, float] = Field(
         (0.05, 4.0),
         description="Shortest and longest period matched and checked, within 0 < T <= 4 s, the "
@@ -115,7 +153,9 @@ class RecordSetConfig(StrictModel):
         le=20,
         description="Sets of random phases tried per record while the tolerance is missed [-].",
     )
-    seed: int = Field(ge=0, description="Seed of numpy.random.default_rng for the whole set [-].")
+    seed: int | None = Field(
+        None, ge=0, description="Seed of numpy.random.default_rng for the artificial records [-]."
+    )
     name_prefix: str = Field(
         "AR",
         pattern=r"^[A-Za-z0-9_-]{1,20}$",
@@ -123,8 +163,33 @@ class RecordSetConfig(StrictModel):
     )
     gravity: float = Field(9.81, gt=0.0, description="Acceleration of gravity [m/s^2].")
 
+    @field_validator("seeds")
+    @classmethod
+    def _resolved(cls, seeds: list[RecordFile] | None, info: ValidationInfo):
+        """Seed paths against the config's folder, so the set can be made from anywhere."""
+        if seeds is None:
+            return None
+        return [s.model_copy(update={"path": resolve_path(s.path, info)}) for s in seeds]
+
     @model_validator(mode="after")
     def _check_timing(self) -> RecordSetConfig:
+        if (self.count is None) == (self.seeds is None):
+            raise ValueError("give exactly one of count (artificial records) and seeds")
+        synthetic = {"duration": self.duration, "time_step": self.time_step,
+                     "envelope": self.envelope, "seed": self.seed}  # fmt: skip
+        if self.seeds is not None:
+            given = [key for key, value in synthetic.items() if value is not None]
+            if given:
+                raise ValueError(
+                    f"{', '.join(given)}: only for artificial records (count); a seed keeps its "
+                    "own time step and length"
+                )
+            return self
+        missing = [key for key, value in synthetic.items() if value is None]
+        if missing:
+            raise ValueError(f"artificial records (count) need {', '.join(missing)}")
+        assert self.duration is not None and self.time_step is not None
+        assert self.envelope is not None
         steps = self.duration / self.time_step
         if abs(steps - round(steps)) > 1e-6 * steps:
             raise ValueError(

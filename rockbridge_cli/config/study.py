@@ -43,11 +43,9 @@ from ..records.files import Record, read_manifest, read_record
 from . import loading
 from .bridge import BridgeConfig, load_bridge
 from .intensity import Intensity, intensity_of, scaled_id
-from .loading import StrictModel
+from .loading import ID_PATTERN, StrictModel, resolve_path
+from .records import RecordFile
 from .sweep import Sweep, field_value, variant_id, varied
-
-ID_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9_.+-]*$"
-"""Bridge and record ids: they name HDF5 groups and files, so no slashes or spaces."""
 
 
 def _path_or_mapping(value: Any) -> Any:
@@ -65,28 +63,6 @@ class InlineBridge(BridgeConfig):
     id: str = Field(pattern=ID_PATTERN, description="Bridge id in the results [-]")
 
 
-class RecordFile(StrictModel):
-    """One record file."""
-
-    path: Path = Field(description="Record file, relative to the study file")
-    units: Literal["g", "m/s2", "cm/s2"] | None = Field(
-        None, description="Units of a file that does not state them (g, m/s2 or cm/s2)"
-    )
-    time_step: PositiveFloat | None = Field(
-        None, description="Sample interval, only for one-column files [s]"
-    )
-    id: str | None = Field(
-        None, pattern=ID_PATTERN, description="Record id in the results; default the file stem"
-    )
-
-    @field_validator("path")
-    @classmethod
-    def _exists(cls, path: Path, info: ValidationInfo) -> Path:
-        if not _resolve(path, info).is_file():
-            raise ValueError(f"record file not found: {path}")
-        return path
-
-
 class Records(StrictModel):
     """The ground motions: a generated set, or a list of files. Give exactly one."""
 
@@ -100,7 +76,7 @@ class Records(StrictModel):
     def _is_set(cls, folder: Path | None, info: ValidationInfo) -> Path | None:
         if folder is None:
             return folder
-        resolved = _resolve(folder, info)
+        resolved = resolve_path(folder, info)
         if not resolved.is_dir():
             raise ValueError(f"record folder not found: {folder}")
         try:
@@ -494,11 +470,6 @@ def _warnings(bridges: list[StudyBridge], records: list[StudyRecord]) -> tuple[s
         for w in record_warnings(r.record)
     ]
     return tuple(dict.fromkeys(found))
-
-
-def _resolve(path: Path, info: ValidationInfo) -> Path:
-    base = (info.context or {}).get("base_dir")
-    return Path(base) / path if base is not None else path
 
 
 def _resolve_bridges(entries: list[str | dict[str, Any]], study: Path) -> list[StudyBridge]:

@@ -241,19 +241,13 @@ def generate_matched_record(
         periods outside [band[0], band[1]] are matched but do not count in the misfit that is
         compared with the tolerance (default: all count) [s].
     """
-    periods = np.asarray(periods, dtype=float)
-    target = np.asarray(target, dtype=float)
-    _check_matching_inputs(periods, target, peak_acceleration, time_step)
-    low, high = (periods[0], periods[-1]) if band is None else band
-    counted = (periods >= low * (1.0 - 1e-9)) & (periods <= high * (1.0 + 1e-9))
-    if not counted.any():
-        raise ValueError(f"no matching period lies in the band {band!r}")
     times = np.arange(int(round(envelope.duration / time_step)) + 1) * time_step
     shape = compute_envelope(times, envelope)
     taper = np.where(times < envelope.rise, shape, 1.0)
-    problem = _Problem(
-        periods, target, peak_acceleration, time_step, shape, taper, counted, settings
+    problem = _Problem.of(
+        periods, target, peak_acceleration, time_step, shape, taper, settings, band
     )
+    periods, target = problem.periods, problem.target
     best = None
     for attempt in range(1, settings.max_attempts + 1):
         start = _shape_stationary_process(periods, target, times, shape, rng, settings)
@@ -265,6 +259,74 @@ def generate_matched_record(
     assert best is not None  # attempts ≥ 1
     acceleration, iterations, misfit, _ = best
     return MatchedRecord(acceleration, time_step, attempt, iterations, misfit)
+
+
+def match_seed(
+    periods: np.ndarray,
+    target: np.ndarray,
+    peak_acceleration: float,
+    seed: np.ndarray,
+    time_step: float,
+    settings: MatchSettings = MatchSettings(),
+    band: tuple[float, float] | None = None,
+) -> MatchedRecord:
+    """Match a recorded (or any given) accelerogram to a target spectrum, keeping its phases and
+    its envelope: the record's own non-stationarity, build-up and pulses.
+
+    The Fourier amplitudes of the seed are first scaled by target / computed spectrum, its phases
+    kept (step 2 of the generator); then the time-domain wavelets of step 3. Both are tapered
+    where the seed's own envelope (`seed_envelope`) is below `QUIET`, so that its quiet lead-in
+    and tail stay quiet; the baseline correction of step 4 follows that envelope too. One
+    attempt: there are no phases to draw again.
+
+    Parameters
+    ----------
+    periods, target, peak_acceleration, settings, band
+        as for `generate_matched_record`.
+    seed
+        the accelerogram to match, at uniform steps [m/s²].
+    time_step
+        its time step, kept by the matched record [s].
+    """
+    seed = np.asarray(seed, dtype=float)
+    if seed.ndim != 1 or seed.size < 8 or not np.all(np.isfinite(seed)) or not seed.any():
+        raise ValueError("the seed must be a finite, non-zero record of at least 8 samples")
+    shape = seed_envelope(seed, time_step)
+    taper = np.minimum(1.0, shape / QUIET)
+    problem = _Problem.of(periods, target, peak_acceleration, time_step, shape, taper, settings,
+                          band)  # fmt: skip
+    start = _scale_seed(problem, seed)
+    acceleration, iterations, misfit = _match_in_time_domain(problem, start)
+    return MatchedRecord(acceleration, time_step, 1, iterations, misfit)
+
+
+QUIET = 0.05
+"""Where a seed's envelope is below this share of its peak, corrections are tapered in
+proportion, so that its quiet lead-in and tail stay quiet [-]."""
+
+
+def seed_envelope(acceleration: np.ndarray, time_step: float, window: float = 1.0) -> np.ndarray:
+    """A record's intensity envelope: the moving RMS of the acceleration over ``window`` [s],
+    normalised to a peak of 1 [-]."""
+    width = max(1, int(round(window / time_step)))
+    power = np.convolve(acceleration**2, np.ones(width) / width, mode="same")
+    envelope = np.sqrt(power)
+    return envelope / envelope.max()
+
+
+def _scale_seed(problem: _Problem, seed: np.ndarray) -> np.ndarray:
+    """Step 2 on a seed: its Fourier amplitudes scaled by target / computed spectrum, its
+    phases kept."""
+    n_fft = fft.next_fast_len(2 * seed.size)
+    frequencies = fft.rfftfreq(n_fft, problem.time_step)
+    safe = np.maximum(frequencies, frequencies[1])
+    spectrum = fft.rfft(seed, n_fft)
+    acceleration, step, periods = seed, problem.time_step, problem.periods
+    for _ in range(problem.settings.frequency_iterations):
+        psa = compute_psa(acceleration, step, periods, problem.settings.damping)
+        spectrum = spectrum * _interpolate_on_frequencies(periods, problem.target / psa, safe)
+        acceleration = problem.taper * fft.irfft(spectrum, n_fft)[: seed.size]
+    return acceleration
 
 
 def _check_matching_inputs(periods, target, peak_acceleration, time_step) -> None:
@@ -331,6 +393,19 @@ class _Problem:
     taper: np.ndarray
     counted: np.ndarray
     settings: MatchSettings
+
+    @classmethod
+    def of(cls, periods, target, pga, time_step, shape, taper, settings, band) -> _Problem:
+        """The checked problem: ``band`` (default: all the periods) says which periods count in
+        the misfit compared with the tolerance."""
+        periods = np.asarray(periods, dtype=float)
+        target = np.asarray(target, dtype=float)
+        _check_matching_inputs(periods, target, pga, time_step)
+        low, high = (periods[0], periods[-1]) if band is None else band
+        counted = (periods >= low * (1.0 - 1e-9)) & (periods <= high * (1.0 + 1e-9))
+        if not counted.any():
+            raise ValueError(f"no matching period lies in the band {band!r}")
+        return cls(periods, target, pga, time_step, shape, taper, counted, settings)
 
     @property
     def omegas(self) -> np.ndarray:

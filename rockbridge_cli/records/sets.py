@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import platform
+import re
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -18,7 +19,7 @@ from ..config.records import RecordSetConfig
 from ..core import baseline, ec8, matching, spectra
 from ..errors import InputError
 from ..paths import writable
-from .files import MANIFEST, Record, read_manifest, write_record
+from .files import MANIFEST, Record, read_manifest, read_record, write_record
 
 
 @dataclass(frozen=True)
@@ -146,8 +147,9 @@ def generate_record_set(
 ) -> RecordSetReport:
     """Generate a matched record set and write it: one rockbridge file per record + manifest.
 
-    Record i uses ``numpy.random.default_rng`` seeded with child i of
-    ``numpy.random.SeedSequence(config.seed)``, so the same config gives the same bytes.
+    Artificial record i uses ``numpy.random.default_rng`` seeded with child i of
+    ``numpy.random.SeedSequence(config.seed)``, so the same config gives the same bytes. A
+    recorded seed is matched with its phases and envelope kept (`matching.match_seed`).
 
     Parameters
     ----------
@@ -157,43 +159,26 @@ def generate_record_set(
         output folder (created if needed; files of the same names are replaced).
     config_name
         name of the config (e.g. its file stem), stored in the manifest.
+
+    Raises
+    ------
+    InputError
+        A seed cannot be read, or its time step is too coarse for the band.
     """
     started = time.perf_counter()
     folder = writable(folder, folder=True)
     target = resolve_target(config)
-    periods = matching.compute_matching_periods(config.band, config.check_periods, config.time_step)
     settings = matching.MatchSettings(
         tolerance=config.tolerance,
         max_iterations=config.max_iterations,
         max_attempts=config.attempts,
         damping=target.damping,
     )
-    envelope = matching.Envelope(
-        config.envelope.rise,
-        config.envelope.stationary,
-        config.envelope.decay,
-        config.envelope.end_level,
-    )
-    goal = target.evaluate(periods, extrapolate=True)
-    width = max(2, len(str(config.count)))
-    children = np.random.SeedSequence(config.seed).spawn(config.count)
-    records, matches = [], []
-    for index, child in enumerate(children):
-        matched = matching.generate_matched_record(
-            periods,
-            goal,
-            target.surface_pga,
-            config.time_step,
-            envelope,
-            np.random.default_rng(child),
-            settings,
-            band=config.band,
-        )
-        name = f"{config.name_prefix}{index + 1:0{width}d}"
-        records.append(Record(name, config.time_step, matched.acceleration, "generate-records"))
-        matches.append(matched)
+    made = _matched_seeds(config, target, settings) if config.seeds else _synthesised(
+        config, target, settings)  # fmt: skip
+    records = [record for record, _ in made]
     check = np.geomspace(*config.band, config.check_periods)
-    summaries, compliance = _summarise(records, matches, check, target, config)
+    summaries, compliance = _summarise(records, [m for _, m in made], check, target, config)
     for index, record in enumerate(records):
         write_record(folder / f"{record.name}.txt", record, _record_header(config, target, index))
     manifest = _round_floats(_build_manifest(config, config_name, target, summaries, compliance))
@@ -209,6 +194,55 @@ def generate_record_set(
     )
 
 
+def _synthesised(config, target, settings) -> list[tuple[Record, matching.MatchedRecord]]:
+    """``config.count`` artificial records from random phases."""
+    assert config.count and config.time_step and config.envelope and config.seed is not None
+    periods = matching.compute_matching_periods(config.band, config.check_periods, config.time_step)
+    envelope = matching.Envelope(
+        config.envelope.rise,
+        config.envelope.stationary,
+        config.envelope.decay,
+        config.envelope.end_level,
+    )
+    goal = target.evaluate(periods, extrapolate=True)
+    width = max(2, len(str(config.count)))
+    made = []
+    for index, child in enumerate(np.random.SeedSequence(config.seed).spawn(config.count)):
+        matched = matching.generate_matched_record(
+            periods, goal, target.surface_pga, config.time_step, envelope,
+            np.random.default_rng(child), settings, band=config.band,
+        )  # fmt: skip
+        name = f"{config.name_prefix}{index + 1:0{width}d}"
+        made.append((Record(name, config.time_step, matched.acceleration, "generate-records"),
+                     matched))  # fmt: skip
+    return made
+
+
+def _matched_seeds(config, target, settings) -> list[tuple[Record, matching.MatchedRecord]]:
+    """One record per seed, matched at the seed's own time step (EN 1998-1 §3.2.3.1.3)."""
+    made = []
+    for index, entry in enumerate(config.seeds):
+        seed = read_record(entry.path, units=entry.units, time_step=entry.time_step)
+        where = f"seeds.{index}.path"
+        if config.band[0] < 5.0 * seed.time_step - 1e-12:
+            raise InputError(entry.path, [(where, f"time step {seed.time_step:g} s is too coarse "
+                                          f"for the band from {config.band[0]:g} s: at least 5 "
+                                          "steps per period are needed")])  # fmt: skip
+        periods = matching.compute_matching_periods(config.band, config.check_periods,
+                                                    seed.time_step)  # fmt: skip
+        try:
+            matched = matching.match_seed(periods, target.evaluate(periods, extrapolate=True),
+                                          target.surface_pga, seed.acceleration, seed.time_step,
+                                          settings, config.band)  # fmt: skip
+        except ValueError as exc:
+            raise InputError(entry.path, [(where, str(exc))]) from None
+        name = entry.id or re.sub(r"[^A-Za-z0-9_.+-]", "_", Path(entry.path).stem)
+        record = Record(name, seed.time_step, matched.acceleration, "generate-records",
+                        {"seed_file": Path(entry.path).name})  # fmt: skip
+        made.append((record, matched))
+    return made
+
+
 def _summarise(records, matches, check, target, config):
     """Per-record statistics, the EN 1998-1 check and the config's per-record tolerance, at the
     check periods."""
@@ -221,7 +255,7 @@ def _summarise(records, matches, check, target, config):
         goal,
         np.array([r.peak_acceleration for r in records]),
         target.surface_pga,
-        config.envelope.stationary,
+        config.envelope.stationary if config.envelope else None,  # not for recorded motions
         config.tolerance,
     )
     summaries = []
@@ -255,7 +289,11 @@ def _record_header(config: RecordSetConfig, target: TargetDefinition, index: int
     return {
         "pga": target.surface_pga,
         "pga_g": target.surface_pga / config.gravity,
-        "seed": config.seed,
+        **(
+            {"seed": config.seed}
+            if config.seeds is None
+            else {"seed_file": Path(config.seeds[index].path).name}
+        ),
         "record_index": index,
         "target": f"{config.target.code} type {target.spectrum_type} ground {target.ground_type}"
         f" a_g={target.design_acceleration / config.gravity:g}g"
@@ -305,7 +343,12 @@ def _build_manifest(config, config_name, target, summaries, compliance) -> dict[
                 "pgv_m_s": s.peak_velocity,
                 "pgd_m": s.peak_displacement,
                 "d5_95_s": s.significant_duration,
-                "stationary_duration_s": config.envelope.stationary,
+                "stationary_duration_s": config.envelope.stationary if config.envelope else None,
+                **(
+                    {}
+                    if config.seeds is None
+                    else {"seed_file": Path(config.seeds[index].path).name}
+                ),
                 "attempts": s.attempts,
                 "iterations": s.iterations,
             }
