@@ -143,3 +143,38 @@ def test_a_seed_too_coarse_for_the_band_is_refused(seeds):
                                        str(folder / "coarse")])  # fmt: skip
     assert result.exit_code == 2 and "coarse.txt" in result.output
     assert "time step 0.02 s is too coarse for the band from 0.05 s" in result.output
+
+
+def test_scale_factors_are_the_least_log_misfit_then_the_mean_rules():
+    """Spectra that are exact multiples of the target get the reciprocal factors (and one for
+    the set, the reciprocal geometric mean); a shape that leaves the scaled mean below 90 % of
+    the target somewhere is raised just enough, as is a mean PGA below a_g·S."""
+    target = np.linspace(2.0, 8.0, 50)
+    multiples = np.array([[0.5], [2.0]]) * target
+    np.testing.assert_allclose(ec8.scale_factors(multiples, target, np.array([1.0, 4.0]), 2.0),
+                               [2.0, 0.5], rtol=1e-12)  # fmt: skip
+    one = ec8.scale_factors(multiples, target, np.array([1.0, 4.0]), 2.0, individual=False)
+    np.testing.assert_allclose(one, [1.0, 1.0], rtol=1e-12)  # 1/√(0.5·2)
+    wavy = target * (1.0 + 0.5 * np.sin(np.linspace(0.0, 6.0, 50)))[None, :]
+    factors = ec8.scale_factors(wavy, target, np.array([3.0]), 2.0)
+    assert np.min(factors[0] * wavy[0] / target) == pytest.approx(0.9, rel=1e-6)
+    weak = ec8.scale_factors(multiples, target, np.array([0.1, 0.1]), 2.0)
+    assert np.mean(weak * 0.1) >= 2.0  # the mean PGA reaches a_g·S
+
+
+def test_scaled_seeds_keep_their_shape_and_state_their_factors(seeds, tmp_path):
+    folder, _ = seeds
+    config = folder / "scaled.yaml"
+    config.write_text(TARGET + "adjust: scale\nseeds:\n" + "".join(
+        f"  - {{path: S{i}.txt, units: g}}\n" for i in range(3)), encoding="utf-8")  # fmt: skip
+    report = generate_record_set(load(RecordSetConfig, config), tmp_path / "out")
+    manifest = json.loads((tmp_path / "out" / "manifest.json").read_text(encoding="utf-8"))
+    for index, (entry, record) in enumerate(
+        zip(manifest["records"], read_record_set(tmp_path / "out"), strict=True)
+    ):
+        seed = read_record(folder / f"S{index}.txt", units="g")
+        scaled = entry["scale_factor"] * seed.acceleration
+        atol = 1e-9 * np.abs(scaled).max()  # the record file's 10 digits
+        np.testing.assert_allclose(record.acceleration, scaled, rtol=1e-8, atol=atol)
+    assert report.compliance.tolerance is None and report.compliance.mean_ok
+    assert report.compliance.mean_zero_period >= 0.6 * 9.81 * 1.15

@@ -114,7 +114,12 @@ def format_report(report: RecordSetReport) -> str:
             f"{s.max_ratio:6.3f} {s.final_velocity * 100:+11.1e} "
             f"{s.final_displacement * 100:+10.1e} {s.peak_velocity * 100:10.1f} "
             f"{s.peak_displacement * 100:8.1f} {s.peak_displacement / dg:8.2f} "
-            f"{s.significant_duration:9.1f}  {s.iterations:4d} ({s.attempts} attempts)"
+            f"{s.significant_duration:9.1f}  "
+            + (
+                f"{s.iterations:4d} ({s.attempts} attempts)"
+                if s.scale_factor is None
+                else f"scaled by {s.scale_factor:.4g}"
+            )  # fmt: skip
         )
     lines += [
         f"  {'mean':<8} {'':9} {c.mean_min_ratio:6.3f} {c.mean_max_ratio:6.3f}",
@@ -131,7 +136,9 @@ def format_report(report: RecordSetReport) -> str:
         if c.stationary_duration is None
         else f"  (3) stationary part {c.stationary_duration:g} s >= 10 s -> "
         f"{_verdict(c.stationary_ok)}",
-        f"The config's tolerance: every record within {c.tolerance:.0%} of the target over "
+        "Scaled records keep their shapes: no per-record tolerance (min and max above)"
+        if c.tolerance is None
+        else f"The config's tolerance: every record within {c.tolerance:.0%} of the target over "
         f"{low:g}-{high:g} s -> {_verdict(c.records_ok)}",
         *(
             f"  {s.name} misses it by {miss:.3f} (min {s.min_ratio:.3f}, max {s.max_ratio:.3f})"

@@ -119,6 +119,11 @@ class RecordSetConfig(StrictModel):
         description="Recorded motions to match, one record each, instead of count; each keeps "
         "its time step, length, phases and envelope.",
     )  # fmt: skip
+    adjust: Literal["match", "scale", "scale-set"] = Field(
+        "match", description="What is done to the seeds: matched to the target (match), or "
+        "scaled without changing their shape, one factor per record (scale) or one for the set "
+        "(scale-set), by least misfit and then the mean rules [-].",
+    )  # fmt: skip
     duration: float | None = Field(
         None, gt=0.0, le=600.0, description="Duration of each artificial record [s]."
     )
@@ -177,6 +182,8 @@ class RecordSetConfig(StrictModel):
             raise ValueError("give exactly one of count (artificial records) and seeds")
         synthetic = {"duration": self.duration, "time_step": self.time_step,
                      "envelope": self.envelope, "seed": self.seed}  # fmt: skip
+        if self.seeds is None and self.adjust != "match":
+            raise ValueError(f"adjust: {self.adjust} is for seeds; artificial records are matched")
         if self.seeds is not None:
             given = [key for key, value in synthetic.items() if value is not None]
             if given:

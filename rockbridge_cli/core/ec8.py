@@ -94,6 +94,50 @@ def design_ground_displacement(
     return 0.025 * design_acceleration * shape.soil_factor * shape.corner_c * shape.corner_d
 
 
+def scale_factors(
+    computed: np.ndarray,
+    target: np.ndarray,
+    peaks: np.ndarray,
+    surface_pga: float,
+    individual: bool = True,
+) -> np.ndarray:
+    """Linear factors that bring recorded motions to a target spectrum without changing their
+    shape (EN 1998-1 §3.2.3.1.3's scaled records), least misfit first, then the mean rules.
+
+    Each record's factor (or one for the set) minimises the mean squared log ratio of its
+    spectrum to the target over the periods given: exp(mean(log(target/computed))). All factors
+    are then raised by the one smallest common multiplier, if any is needed, so that the mean
+    spectrum nowhere falls below 90 % of the target (§3.2.3.1.2(4)c) and the mean PGA is at
+    least a_g·S (4)b.
+
+    Parameters
+    ----------
+    computed
+        spectra of the unscaled records at the periods, shape (records, periods) [m/s²].
+    target
+        target spectrum at the same periods [m/s²].
+    peaks
+        the unscaled records' PGA [m/s²].
+    surface_pga
+        a_g·S [m/s²].
+    individual
+        one factor per record (True) or one for the set.
+
+    Returns
+    -------
+    numpy.ndarray
+        the factor of each record [-].
+    """
+    logs = np.log(target[None, :] / computed)
+    if individual:
+        factors = np.exp(logs.mean(axis=1))
+    else:
+        factors = np.full(computed.shape[0], np.exp(logs.mean()))
+    mean = (factors[:, None] * computed).mean(axis=0)
+    needed = max(float(np.max(0.9 * target / mean)), surface_pga / float(np.mean(factors * peaks)))
+    return factors * (needed * (1.0 + 1e-9) if needed > 1.0 else 1.0)  # 1e-9: past round-off
+
+
 def compute_damping_correction(damping: float) -> float:
     """Damping correction factor η = √(10 / (5 + ξ)) ≥ 0.55, ξ in percent (EN 1998-1 Eq. 3.6).
 

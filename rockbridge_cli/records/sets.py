@@ -42,6 +42,8 @@ class RecordSummary:
         D5–95 [s].
     attempts, iterations
         phase sets tried and matching iterations of the kept one [-].
+    scale_factor
+        the factor of a seed scaled rather than matched (`ec8.scale_factors`) [-], else None.
     """
 
     name: str
@@ -56,6 +58,7 @@ class RecordSummary:
     significant_duration: float
     attempts: int
     iterations: int
+    scale_factor: float | None = None
 
 
 @dataclass(frozen=True)
@@ -180,8 +183,11 @@ def generate_record_set(
     check = np.geomspace(*config.band, config.check_periods)
     summaries, compliance = _summarise(records, [m for _, m in made], check, target, config)
     for index, record in enumerate(records):
-        write_record(folder / f"{record.name}.txt", record, _record_header(config, target, index))
-    manifest = _round_floats(_build_manifest(config, config_name, target, summaries, compliance))
+        header = _record_header(config, target, index, record)
+        write_record(folder / f"{record.name}.txt", record, header)
+    manifest = _round_floats(
+        _build_manifest(config, config_name, target, records, summaries, compliance)
+    )
     (folder / MANIFEST).write_text(json.dumps(manifest, indent=2) + "\n", encoding="utf-8")
     return RecordSetReport(
         folder,
@@ -219,28 +225,50 @@ def _synthesised(config, target, settings) -> list[tuple[Record, matching.Matche
 
 
 def _matched_seeds(config, target, settings) -> list[tuple[Record, matching.MatchedRecord]]:
-    """One record per seed, matched at the seed's own time step (EN 1998-1 §3.2.3.1.3)."""
+    """One record per seed at the seed's own time step (EN 1998-1 §3.2.3.1.3): matched, or scaled
+    without changing its shape (`ec8.scale_factors`)."""
+    seeds = [_read_seed(config, index) for index in range(len(config.seeds))]
+    factors = _scale_factors(config, target, seeds) if config.adjust != "match" else None
     made = []
-    for index, entry in enumerate(config.seeds):
-        seed = read_record(entry.path, units=entry.units, time_step=entry.time_step)
-        where = f"seeds.{index}.path"
-        if config.band[0] < 5.0 * seed.time_step - 1e-12:
-            raise InputError(entry.path, [(where, f"time step {seed.time_step:g} s is too coarse "
-                                          f"for the band from {config.band[0]:g} s: at least 5 "
-                                          "steps per period are needed")])  # fmt: skip
-        periods = matching.compute_matching_periods(config.band, config.check_periods,
-                                                    seed.time_step)  # fmt: skip
-        try:
-            matched = matching.match_seed(periods, target.evaluate(periods, extrapolate=True),
-                                          target.surface_pga, seed.acceleration, seed.time_step,
-                                          settings, config.band)  # fmt: skip
-        except ValueError as exc:
-            raise InputError(entry.path, [(where, str(exc))]) from None
+    for index, (entry, seed) in enumerate(zip(config.seeds, seeds, strict=True)):
+        metadata: dict[str, Any] = {"seed_file": Path(entry.path).name}
+        if factors is None:
+            periods = matching.compute_matching_periods(config.band, config.check_periods,
+                                                        seed.time_step)  # fmt: skip
+            matched = matching.match_seed(
+                periods, target.evaluate(periods, extrapolate=True), target.surface_pga,
+                seed.acceleration, seed.time_step, settings, config.band)  # fmt: skip
+        else:
+            metadata["scale_factor"] = float(factors[index])
+            matched = matching.MatchedRecord(factors[index] * seed.acceleration, seed.time_step,
+                                             0, 0, float("nan"))  # fmt: skip
         name = entry.id or re.sub(r"[^A-Za-z0-9_.+-]", "_", Path(entry.path).stem)
-        record = Record(name, seed.time_step, matched.acceleration, "generate-records",
-                        {"seed_file": Path(entry.path).name})  # fmt: skip
-        made.append((record, matched))
+        made.append((Record(name, seed.time_step, matched.acceleration, "generate-records",
+                            metadata), matched))  # fmt: skip
     return made
+
+
+def _read_seed(config: RecordSetConfig, index: int) -> Record:
+    """Seed ``index``, refused if its time step is too coarse for the band."""
+    assert config.seeds is not None
+    entry = config.seeds[index]
+    seed = read_record(entry.path, units=entry.units, time_step=entry.time_step)
+    if config.band[0] < 5.0 * seed.time_step - 1e-12:
+        raise InputError(entry.path, [(f"seeds.{index}.path", f"time step {seed.time_step:g} s "
+                                       f"is too coarse for the band from {config.band[0]:g} s: "
+                                       "at least 5 steps per period are needed")])  # fmt: skip
+    return seed
+
+
+def _scale_factors(config, target, seeds: list[Record]) -> np.ndarray:
+    """The factors of the seeds, at the check periods of the band."""
+    check = np.geomspace(config.band[0], config.band[1], config.check_periods)
+    computed = np.array(
+        [spectra.compute_psa(s.acceleration, s.time_step, check, target.damping) for s in seeds]
+    )
+    peaks = np.array([s.peak_acceleration for s in seeds])
+    return ec8.scale_factors(computed, target.evaluate(check), peaks, target.surface_pga,
+                             individual=config.adjust == "scale")  # fmt: skip
 
 
 def _summarise(records, matches, check, target, config):
@@ -256,7 +284,7 @@ def _summarise(records, matches, check, target, config):
         np.array([r.peak_acceleration for r in records]),
         target.surface_pga,
         config.envelope.stationary if config.envelope else None,  # not for recorded motions
-        config.tolerance,
+        config.tolerance if config.adjust == "match" else None,  # scaling keeps their shapes
     )
     summaries = []
     for record, matched, low, high in zip(
@@ -280,20 +308,19 @@ def _summarise(records, matches, check, target, config):
                 baseline.compute_significant_duration(record.acceleration, record.time_step),
                 matched.attempts,
                 matched.iterations,
+                record.metadata.get("scale_factor"),
             )
         )
     return summaries, compliance
 
 
-def _record_header(config: RecordSetConfig, target: TargetDefinition, index: int) -> dict:
+def _record_header(
+    config: RecordSetConfig, target: TargetDefinition, index: int, record: Record
+) -> dict:
     return {
         "pga": target.surface_pga,
         "pga_g": target.surface_pga / config.gravity,
-        **(
-            {"seed": config.seed}
-            if config.seeds is None
-            else {"seed_file": Path(config.seeds[index].path).name}
-        ),
+        **({"seed": config.seed} if config.seeds is None else record.metadata),
         "record_index": index,
         "target": f"{config.target.code} type {target.spectrum_type} ground {target.ground_type}"
         f" a_g={target.design_acceleration / config.gravity:g}g"
@@ -302,7 +329,7 @@ def _record_header(config: RecordSetConfig, target: TargetDefinition, index: int
     }
 
 
-def _build_manifest(config, config_name, target, summaries, compliance) -> dict[str, Any]:
+def _build_manifest(config, config_name, target, records, summaries, compliance) -> dict[str, Any]:
     shape = ec8.get_spectrum_shape(target.spectrum_type, target.ground_type)
     return {
         "format": "rockbridge-record-set 1",
@@ -344,11 +371,7 @@ def _build_manifest(config, config_name, target, summaries, compliance) -> dict[
                 "pgd_m": s.peak_displacement,
                 "d5_95_s": s.significant_duration,
                 "stationary_duration_s": config.envelope.stationary if config.envelope else None,
-                **(
-                    {}
-                    if config.seeds is None
-                    else {"seed_file": Path(config.seeds[index].path).name}
-                ),
+                **(records[index].metadata if config.seeds is not None else {}),
                 "attempts": s.attempts,
                 "iterations": s.iterations,
             }
