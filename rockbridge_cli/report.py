@@ -22,8 +22,7 @@ import numpy as np
 from .core.quantities import NO_FAILURE, ROUND_OFF
 from .errors import InputError
 from .paths import writable
-from .results.layout import PEAK_COLUMNS
-from .results.reading import bridge_attributes, open_results, peak_columns
+from .results.reading import bridge_attributes, open_results, peak_columns, peak_units
 
 TABLE_COLUMNS = (
     "bridge", "record", "u_deck_max", "v_deck_max", "theta_deck_max", "theta1_max", "theta2_max",
@@ -84,7 +83,7 @@ def write_report(results: str | Path, output: str | Path, record: str | None = N
     with open_results(results) as file:
         attributes = {key: _plain(value) for key, value in file.attrs.items()}
         columns, bridges = peak_columns(file), bridge_attributes(file)
-        units = json.loads(file["peaks"].attrs.get("units", "{}")) or _peak_units()
+        units = peak_units(file)
         sources = {
             name: str(file["records"][name].attrs.get("source", "")) for name in file["records"]
         }
@@ -160,11 +159,7 @@ def _figure_maker(folder: Path) -> Callable[..., str]:
     count = iter(range(1000))
 
     def figure(draw: Callable[..., Path], results: Path, *args: Any) -> str:
-        path = (
-            draw(results, *args, folder / f"figure{next(count)}.png")
-            if args
-            else draw(results, folder / f"figure{next(count)}.png")
-        )
+        path = draw(results, *args, folder / f"figure{next(count)}.png")
         encoded = base64.b64encode(path.read_bytes()).decode("ascii")
         return f'<img alt="figure" src="data:image/png;base64,{encoded}">'
 
@@ -265,7 +260,7 @@ def _peak_table(columns: dict[str, np.ndarray], units: dict[str, str]) -> str:
     texts = tuple(i for i, name in enumerate(shown) if columns[name].dtype.kind in "OUS")
     return (
         '<h2>Peak table</h2>\n<p class="note">Largest values over each analysis; the results '
-        f"file has every column (rockbridge peaks {_text('RESULTS')}).</p>\n"
+        "file has every column (rockbridge peaks RESULTS).</p>\n"
         f"{_table(headers, rows, text_columns=texts)}{more}"
     )
 
@@ -392,7 +387,3 @@ def _text(value: Any) -> str:
 
 def _plain(value: Any) -> Any:
     return value.item() if isinstance(value, np.generic) else value
-
-
-def _peak_units() -> dict[str, str]:
-    return {name: unit for name, (unit, _) in PEAK_COLUMNS.items()}
