@@ -158,8 +158,8 @@ def _figure_maker(folder: Path) -> Callable[..., str]:
     embedded ``<img>``."""
     count = iter(range(1000))
 
-    def figure(draw: Callable[..., Path], results: Path, *args: Any) -> str:
-        path = draw(results, *args, folder / f"figure{next(count)}.png")
+    def figure(draw: Callable[..., Path], results: Path, *args: Any, **options: Any) -> str:
+        path = draw(results, *args, folder / f"figure{next(count)}.png", **options)
         encoded = base64.b64encode(path.read_bytes()).decode("ascii")
         return f'<img alt="figure" src="data:image/png;base64,{encoded}">'
 
@@ -234,7 +234,7 @@ def _intensity_section(results: Path, intensity: dict, figure: Callable[..., str
         _section(f"IDA curves ({measure})", figure(plot_ida, results),
                  "Each record's peak against its intensity level; a cross ends a curve where "
                  "the bridge failed.") if _is_ida(intensity) else "",
-        _section(f"Fragility ({measure})", figure(plot_fragility, results),
+        _section(f"Fragility ({measure})", figure(plot_fragility, results, found=found),
                  "Share of the records reaching each limit state, and the fitted lognormal."),
         _table(["bridge", "limit state", "median", "β", "median, 5–95 %"], rows,
                text_columns=(0, 1)),

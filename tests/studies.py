@@ -25,6 +25,10 @@ RECORDS = {"R1": (5.0, 1.0), "R2": (4.0, 0.7)}
 TIME_STEP = 0.01  # [s]
 DURATION = 6.0  # [s]
 
+SLENDER_BLOCK = "name: slender block\npiers: {width: 0.4, heights: [4.0]}\n"
+"""A free-standing 0.4 m × 4 m block (α = 0.1 rad, p = 2.7 rad/s): R1's 0.51 g, 1 s burst
+overturns it."""
+
 VOLATILE = {"created", "finished", "solve_time_s", "wall_time_s"}
 """Attributes and peak columns that differ between two runs of the same study (timings)."""
 
@@ -52,10 +56,13 @@ def write_study(
     records=tuple(RECORDS),
     extra: str = "",
     name: str = "study.yaml",
+    bridge_files: tuple[Path, ...] = (),
 ) -> Path:
-    """A study of the given bridge configs × records in ``folder``; ``extra`` is appended YAML."""
+    """A study of the given bridge configs (then ``bridge_files``, any bridge YAML files) ×
+    records in ``folder``; ``extra`` is appended YAML."""
     write_records(folder, records)
-    lines = ["bridges:"] + [f"  - {(BRIDGES / f'{b}.yaml').as_posix()}" for b in bridges]
+    paths = [BRIDGES / f"{b}.yaml" for b in bridges] + list(bridge_files)
+    lines = ["bridges:"] + [f"  - {p.as_posix()}" for p in paths]
     lines += ["records:", "  files:"] + [f"    - path: {r}.txt" for r in records]
     path = folder / name
     path.write_text("\n".join(lines) + "\n" + extra, encoding="utf-8")

@@ -21,7 +21,7 @@ from conftest import (
 
 from rockbridge_cli.core.bridge import Bridge
 from rockbridge_cli.core.dynamics import acceleration, coefficients, energy
-from rockbridge_cli.core.geometry import Model, ratios, single_block
+from rockbridge_cli.core.geometry import single_block
 from rockbridge_cli.core.impacts import (
     capacities,
     governing_failure,
@@ -45,46 +45,6 @@ def eq8(model, s):
     num = m1 + m2 * hb + md * (1 + hb - 2 * bb * (s * hb - s * 1))
     den = m1 + m2 + 2 * md * (bb * model.h / model.H1 * (s * hb - s * 1) + 1)
     return s * num / den * model.g * math.tan(model.alpha1)
-
-
-def restitution_eq30(model: Model, s: float) -> float:
-    """Corrected closed form of Eq. (30): η of a bridge (with seats) for the impact ending mode s.
-
-    docs/model.md §6: the ∓2α6·b̄(h̄² − 1) and ±2α8·b̄(h̄² − 1) terms belong inside the preceding
-    B²(…) brackets; the upper signs (s = +1) give p→n, the lower (s = −1) n→p. An independent
-    check of `impacts.restitution`, kept here because only the tests use it.
-    """
-    r = ratios(model)
-    hb, bb, Lb = r["h_bar"], r["b_bar"], r["L_bar"]
-    B, H1, h = model.B, model.H1, model.h
-    a1 = 4 * Lb**3 + 6 * Lb**2 + 4 * Lb + 1
-    a2 = 4 * Lb**3 + 4 * Lb**2 + Lb
-    a3 = 2 * Lb**2 + 3 * Lb + 1
-    a4 = 2 * Lb**3 + 4 * Lb**2 + 3 * Lb + 1
-    a5 = (Lb + 1) ** 2
-    a6 = 2 * Lb**3 + 3 * Lb**2 + Lb
-    a7 = 4 * Lb**3 + 8 * Lb**2 + 7 * Lb + 2
-    a8 = 2 * Lb**3 + 5 * Lb**2 + 5 * Lb + 2
-    d = hb - 1.0
-    num = (
-        a1 * (H1**2 - B**2) * model.m1 + a1 * model.I1
-        + a1 * (H1**2 - hb**2 * B**2) * model.m2 + a1 * hb**2 * model.I2
-        + (
-            4 * a1 * H1**2 + s * 4 * a2 * H1 * h * bb * d - 4 * a3 * h**2 * bb**2 * d**2
-            - B**2 * (a4 * (hb + 1) ** 2 - 4 * a5 * bb**2 * d**2 - s * 2 * a6 * bb * (hb**2 - 1))
-        ) * model.md
-        - 4 * a3 * bb**2 * d**2 * model.Id
-    )  # fmt: skip
-    den = (
-        a1 * (H1**2 + B**2) * model.m1 + a1 * model.I1
-        + a1 * (H1**2 + hb**2 * B**2) * model.m2 + a1 * hb**2 * model.I2
-        + (
-            4 * a1 * H1**2 - s * 4 * a7 * H1 * h * bb * d + 4 * a3 * h**2 * bb**2 * d**2
-            + B**2 * (a4 * (hb + 1) ** 2 + 4 * a5 * bb**2 * d**2 + s * 2 * a8 * bb * (hb**2 - 1))
-        ) * model.md
-        + 4 * a3 * bb**2 * d**2 * model.Id
-    )  # fmt: skip
-    return num / den
 
 
 @pytest.mark.parametrize("s", MODES)
@@ -216,7 +176,6 @@ def test_impulse_system_equals_corrected_eq30_over_a_sweep():
         for s in MODES:
             expected = eq30(m, s)
             assert restitution(m, s) == pytest.approx(expected, rel=1e-12), (family, hb, Lb, s)
-            assert restitution_eq30(m, s) == pytest.approx(expected, rel=1e-13)
 
 
 def test_eq30_as_printed_is_off():

@@ -8,7 +8,7 @@ import re
 import matplotlib
 import numpy as np
 import pytest
-from studies import BRIDGES, STUDIED, write_study
+from studies import BRIDGES, SLENDER_BLOCK, STUDIED, write_study
 
 from rockbridge_cli.config.bridge import load_bridge
 from rockbridge_cli.config.study import load_study
@@ -159,11 +159,8 @@ def test_peaks_figure_marks_the_means_and_each_bridges_limits(tmp_path):
     original = (BRIDGES / f"{STUDIED[1]}.yaml").read_text(encoding="utf-8")
     narrow = original.replace("gap: 0.12", "gap: 0.06").replace("highly asymmetric", "narrow gap")
     (tmp_path / "narrow.yaml").write_text(narrow, encoding="utf-8")
-    path = write_study(tmp_path, extra="output: {path: out.h5}\n")
-    text = path.read_text(encoding="utf-8").replace(
-        "bridges:\n", f"bridges:\n  - {(tmp_path / 'narrow.yaml').as_posix()}\n", 1
-    )
-    path.write_text(text, encoding="utf-8")
+    path = write_study(tmp_path, extra="output: {path: out.h5}\n",
+                       bridge_files=(tmp_path / "narrow.yaml",))  # fmt: skip
     study = load_study(path)
     run_study(study, workers=1)
     with matplotlib.rc_context({"svg.fonttype": "none"}):
@@ -184,21 +181,16 @@ def test_history_figure_has_the_ground_motion_and_the_events(done, tmp_path):
 def test_history_of_a_single_block_draws_only_what_a_block_has(tmp_path):
     """A free-standing block has no deck and no short pier: ground and θ1 only, not four empty
     panels; a block that overturns gets the failure line and its legend entry."""
-    (tmp_path / "block.yaml").write_text(
-        "name: slender block\npiers: {width: 0.4, heights: [4.0]}\n", encoding="utf-8"
-    )
-    path = write_study(tmp_path, bridges=(), extra="output: {path: out.h5}\n")
-    text = path.read_text(encoding="utf-8").replace(
-        "bridges:\n", f"bridges:\n  - {(tmp_path / 'block.yaml').as_posix()}\n", 1
-    )
-    path.write_text(text, encoding="utf-8")
+    (tmp_path / "block.yaml").write_text(SLENDER_BLOCK, encoding="utf-8")
+    path = write_study(tmp_path, bridges=(), extra="output: {path: out.h5}\n",
+                       bridge_files=(tmp_path / "block.yaml",))  # fmt: skip
     study = load_study(path)
     run_study(study, workers=1)
     with matplotlib.rc_context({"svg.fonttype": "none"}):
         figure = svg_text(plot_history(study.output, "R1", tmp_path / "block.svg"))
     assert "(A)" in figure and "(B)" in figure and "(C)" not in figure
     assert "tall pier" in figure and "short pier" not in figure
-    # a 0.4 m × 4 m block (α = 0.1 rad, p = 2.7 rad/s) overturns under R1's 0.51 g, 1 s burst
+    # `SLENDER_BLOCK` overturns under R1
     assert read_peaks(study.output).set_index("record").loc["R1", "failure_mode"] != "none"
     legend = re.findall(r"<text[^>]*>([^<]*)</text>", figure)
     assert "failure" in legend and "pounding on the backwall" not in legend

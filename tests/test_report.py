@@ -16,7 +16,7 @@ import h5py
 import numpy as np
 import pytest
 from click.testing import CliRunner
-from studies import BRIDGES, REPO, write_study
+from studies import BRIDGES, REPO, SLENDER_BLOCK, write_study
 
 from rockbridge_cli.cli import main
 from rockbridge_cli.config.study import load_study
@@ -123,12 +123,9 @@ def test_the_failures_are_listed(study, page, tmp_path):
     """No failure in the studied bridges under the two bursts: the page says so. A slender block
     (0.4 m × 4 m, α = 0.1 rad) overturns under R1 (0.51 g): it is listed with its time."""
     assert "No analysis ended in a failure" in page[0].read_text(encoding="utf-8")
-    (tmp_path / "block.yaml").write_text(
-        "name: slender block\npiers: {width: 0.4, heights: [4.0]}\n", encoding="utf-8"
-    )
-    path = write_study(tmp_path, bridges=(), extra="output: {path: out.h5}\n")
-    text = path.read_text(encoding="utf-8")
-    path.write_text(text.replace("bridges:\n", f"bridges:\n  - {tmp_path / 'block.yaml'}\n"))
+    (tmp_path / "block.yaml").write_text(SLENDER_BLOCK, encoding="utf-8")
+    path = write_study(tmp_path, bridges=(), extra="output: {path: out.h5}\n",
+                       bridge_files=(tmp_path / "block.yaml",))  # fmt: skip
     study = load_study(path)
     run_study(study, workers=1)
     parsed = Page(write_report(study.output, tmp_path / "r.html").read_text(encoding="utf-8"))

@@ -105,9 +105,8 @@ def test_a_swept_run_equals_the_edited_bridge_file(tmp_path):
     edited["abutments"]["gap"] = 0.24
     (tmp_path / "edited.yaml").write_text(yaml.safe_dump(edited))
     path = write_study(tmp_path, bridges=(), name="edited-study.yaml",
-                       extra="fidelity: fast\noutput: {histories: none}\n")  # fmt: skip
-    text = path.read_text().replace("bridges:\n", f"bridges:\n  - {tmp_path / 'edited.yaml'}\n")
-    path.write_text(text)
+                       extra="fidelity: fast\noutput: {histories: none}\n",
+                       bridge_files=(tmp_path / "edited.yaml",))  # fmt: skip
     plain = read_peaks(run_study(load_study(path), workers=1).output)
     for column in ("u_deck_max", "theta1_max", "n_impacts", "dcr_backfill"):
         np.testing.assert_array_equal(variant[column].to_numpy(), plain[column].to_numpy())

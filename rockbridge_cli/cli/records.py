@@ -46,26 +46,29 @@ def generate_records(config: Path, out: Path | None, with_plot: bool) -> None:
         click.echo(f"Figure: {plot_record_spectra([folder], folder / 'spectra.png')}")
 
 
-def _record_inputs(command):
-    """RECORDS and the options that read plain record files: ``--units`` and ``--time-step``."""
-    command = click.option(
-        "--time-step", type=float, default=None, help="Time step of one-column record files [s]."
-    )(command)
-    command = click.option(
-        "--units", type=click.Choice(["g", "m/s2", "cm/s2"]), default=None,
-        help="Units of plain record files that do not state them.",
-    )(command)  # fmt: skip
-    return click.argument("records", nargs=-1, required=True, type=click.Path(path_type=Path))(
-        command
-    )
+def _record_figure(default: str):
+    """RECORDS, the options that read plain record files (``--units``, ``--time-step``) and the
+    figure file ``-o`` (``default``): what every record figure takes."""
+
+    def decorate(command):
+        for option in (
+            click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path),
+                         default=Path(default), show_default=True,
+                         help="Figure file: .png, .pdf or .svg."),
+            click.option("--time-step", type=float, default=None,
+                         help="Time step of one-column record files [s]."),
+            click.option("--units", type=click.Choice(["g", "m/s2", "cm/s2"]), default=None,
+                         help="Units of plain record files that do not state them."),
+            click.argument("records", nargs=-1, required=True, type=click.Path(path_type=Path)),
+        ):  # fmt: skip
+            command = option(command)
+        return command
+
+    return decorate
 
 
 @plot.command("spectra")
-@_record_inputs
-@click.option(
-    "-o", "--output", type=click.Path(dir_okay=False, path_type=Path),
-    default=Path("spectra.png"), show_default=True, help="Figure file: .png, .pdf or .svg.",
-)  # fmt: skip
+@_record_figure("spectra.png")
 def plot_spectra(
     records: tuple[Path, ...], output: Path, units: str | None, time_step: float | None
 ) -> None:
@@ -80,11 +83,7 @@ def plot_spectra(
 
 
 @plot.command("record")
-@_record_inputs
-@click.option(
-    "-o", "--output", type=click.Path(dir_okay=False, path_type=Path),
-    default=Path("record.png"), show_default=True, help="Figure file: .png, .pdf or .svg.",
-)  # fmt: skip
+@_record_figure("record.png")
 def plot_record(
     records: tuple[Path, ...], output: Path, units: str | None, time_step: float | None
 ) -> None:

@@ -10,14 +10,21 @@ import numpy as np
 from matplotlib.figure import Figure
 from scipy.stats import norm
 
-from ..fragility import fragilities
+from ..fragility import Fragility, fragilities
 from .common import PLAIN, check_format, panel_label, save, style
 
 MEASURE_LABELS = {"pga_g": "PGA [g]", "sa_g": "Sa(T) [g]", "scale": "scale factor [-]"}
 
 
-def plot_fragility(results: str | Path, output: str | Path) -> Path:
+def plot_fragility(
+    results: str | Path, output: str | Path, found: list[Fragility] | None = None
+) -> Path:
     """Draw one panel per limit state from a results file with an intensity section.
+
+    Parameters
+    ----------
+    found
+        The file's fits (`fragility.fragilities`), when the caller has them already.
 
     Returns
     -------
@@ -25,7 +32,7 @@ def plot_fragility(results: str | Path, output: str | Path) -> Path:
         The figure file.
     """
     output = check_format(output)
-    found = fragilities(results)
+    found = fragilities(results) if found is None else found
     bridges = list(dict.fromkeys(item.bridge for item in found))
     states = list(dict.fromkeys(item.limit_state for item in found))
     rows = max(1, -(-len(states) // 2))
