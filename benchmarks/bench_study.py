@@ -7,9 +7,10 @@ entries (the ten bundled records, each listed several times under its own id) an
 - ``e2e``: wall time from the start of the study's loading to the closed results file;
 - ``solve``: integration time (`Response.solve_time_s`) summed over the analyses;
 - ``over``: e2e × workers − solve, the cost beyond the solve, per analysis;
-- ``parent``, ``worker``: CPU time of the parent process and of the workers (the parent runs
-  the first analysis itself, to compile the kernels once); their ratio is the ceiling on any
-  number of cores: with N cores at most ``worker/parent`` of them stay busy;
+- ``parent``, ``worker``: CPU time of the parent process (from the loaded study to the closed
+  file: journal, progress, the results file) and of the workers (each loads the kernels from
+  numba's cache, then runs its batches); their ratio is the ceiling on any number of cores:
+  with N cores at most ``worker/parent`` of them stay busy;
 - peak resident memory of the parent and of the largest worker.
 
 The kernels are compiled (or loaded from numba's cache) before the rows are timed.

@@ -8,7 +8,7 @@ import h5py
 import numpy as np
 import pandas as pd
 import pytest
-from studies import RECORDS, STUDIED, burst, write_study
+from studies import BRIDGES, RECORDS, STUDIED, burst, write_study
 
 from rockbridge_cli import __version__
 from rockbridge_cli.config.study import load_study
@@ -151,6 +151,26 @@ def test_histories_kept_as_asked(tmp_path):
     )
 
 
+def test_one_file_listed_twice(tmp_path):
+    """A record file listed under two ids gets two equal descriptions and one stored copy of its
+    samples (a hard link); another file gets its own."""
+    write_study(tmp_path)
+    text = (
+        f"bridges: [{BRIDGES.as_posix()}/studied-hbar1.00.yaml]\n"
+        "records:\n  files:\n    - {path: R1.txt, id: A}\n    - {path: R2.txt, id: B}\n"
+        "    - {path: R1.txt, id: C}\noutput: {path: out.h5, histories: none}\n"
+    )
+    (tmp_path / "twice.yaml").write_text(text, encoding="utf-8")
+    study = load_study(tmp_path / "twice.yaml")
+    run_study(study, workers=1)
+    with h5py.File(study.output, "r") as file:
+        first, other, again = (file[f"records/{name}"] for name in "ABC")
+        assert dict(again.attrs) == dict(first.attrs) and first.attrs["source"] == "R1.txt"
+        assert other.attrs["source"] == "R2.txt" and other.attrs["sha256"] != first.attrs["sha256"]
+        assert again["acceleration"] == first["acceleration"] != other["acceleration"]
+        np.testing.assert_allclose(again["acceleration"][()], burst(*RECORDS["R1"]), rtol=1e-9)
+
+
 def test_not_a_results_file(tmp_path):
     missing = tmp_path / "missing.h5"
     with pytest.raises(InputError, match="file not found"):
@@ -183,3 +203,25 @@ def test_truncated_file_is_an_input_error(done, tmp_path):
     with pytest.raises(InputError) as excinfo:
         read_peaks(cut)
     assert excinfo.value.source == str(cut)
+
+
+def test_packed_result_round_trips():
+    """What a worker packs is what the results file is written from: every value, every event
+    kind (sent as one byte each) and every history sample come back exactly."""
+    from rockbridge_cli.core.quantities import EVENT_NAMES
+    from rockbridge_cli.results.packing import AnalysisResult, Packed
+
+    rng = np.random.default_rng(1)
+    kinds = np.array([*EVENT_NAMES, "impact", "onset"], dtype=object)
+    events = {name: rng.normal(size=kinds.size) for name in EVENT_COLUMNS if name != "kind"}
+    time = np.arange(5) * 0.01
+    result = AnalysisResult(
+        "b", "r", {"status": "ok", "u_deck_max": 0.1 / 3, "message": "", "n_events": kinds.size},
+        time, {"u_deck": rng.normal(size=5)}, {**events, "kind": kinds},
+    )  # fmt: skip
+    packed = Packed.unpack("b", "r", result.pack())
+    assert packed.values == result.values and list(packed.events["kind"]) == list(kinds)
+    for name, values in events.items():
+        np.testing.assert_array_equal(packed.events[name], values)
+    np.testing.assert_array_equal(packed.histories["time"].samples(), time)
+    np.testing.assert_array_equal(packed.histories["u_deck"].samples(), result.histories["u_deck"])

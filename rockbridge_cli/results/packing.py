@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
+from ..core.quantities import EVENT_NAMES
 from .layout import COMPRESSION, EVENT_COLUMNS, PEAK_COLUMNS, missing
 
 if TYPE_CHECKING:
@@ -28,6 +29,11 @@ _HEADER = struct.Struct("<I")
 
 _SAMPLE = np.dtype("<f8")
 """Every history and every numeric event column is stored as little-endian float64."""
+
+_KINDS = np.array(EVENT_NAMES, dtype=object)
+"""Event kinds travel as one byte each, their position in `EVENT_NAMES`."""
+
+_KIND_CODES = {name: code for code, name in enumerate(EVENT_NAMES)}
 
 
 class Chunk(NamedTuple):
@@ -109,21 +115,23 @@ class AnalysisResult:
         return cls(bridge, record, values, events={**events, "kind": np.zeros(0, dtype=str)})
 
     def pack(self) -> bytes:
-        """The result as bytes: a JSON header (values, event kinds, sizes), the numeric event
-        columns as float64, then the histories (``time`` first) as `Chunk` s."""
+        """The result as bytes: a JSON header (values, event count, history sizes), the numeric
+        event columns as float64, the event kinds as bytes (`EVENT_NAMES` codes), then the
+        histories (``time`` first) as `Chunk` s."""
         numeric = [name for name in EVENT_COLUMNS if name != "kind"]
         chunks = {"time": Chunk.of(self.time)} if self.histories else {}
         chunks.update((name, Chunk.of(values)) for name, values in self.histories.items())
         header = json.dumps(
             {
                 "values": {name: _plain(value) for name, value in self.values.items()},
-                "kinds": [str(kind) for kind in self.events["kind"]],
+                "events": len(self.events["kind"]),
                 "chunks": [[name, chunk.size, len(chunk.data)] for name, chunk in chunks.items()],
             }
         ).encode()
+        kinds = bytes(_KIND_CODES[kind] for kind in self.events["kind"])
         parts = [_HEADER.pack(len(header)), header]
         parts += [np.asarray(self.events[name], dtype=_SAMPLE).tobytes() for name in numeric]
-        parts += [chunk.data for chunk in chunks.values()]
+        parts += [kinds, *(chunk.data for chunk in chunks.values())]
         return b"".join(parts)
 
 
@@ -156,14 +164,14 @@ class Packed:
         (length,) = _HEADER.unpack_from(blob)
         start = _HEADER.size + length
         header = json.loads(blob[_HEADER.size : start])
-        count = len(header["kinds"])
+        count = header["events"]
         events: dict[str, np.ndarray] = {}
         for name in EVENT_COLUMNS:
-            if name == "kind":
-                events[name] = np.array(header["kinds"], dtype=object)
-                continue
-            events[name] = np.frombuffer(blob, _SAMPLE, count, start)
-            start += count * _SAMPLE.itemsize
+            if name != "kind":
+                events[name] = np.frombuffer(blob, _SAMPLE, count, start)
+                start += count * _SAMPLE.itemsize
+        events["kind"] = _KINDS[np.frombuffer(blob, np.uint8, count, start)]
+        start += count
         histories = {}
         for name, size, length in header["chunks"]:
             histories[name] = Chunk(size, blob[start : start + length])
