@@ -12,7 +12,7 @@ from studies import BRIDGES, RECORDS, STUDIED, burst, write_study
 
 from rockbridge_cli import __version__
 from rockbridge_cli.config.study import load_study
-from rockbridge_cli.core.quantities import HISTORY_UNITS, PEAK_UNITS
+from rockbridge_cli.core.quantities import EVENT_NAMES, HISTORY_UNITS, PEAK_UNITS
 from rockbridge_cli.errors import InputError
 from rockbridge_cli.results import (
     EVENT_COLUMNS,
@@ -91,7 +91,11 @@ def test_plain_h5py_reads_it(done):
         events = file["events"]
         for name, (unit, _) in EVENT_COLUMNS.items():
             assert events[name].attrs["units"] == unit and events[name].shape == (counts.sum(),)
-        kinds = events["kind"].asstr()[()]
+        kind = events["kind"]  # a CF flag: int8 codes named by flag_meanings
+        assert kind.dtype == np.int8 and list(kind.attrs["flag_values"]) == list(range(8))
+        meanings = kind.attrs["flag_meanings"].split()
+        assert meanings == list(EVENT_NAMES)
+        kinds = [meanings[code] for code in kind[()]]
         starts = np.concatenate([[0], np.cumsum(counts)])
         assert all(kinds[start] == "onset" for start in starts[:-1])  # each analysis rocks first
         times = events["time"][()]
@@ -196,6 +200,25 @@ def test_not_a_results_file(tmp_path):
         read_peaks(older)
 
 
+def test_format_2_is_still_read(done, tmp_path):
+    """Format 2 differs only in /events/kind, stored as variable-length strings: a file
+    rewritten that way reads back the same events and peaks."""
+    _, path = done
+    older = tmp_path / "format2.h5"
+    older.write_bytes(path.read_bytes())
+    with h5py.File(older, "r+") as file:
+        meanings = file["events/kind"].attrs["flag_meanings"].split()
+        names = [meanings[code] for code in file["events/kind"][()]]
+        del file["events/kind"]
+        file["events"].create_dataset("kind", data=names, dtype=h5py.string_dtype())
+        file.attrs["format_version"] = 2
+    for bridge in STUDIED:
+        pd.testing.assert_frame_equal(
+            read_events(older, bridge, "R2"), read_events(path, bridge, "R2")
+        )
+    pd.testing.assert_frame_equal(read_peaks(older), read_peaks(path))
+
+
 def test_truncated_file_is_an_input_error(done, tmp_path):
     _, path = done
     cut = tmp_path / "cut.h5"
@@ -207,8 +230,7 @@ def test_truncated_file_is_an_input_error(done, tmp_path):
 
 def test_packed_result_round_trips():
     """What a worker packs is what the results file is written from: every value, every event
-    kind (sent as one byte each) and every history sample come back exactly."""
-    from rockbridge_cli.core.quantities import EVENT_NAMES
+    kind (as the file stores it, an int8 code) and every history sample come back exactly."""
     from rockbridge_cli.results.packing import AnalysisResult, Packed
 
     rng = np.random.default_rng(1)
@@ -220,7 +242,8 @@ def test_packed_result_round_trips():
         time, {"u_deck": rng.normal(size=5)}, {**events, "kind": kinds},
     )  # fmt: skip
     packed = Packed.unpack("b", "r", result.pack())
-    assert packed.values == result.values and list(packed.events["kind"]) == list(kinds)
+    assert packed.values == result.values
+    assert [EVENT_NAMES[code] for code in packed.events["kind"]] == list(kinds)
     for name, values in events.items():
         np.testing.assert_array_equal(packed.events[name], values)
     np.testing.assert_array_equal(packed.histories["time"].samples(), time)

@@ -19,18 +19,32 @@
 ``units`` and ``description`` attributes; a group's scalar attributes are described by its
 ``units`` attribute, a JSON object mapping attribute names to units. All values are SI.
 
-Format 1 (before the study layer wrote in one streaming pass) also kept the scalar results and
-the events of each analysis in attributes and datasets of its own group; the readers refuse it.
+The kind of an event is a CF flag (§3.5): ``/events/kind`` holds int8 codes, its attributes
+``flag_values`` and ``flag_meanings`` name them (`EVENT_KINDS`).
+
+Format 2 stored the kinds as variable-length strings, 40 bytes an event and most of the file;
+the readers read it as well. Format 1 (before the study layer wrote in one streaming pass) also
+kept the scalar results and the events of each analysis in attributes and datasets of its own
+group; the readers refuse it.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
-from ..core.quantities import FAILURE_MODES, NO_FAILURE, PEAK_UNITS
+import numpy as np
+
+from ..core.quantities import EVENT_NAMES, FAILURE_MODES, NO_FAILURE, PEAK_UNITS
 
 FORMAT = "rockbridge-results"
-FORMAT_VERSION = 2
+FORMAT_VERSION = 3
+
+READABLE_VERSIONS = (2, 3)
+"""Formats the readers read: 2 differs only in its event kinds (strings)."""
+
+EVENT_KINDS = EVENT_NAMES
+"""What can happen in an analysis, in the order of the codes of ``/events/kind``."""
 
 STATUSES = {
     "ok": "the analysis ran to the end of the record or to a failure of the bridge",
@@ -54,7 +68,11 @@ HISTORY_TEXT = {
 
 EVENT_COLUMNS = {
     "time": ("s", "time of the event"),
-    "kind": ("-", "onset, impact, pounding, reopening, rest or a failure"),
+    "kind": (
+        "-",
+        "what happened, a code of flag_meanings: onset, impact, pounding, reopening, "
+        "rest or a failure",
+    ),
     "mode": ("-", "rocking mode after the event: +1 p, -1 n, 0 at rest"),
     "rate_before": ("rad/s", "angular velocity of the tall pier before the event"),
     "rate_after": ("rad/s", "angular velocity of the tall pier after the event"),
@@ -126,6 +144,16 @@ COUNT_COLUMNS = (
 
 COMPRESSION: dict[str, Any] = {"compression": "gzip", "compression_opts": 4, "shuffle": True}
 """HDF5 filters of the compressed datasets (records, histories): byte shuffle, then deflate."""
+
+
+_KIND_CODES = {name: code for code, name in enumerate(EVENT_KINDS)}
+
+
+def kind_codes(names: Sequence[str] | np.ndarray) -> np.ndarray:
+    """The int8 codes of event kinds given by name (`EVENT_KINDS`)."""
+    return np.fromiter(
+        map(_KIND_CODES.__getitem__, np.asarray(names).tolist()), np.int8, len(names)
+    )
 
 
 def missing(column: str) -> Any:

@@ -18,8 +18,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
-from ..core.quantities import EVENT_NAMES
-from .layout import COMPRESSION, EVENT_COLUMNS, PEAK_COLUMNS, missing
+from .layout import COMPRESSION, EVENT_COLUMNS, PEAK_COLUMNS, kind_codes, missing
 
 if TYPE_CHECKING:
     from ..core.analysis import Response
@@ -29,11 +28,6 @@ _HEADER = struct.Struct("<I")
 
 _SAMPLE = np.dtype("<f8")
 """Every history and every numeric event column is stored as little-endian float64."""
-
-_KINDS = np.array(EVENT_NAMES, dtype=object)
-"""Event kinds travel as one byte each, their position in `EVENT_NAMES`."""
-
-_KIND_CODES = {name: code for code, name in enumerate(EVENT_NAMES)}
 
 
 class Chunk(NamedTuple):
@@ -116,8 +110,8 @@ class AnalysisResult:
 
     def pack(self) -> bytes:
         """The result as bytes: a JSON header (values, event count, history sizes), the numeric
-        event columns as float64, the event kinds as bytes (`EVENT_NAMES` codes), then the
-        histories (``time`` first) as `Chunk` s."""
+        event columns as float64, the event kinds as int8 codes (`layout.EVENT_KINDS`), then
+        the histories (``time`` first) as `Chunk` s."""
         numeric = [name for name in EVENT_COLUMNS if name != "kind"]
         chunks = {"time": Chunk.of(self.time)} if self.histories else {}
         chunks.update((name, Chunk.of(values)) for name, values in self.histories.items())
@@ -128,7 +122,7 @@ class AnalysisResult:
                 "chunks": [[name, chunk.size, len(chunk.data)] for name, chunk in chunks.items()],
             }
         ).encode()
-        kinds = bytes(_KIND_CODES[kind] for kind in self.events["kind"])
+        kinds = kind_codes(self.events["kind"]).tobytes()
         parts = [_HEADER.pack(len(header)), header]
         parts += [np.asarray(self.events[name], dtype=_SAMPLE).tobytes() for name in numeric]
         parts += [kinds, *(chunk.data for chunk in chunks.values())]
@@ -143,7 +137,8 @@ class Packed:
     ----------
     bridge, record : ids
     values : the scalar columns of the peak table [SI]
-    events : name → array (`EVENT_COLUMNS`)
+    events : name → array (`EVENT_COLUMNS`); ``kind`` as the file stores it, int8 codes of
+        `layout.EVENT_KINDS`
     histories : name → `Chunk`, ``time`` first; empty when the study keeps no histories
     """
 
@@ -170,7 +165,7 @@ class Packed:
             if name != "kind":
                 events[name] = np.frombuffer(blob, _SAMPLE, count, start)
                 start += count * _SAMPLE.itemsize
-        events["kind"] = _KINDS[np.frombuffer(blob, np.uint8, count, start)]
+        events["kind"] = np.frombuffer(blob, np.int8, count, start)
         start += count
         histories = {}
         for name, size, length in header["chunks"]:

@@ -19,7 +19,7 @@ import numpy as np
 from ..core.quantities import HISTORY_UNITS
 from ..errors import InputError
 from ..limit_states import Verdict
-from .layout import COUNT_COLUMNS, EVENT_COLUMNS, FORMAT, FORMAT_VERSION
+from .layout import COUNT_COLUMNS, EVENT_COLUMNS, FORMAT, FORMAT_VERSION, READABLE_VERSIONS
 from .packing import AnalysisResult
 
 if TYPE_CHECKING:
@@ -47,7 +47,7 @@ def open_results(path: str | Path) -> Iterator[h5py.File]:
         if file.attrs.get("format") != FORMAT:
             raise InputError(path, [("", "not a rockbridge results file (no 'format' attribute)")])
         version = int(file.attrs.get("format_version", 0))
-        if version != FORMAT_VERSION:
+        if version not in READABLE_VERSIONS:
             which = "newer" if version > FORMAT_VERSION else "older"
             advice = "please upgrade" if version > FORMAT_VERSION else "run the study again"
             raise InputError(
@@ -283,7 +283,17 @@ def _event_starts(counts: np.ndarray) -> np.ndarray:
 def _events(file: h5py.File, starts: np.ndarray, row: int) -> dict[str, np.ndarray]:
     """The events of the analysis in ``row`` of the peak table."""
     start, stop = int(starts[row]), int(starts[row + 1])
-    return {name: _decoded(file["events"][name][start:stop]) for name in EVENT_COLUMNS}
+    return {name: _event_column(file["events"][name], start, stop) for name in EVENT_COLUMNS}
+
+
+def _event_column(dataset: h5py.Dataset, start: int, stop: int) -> np.ndarray:
+    """Rows ``start:stop`` of an /events column; kinds by name (format 3 stores CF flag codes,
+    format 2 strings)."""
+    values = dataset[start:stop]
+    if "flag_meanings" not in dataset.attrs:
+        return _decoded(values)
+    meanings = np.array(str(dataset.attrs["flag_meanings"]).split())
+    return meanings[np.searchsorted(dataset.attrs["flag_values"], values)]
 
 
 def _decoded(values: np.ndarray) -> np.ndarray:

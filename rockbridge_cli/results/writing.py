@@ -22,11 +22,13 @@ from .layout import (
     COMPRESSION,
     COUNT_COLUMNS,
     EVENT_COLUMNS,
+    EVENT_KINDS,
     FORMAT,
     FORMAT_VERSION,
     HISTORY_TEXT,
     PEAK_COLUMNS,
     TEXT_COLUMNS,
+    kind_codes,
 )
 from .packing import AnalysisResult, Chunk, Packed
 
@@ -79,8 +81,11 @@ class ResultsWriter:
         values = {"bridge": analysis.bridge, "record": analysis.record, **analysis.values}
         for name, rows in self._rows.items():
             rows.append(values[name])
+        events = dict(analysis.events)
+        if not isinstance(analysis, Packed):  # kinds by name: a result, or one read back
+            events["kind"] = kind_codes(events["kind"])
         for name, parts in self._events.items():
-            parts.append(analysis.events[name])
+            parts.append(events[name])
         self._event_count += len(analysis.events["time"])
         if isinstance(analysis, Packed):
             histories: dict[str, Chunk | np.ndarray] = dict(analysis.histories)
@@ -119,8 +124,10 @@ def _table(
     group.attrs["description"] = text
     group.attrs["columns"] = json.dumps(list(columns))
     for name, (unit, description) in columns.items():
-        if name in TEXT_COLUMNS or name == "kind":
+        if name in TEXT_COLUMNS:
             dtype: Any = h5py.string_dtype()
+        elif name == "kind":
+            dtype = np.int8
         else:
             dtype = np.int64 if name in COUNT_COLUMNS else np.float64
         dataset = group.create_dataset(
@@ -128,6 +135,9 @@ def _table(
         )
         dataset.attrs["units"] = unit
         dataset.attrs["description"] = description
+        if name == "kind":  # a CF flag (§3.5)
+            dataset.attrs["flag_values"] = np.arange(len(EVENT_KINDS), dtype=np.int8)
+            dataset.attrs["flag_meanings"] = " ".join(EVENT_KINDS)
     return group
 
 
