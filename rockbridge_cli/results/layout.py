@@ -20,7 +20,7 @@
 ``units`` attribute, a JSON object mapping attribute names to units. All values are SI.
 
 The kind of an event is a CF flag (§3.5): ``/events/kind`` holds int8 codes, its attributes
-``flag_values`` and ``flag_meanings`` name them (`EVENT_KINDS`).
+``flag_values`` and ``flag_meanings`` name them (`core.quantities.EVENT_NAMES`, in order).
 
 Format 2 stored the kinds as variable-length strings, 40 bytes an event and most of the file;
 the readers read it as well. Format 1 (before the study layer wrote in one streaming pass) also
@@ -42,9 +42,6 @@ FORMAT_VERSION = 3
 
 READABLE_VERSIONS = (2, 3)
 """Formats the readers read: 2 differs only in its event kinds (strings)."""
-
-EVENT_KINDS = EVENT_NAMES
-"""What can happen in an analysis, in the order of the codes of ``/events/kind``."""
 
 STATUSES = {
     "ok": "the analysis ran to the end of the record or to a failure of the bridge",
@@ -146,11 +143,11 @@ COMPRESSION: dict[str, Any] = {"compression": "gzip", "compression_opts": 4, "sh
 """HDF5 filters of the compressed datasets (records, histories): byte shuffle, then deflate."""
 
 
-_KIND_CODES = {name: code for code, name in enumerate(EVENT_KINDS)}
+_KIND_CODES = {name: code for code, name in enumerate(EVENT_NAMES)}
 
 
 def kind_codes(names: Sequence[str] | np.ndarray) -> np.ndarray:
-    """The int8 codes of event kinds given by name (`EVENT_KINDS`)."""
+    """The int8 codes of event kinds given by name: their positions in `EVENT_NAMES`."""
     return np.fromiter(
         map(_KIND_CODES.__getitem__, np.asarray(names).tolist()), np.int8, len(names)
     )

@@ -110,7 +110,7 @@ class AnalysisResult:
 
     def pack(self) -> bytes:
         """The result as bytes: a JSON header (values, event count, history sizes), the numeric
-        event columns as float64, the event kinds as int8 codes (`layout.EVENT_KINDS`), then
+        event columns as float64, the event kinds as int8 codes (`quantities.EVENT_NAMES`), then
         the histories (``time`` first) as `Chunk` s."""
         numeric = [name for name in EVENT_COLUMNS if name != "kind"]
         chunks = {"time": Chunk.of(self.time)} if self.histories else {}
@@ -138,7 +138,7 @@ class Packed:
     bridge, record : ids
     values : the scalar columns of the peak table [SI]
     events : name → array (`EVENT_COLUMNS`); ``kind`` as the file stores it, int8 codes of
-        `layout.EVENT_KINDS`
+        `quantities.EVENT_NAMES`
     histories : name → `Chunk`, ``time`` first; empty when the study keeps no histories
     """
 

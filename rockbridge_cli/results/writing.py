@@ -18,12 +18,11 @@ import scipy
 
 from .. import __version__
 from ..core.geometry import Model
-from ..core.quantities import HISTORY_UNITS, SIGNIFICANT_RATE, STANDARD_GRAVITY
+from ..core.quantities import EVENT_NAMES, HISTORY_UNITS, SIGNIFICANT_RATE, STANDARD_GRAVITY
 from .layout import (
     COMPRESSION,
     COUNT_COLUMNS,
     EVENT_COLUMNS,
-    EVENT_KINDS,
     FORMAT,
     FORMAT_VERSION,
     HISTORY_TEXT,
@@ -139,8 +138,8 @@ def _table(
         dataset.attrs["units"] = unit
         dataset.attrs["description"] = description
         if name == "kind":  # a CF flag (§3.5)
-            dataset.attrs["flag_values"] = np.arange(len(EVENT_KINDS), dtype=np.int8)
-            dataset.attrs["flag_meanings"] = " ".join(EVENT_KINDS)
+            dataset.attrs["flag_values"] = np.arange(len(EVENT_NAMES), dtype=np.int8)
+            dataset.attrs["flag_meanings"] = " ".join(EVENT_NAMES)
     return group
 
 
