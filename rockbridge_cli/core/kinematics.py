@@ -44,16 +44,21 @@ class Kinematics(NamedTuple):
         interval and quantity (`COEFFICIENTS`, then `DISPLACEMENTS`) the coefficients of
         (x − x_i)³, (x − x_i)², (x − x_i), 1; or empty
     step : width of the table's intervals [rad]
-    limit : the table covers 0 ≤ s·θ1 < limit [rad]; outside it the kernels compute exactly
+    start, limit : the table covers start ≤ s·θ1 < limit (start ≤ 0: a little below rest, where
+        the trial steps that overshoot an impact land) [rad]; outside it the kernels compute
+        exactly
     """
 
     fits: np.ndarray
     table: np.ndarray
     step: float
+    start: float
     limit: float
 
 
-EXACT = Kinematics(np.zeros((0, 2, 3)), np.zeros((0, 0, COEFFICIENTS + DISPLACEMENTS, 4)), 1.0, 0.0)
+EXACT = Kinematics(
+    np.zeros((0, 2, 3)), np.zeros((0, 0, COEFFICIENTS + DISPLACEMENTS, 4)), 1.0, 0.0, 0.0
+)
 """The exact kinematics (loop closure, velocity and acceleration analysis)."""
 
 
@@ -241,10 +246,11 @@ def table_piece(kin: Kinematics, s: float, theta1: float):
     """Where θ1 falls in the tables of mode s: (interval, offset into it [rad], mode index), or
     interval −1 where there are no tables or θ1 lies outside them."""
     x = s * theta1
-    if kin.table.shape[0] == 0 or not 0.0 <= x < kin.limit:
+    if kin.table.shape[0] == 0 or not kin.start <= x < kin.limit:
         return -1, 0.0, 0
-    piece = min(int(x / kin.step), kin.table.shape[1] - 1)
-    return piece, x - piece * kin.step, 0 if s > 0 else 1
+    offset = x - kin.start
+    piece = min(int(offset / kin.step), kin.table.shape[1] - 1)
+    return piece, offset - piece * kin.step, 0 if s > 0 else 1
 
 
 @inlined
