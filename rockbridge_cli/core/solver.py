@@ -225,6 +225,11 @@ def _locate(
     function starts at exactly zero (right after another event) a point where it is negative is
     searched first by halving; if none is found above the event tolerance, the event happens at
     once (τ = 0).
+
+    Illinois regula falsi is led by an estimate of the event time (`_estimated_event`), corrected
+    by Newton's method after each trial: the first trials straddle it, just past it by a twentieth
+    of the event tolerance and before it by nine tenths, so that most events take two or three
+    trials instead of ten and end a small fraction of the tolerance past the event.
     """
     lo, hi = 0.0, h
     if glo == 0.0:
@@ -240,17 +245,28 @@ def _locate(
             hi, ghi, y1, w1, f1 = probe, gp, yp, wp, fp
         if glo == 0.0:
             return 0.0, y, w, f0
-    side = 0
+    estimate, slope = -1.0, 0.0
+    if not settings.bisection:
+        estimate, slope = _estimated_event(
+            model, kin, s, contact, watch, y, w, f0, y1, w1, f1, lo, hi, settings.event_tol
+        )
+    side = trials = 0
     while hi - lo > settings.event_tol:
         if settings.bisection:
             mid = 0.5 * (lo + hi)
         else:
             mid = hi - ghi * (hi - lo) / (ghi - glo)
             mid = min(max(mid, lo + 0.01 * (hi - lo)), hi - 0.01 * (hi - lo))
+            if trials < _ESTIMATED_TRIALS and slope > 0.0:
+                straddle = estimate + (-0.9 if side == 1 else 0.05) * settings.event_tol
+                if lo < straddle < hi:
+                    mid = straddle
         ym, wm, _, _, fm = take_step(
             model, kin, s, contact, acc, dt, k, t, y, w, f0, mid, settings.scheme
         )
         gm = _watch(model, s, contact, ym, wm, kin)[0][watch]
+        trials += 1
+        estimate = mid - gm / slope if slope > 0.0 else estimate
         if gm > 0.0:
             hi, ghi, y1, w1, f1 = mid, gm, ym, wm, fm
             if side == 1:
@@ -262,6 +278,64 @@ def _locate(
                 ghi *= 0.5
             side = -1
     return hi, y1, w1, f1
+
+
+_ESTIMATED_TRIALS = 4
+"""Trials of an event's location placed by its estimated time (`_locate`); Illinois after them."""
+
+
+@inlined
+def _interpolated(y, w, f0, y1, w1, f1, h, tau):
+    """(θ1, θ̇1) at τ in a step of length h, on the quintic Hermite interpolant of (θ1, θ̇1, θ̈1)
+    at its ends: within O(h⁶) of the solution, which is smooth inside a step."""
+    x = tau / h
+    v0, v1, a0, a1, rise = h * w, h * w1, h * h * f0, h * h * f1, y1 - y
+    c3 = 10.0 * rise - 6.0 * v0 - 4.0 * v1 - 1.5 * a0 + 0.5 * a1
+    c4 = -15.0 * rise + 8.0 * v0 + 7.0 * v1 + 1.5 * a0 - a1
+    c5 = 6.0 * rise - 3.0 * v0 - 3.0 * v1 - 0.5 * a0 + 0.5 * a1
+    theta = y + x * (v0 + x * (0.5 * a0 + x * (c3 + x * (c4 + x * c5))))
+    rate = (v0 + x * (a0 + x * (3.0 * c3 + x * (4.0 * c4 + x * 5.0 * c5)))) / h
+    return theta, rate
+
+
+@jit
+def _estimated_event(model, kin, s, contact, watch, y, w, f0, y1, w1, f1, lo, hi, tol):
+    """Estimated time of the event of ``watch`` in (lo, hi) and the event function's slope there
+    [1/s], from the step's interpolant (`_interpolated`, ends at 0 and hi); (−1, 0) when there is
+    none (RK4 leaves θ̈1 unknown, or the interpolant does not cross zero)."""
+    if not (np.isfinite(f0) and np.isfinite(f1)):
+        return -1.0, 0.0
+    h = hi
+    yl, wl = _interpolated(y, w, f0, y1, w1, f1, h, lo)
+    glo = _watch(model, s, contact, yl, wl, kin)[0][watch]
+    ghi = _watch(model, s, contact, y1, w1, kin)[0][watch]
+    if not (glo <= 0.0 < ghi):
+        return -1.0, 0.0
+    side = 0
+    for _ in range(60):  # Illinois on the interpolant
+        if hi - lo <= 0.01 * tol:
+            break
+        mid = hi - ghi * (hi - lo) / (ghi - glo)
+        mid = min(max(mid, lo + 0.01 * (hi - lo)), hi - 0.01 * (hi - lo))
+        ym, wm = _interpolated(y, w, f0, y1, w1, f1, h, mid)
+        gm = _watch(model, s, contact, ym, wm, kin)[0][watch]
+        if gm > 0.0:
+            hi, ghi = mid, gm
+            if side == 1:
+                glo *= 0.5
+            side = 1
+        else:
+            lo, glo = mid, gm
+            if side == -1:
+                ghi *= 0.5
+            side = -1
+    estimate = 0.5 * (lo + hi)
+    delta = 1e-6 * h
+    ya, wa = _interpolated(y, w, f0, y1, w1, f1, h, estimate - delta)
+    yb, wb = _interpolated(y, w, f0, y1, w1, f1, h, estimate + delta)
+    ga = _watch(model, s, contact, ya, wa, kin)[0][watch]
+    gb = _watch(model, s, contact, yb, wb, kin)[0][watch]
+    return estimate, (gb - ga) / (2.0 * delta)
 
 
 @jit
