@@ -156,8 +156,8 @@ def test_histories_kept_as_asked(tmp_path):
 
 
 def test_one_file_listed_twice(tmp_path):
-    """A record file listed under two ids gets two equal descriptions and one stored copy of its
-    samples (a hard link); another file gets its own."""
+    """A record file listed under two ids is one group under both names (an HDF5 hard link):
+    one description, one stored copy of its samples; another file gets its own."""
     write_study(tmp_path)
     text = (
         f"bridges: [{BRIDGES.as_posix()}/studied-hbar1.00.yaml]\n"
@@ -169,7 +169,7 @@ def test_one_file_listed_twice(tmp_path):
     run_study(study, workers=1)
     with h5py.File(study.output, "r") as file:
         first, other, again = (file[f"records/{name}"] for name in "ABC")
-        assert dict(again.attrs) == dict(first.attrs) and first.attrs["source"] == "R1.txt"
+        assert again == first and first.attrs["source"] == "R1.txt"
         assert other.attrs["source"] == "R2.txt" and other.attrs["sha256"] != first.attrs["sha256"]
         assert again["acceleration"] == first["acceleration"] != other["acceleration"]
         np.testing.assert_allclose(again["acceleration"][()], burst(*RECORDS["R1"]), rtol=1e-9)
@@ -229,20 +229,27 @@ def test_truncated_file_is_an_input_error(done, tmp_path):
 
 
 def test_packed_result_round_trips():
-    """What a worker packs is what the results file is written from: every value, every event
-    kind (as the file stores it, an int8 code) and every history sample come back exactly."""
+    """What a worker packs is what the results file is written from: every value (text, float,
+    NaN, count), every event kind (as the file stores it, an int8 code) and every history sample
+    come back exactly."""
     from rockbridge_cli.results.packing import AnalysisResult, Packed
 
     rng = np.random.default_rng(1)
     kinds = np.array([*EVENT_NAMES, "impact", "onset"], dtype=object)
     events = {name: rng.normal(size=kinds.size) for name in EVENT_COLUMNS if name != "kind"}
     time = np.arange(5) * 0.01
+    values = AnalysisResult.failed("b", "r", "").values  # every column, missing
+    values.update(status="ok", message="ünïcode, \"quoted\"", u_deck_max=0.1 / 3, steps=2**40,
+                  n_events=kinds.size, base_record="r0", intensity=0.6, scale=1.25)  # fmt: skip
     result = AnalysisResult(
-        "b", "r", {"status": "ok", "u_deck_max": 0.1 / 3, "message": "", "n_events": kinds.size},
-        time, {"u_deck": rng.normal(size=5)}, {**events, "kind": kinds},
-    )  # fmt: skip
+        "b", "r", values, time, {"u_deck": rng.normal(size=5)}, {**events, "kind": kinds}
+    )
     packed = Packed.unpack("b", "r", result.pack())
-    assert packed.values == result.values
+    unpacked = packed.values
+    assert unpacked.keys() == values.keys()
+    for name, value in values.items():
+        assert unpacked[name] == value or (value != value and unpacked[name] != unpacked[name])
+        assert type(unpacked[name]) is type(value), name
     assert [EVENT_NAMES[code] for code in packed.events["kind"]] == list(kinds)
     for name, values in events.items():
         np.testing.assert_array_equal(packed.events[name], values)

@@ -79,6 +79,8 @@ def test_peaks_and_histories_are_the_integrators(tmp_path):
 
 
 def test_worker_count_does_not_change_the_results(tmp_path):
+    """The same file, every byte but the timings, from one process or two workers (which also
+    compute the bridges' summaries of /bridges, `executors.Workers.call`)."""
     study, expected = _reference(tmp_path)
     report = run_study(study, workers=2)
     assert report.ran == 4
@@ -317,3 +319,23 @@ def test_recheck_runs_near_a_capacity_again_at_reference(tmp_path):
         )
         assert strong["u_deck_max"] == reference.peaks["u_deck"][0]
         assert strong["failure_time"] == reference.failure_time
+
+
+def test_what_is_called_runs_on_a_worker_once_the_pool_runs(tmp_path):
+    """`Workers.call` computes on a worker when the pool has started (asked before or after it
+    starts), in this process when no pool ever starts (one worker, or nothing to run)."""
+    from rockbridge_cli.study.executors import local_workers
+    from rockbridge_cli.study.grid import Grid
+
+    grid = Grid.of(load_study(write_study(tmp_path)))
+    with local_workers(grid, 2) as workers:
+        before = workers.call(os.getpid)
+        outcomes = [o for batch in workers.run(grid.cells) for o in batch]
+        after = workers.call(os.getpid)
+        assert len(outcomes) == len(grid.cells)
+        assert before() != os.getpid() and after() != os.getpid()
+    for count, cells in ((1, grid.cells), (2, [])):
+        with local_workers(grid, count) as workers:
+            here = workers.call(os.getpid)
+            list(workers.run(cells))
+            assert here() == os.getpid()

@@ -514,3 +514,15 @@ def test_a_tail_lets_the_bridge_come_to_rest_and_changes_nothing_before():
     assert long.histories["mode"][-1] == 0  # at rest before the tail ends
     with pytest.raises(ValueError, match="tail"):
         analyze(Bridge(bridge), ground, DT, tail=-1.0)
+
+
+def test_an_analysis_without_histories_has_the_same_peaks_and_events():
+    """``histories=False`` (a study that stores none) skips the displacements at the samples and
+    nothing else: the same peaks, events and verdict, bit for bit, and empty histories."""
+    bridge = Bridge(studied_bridge(1.25))
+    acc = ground_motion(seed=3)
+    full, bare = analyze(bridge, acc, DT), analyze(bridge, acc, DT, histories=False)
+    assert bare.histories == {} and bare.time.size == 0
+    assert full.peaks == bare.peaks and full.failure_mode == bare.failure_mode
+    for name, values in full.events.items():
+        np.testing.assert_array_equal(bare.events[name], values)

@@ -28,6 +28,7 @@ from .solver import (
     ONSET,
     POUNDING,
     SOLVER_ERRORS,
+    Integration,
     integrate,
 )
 from .tables import tabulated
@@ -121,6 +122,7 @@ def analyze(
     time_step: float,
     preset: str = "default",
     initial: tuple[float, float] = (0.0, 0.0),
+    histories: bool = True,
     **overrides: object,
 ) -> Response:
     """Response-history analysis of one bridge under one ground motion.
@@ -138,6 +140,9 @@ def analyze(
     initial
         Initial rotation θ1 [rad] and angular velocity θ̇1 [rad/s] of the tall pier; non-zero
         values start the bridge rocking at t = 0 (free vibration).
+    histories
+        False leaves ``time`` and ``histories`` of the response empty (a study that stores
+        none): computing the displacements at every sample costs a tenth of a `fast` analysis.
     overrides
         Fidelity knobs to change (`fidelity.knobs`). ``tail`` [s] continues the analysis after
         the record with zero ground acceleration, so that a bridge still rocking when the record
@@ -184,18 +189,13 @@ def analyze(
     )
     solve_time = time.perf_counter() - start
 
-    theta1, events, peaks = result.theta1, result.events, result.peaks
-    observed = _observe(model, kin, theta1, result.mode).T
-    track = dict(zip(Displacements._fields, observed, strict=True))
-    columns = {"theta1": theta1, "theta1_rate": result.rate, "mode": result.mode, **track}
-    histories = {  # in a mirror image all but the vertical motions change sign
-        name: columns[name] if name.startswith("v_") else sign * columns[name]
-        for name in HISTORY_UNITS
-    }
+    events, peaks = result.events, result.peaks
     if kind(model) == "single-block":  # the block's massless twin and deck are not results
         peaks[[PEAK_NAMES.index(name) for name in _ABSENT_IN_A_BLOCK]] = np.nan
-        for name in ("theta2", "theta_deck", "u_deck", "v_deck", "u_pier2", "v_pier2"):
-            histories[name] = np.full_like(theta1, np.nan)
+    times, stored = np.zeros(0), {}
+    if histories:
+        times = np.arange(result.theta1.size) * knobs["output_step"]
+        stored = _histories(model, kin, sign, result)
     kinds = events[:, EVENT_KIND].astype(int)
     failed = result.failure != NOT_FAILED
     if result.error != NO_ERROR:  # the integrator stopped early: no peak of the record is known
@@ -207,8 +207,8 @@ def analyze(
         model=kind(model),
         fidelity=preset,
         knobs=knobs,
-        time=np.arange(theta1.size) * knobs["output_step"],
-        histories=histories,
+        time=times,
+        histories=stored,
         events={
             "time": events[:, EVENT_TIME],
             "kind": np.array([EVENT_NAMES[i] for i in kinds], dtype=object),
@@ -235,6 +235,24 @@ def analyze(
 
 
 _DISPLACEMENTS = len(Displacements._fields)
+
+
+def _histories(
+    model: Model, kin: Kinematics, sign: float, result: Integration
+) -> dict[str, np.ndarray]:
+    """The histories of `HISTORY_UNITS` from the integrator's θ1, θ̇1 and modes, in the user's
+    frame."""
+    observed = _observe(model, kin, result.theta1, result.mode).T
+    track = dict(zip(Displacements._fields, observed, strict=True))
+    columns = {"theta1": result.theta1, "theta1_rate": result.rate, "mode": result.mode, **track}
+    histories = {  # in a mirror image all but the vertical motions change sign
+        name: columns[name] if name.startswith("v_") else sign * columns[name]
+        for name in HISTORY_UNITS
+    }
+    if kind(model) == "single-block":  # the block's massless twin and deck are not results
+        for name in ("theta2", "theta_deck", "u_deck", "v_deck", "u_pier2", "v_pier2"):
+            histories[name] = np.full_like(result.theta1, np.nan)
+    return histories
 
 
 def _kinematics(model: Model, name: str) -> Kinematics:

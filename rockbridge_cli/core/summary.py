@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 from . import impacts
 from .bridge import Bridge
 from .geometry import kind, pounding_ratio, ratios
@@ -15,6 +17,11 @@ SUMMARY_UNITS = {
     "pounding_ratio": "-",
 }  # fmt: skip
 """Units of the numeric entries of `summarize` (its ``capacities`` are rotations [rad])."""
+
+
+def summarize_all(bridges: Sequence[Bridge]) -> list[dict[str, object]]:
+    """`summarize` of each bridge, in order (what a worker computes for a results file)."""
+    return [summarize(bridge) for bridge in bridges]
 
 
 def summarize(bridge: Bridge) -> dict[str, object]:

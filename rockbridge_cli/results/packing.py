@@ -1,7 +1,9 @@
 """One analysis's results, and the compact bytes they travel and wait in.
 
 A worker packs its result (`AnalysisResult.pack`); the bytes go to the parent process and into
-the journal unchanged, and the results file is written from them (`Packed`). The histories are
+the journal unchanged, and the results file is written from them (`Packed`). The numeric values
+travel as one float64 vector in the order of `NUMBERS`, the results file's row as it is, and only
+the few texts as JSON: reading them back costs the parent a few microseconds. The histories are
 packed as HDF5 chunks already: byte-shuffled and deflated exactly as the results file's filters
 (`layout.COMPRESSION`) would store them, so the workers compress in parallel and the parent
 copies the chunks into the file without touching the samples.
@@ -18,13 +20,28 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
-from .layout import COMPRESSION, EVENT_COLUMNS, PEAK_COLUMNS, kind_codes, missing
+from .layout import (
+    COMPRESSION,
+    COUNT_COLUMNS,
+    EVENT_COLUMNS,
+    PEAK_COLUMNS,
+    TEXT_COLUMNS,
+    kind_codes,
+    missing,
+)
 
 if TYPE_CHECKING:
     from ..core.analysis import Response
 
-_HEADER = struct.Struct("<I")
-"""Length of the JSON header that starts a packed result [bytes]."""
+NUMBERS = tuple(name for name in PEAK_COLUMNS if name not in TEXT_COLUMNS)
+"""The numeric columns of the peak table, in the order a packed result stores them (counts too:
+float64 holds them exactly)."""
+
+TEXTS = tuple(name for name in TEXT_COLUMNS if name not in ("bridge", "record"))
+"""The text columns a packed result stores (the ids travel beside it)."""
+
+_PREFIX = struct.Struct("<II")
+"""What starts a packed result: the length of its JSON header [bytes] and its event count."""
 
 _SAMPLE = np.dtype("<f8")
 """Every history and every numeric event column is stored as little-endian float64."""
@@ -109,24 +126,28 @@ class AnalysisResult:
         return cls(bridge, record, values, events={**events, "kind": np.zeros(0, dtype=str)})
 
     def pack(self) -> bytes:
-        """The result as bytes: a JSON header (values, event count, history sizes), the numeric
-        event columns as float64, the event kinds as int8 codes (`quantities.EVENT_NAMES`), then
-        the histories (``time`` first) as `Chunk` s."""
-        numeric = [name for name in EVENT_COLUMNS if name != "kind"]
+        """The result as bytes: its length prefix, a JSON header (the texts of `TEXTS`, the
+        history sizes), the values of `NUMBERS` as float64, the numeric event columns as float64,
+        the event kinds as int8 codes (`quantities.EVENT_NAMES`), then the histories (``time``
+        first) as `Chunk` s."""
         chunks = {"time": Chunk.of(self.time)} if self.histories else {}
         chunks.update((name, Chunk.of(values)) for name, values in self.histories.items())
         header = json.dumps(
             {
-                "values": {name: _plain(value) for name, value in self.values.items()},
-                "events": len(self.events["kind"]),
+                "texts": [self.values[name] for name in TEXTS],
                 "chunks": [[name, chunk.size, len(chunk.data)] for name, chunk in chunks.items()],
             }
         ).encode()
-        kinds = kind_codes(self.events["kind"]).tobytes()
-        parts = [_HEADER.pack(len(header)), header]
-        parts += [np.asarray(self.events[name], dtype=_SAMPLE).tobytes() for name in numeric]
-        parts += [kinds, *(chunk.data for chunk in chunks.values())]
+        count = len(self.events["kind"])
+        numbers = np.array([self.values[name] for name in NUMBERS], dtype=_SAMPLE)
+        parts = [_PREFIX.pack(len(header), count), header, numbers.tobytes()]
+        parts += [np.asarray(self.events[name], dtype=_SAMPLE).tobytes() for name in _EVENT_NUMBERS]
+        parts += [kind_codes(self.events["kind"]).tobytes()]
+        parts += [chunk.data for chunk in chunks.values()]
         return b"".join(parts)
+
+
+_EVENT_NUMBERS = tuple(name for name in EVENT_COLUMNS if name != "kind")
 
 
 @dataclass(frozen=True)
@@ -136,7 +157,8 @@ class Packed:
     Attributes
     ----------
     bridge, record : ids
-    values : the scalar columns of the peak table [SI]
+    numbers : the values of the numeric columns, in the order of `NUMBERS` [SI]
+    texts : the values of the text columns of `TEXTS`
     events : name → array (`EVENT_COLUMNS`); ``kind`` as the file stores it, int8 codes of
         `quantities.EVENT_NAMES`
     histories : name → `Chunk`, ``time`` first; empty when the study keeps no histories
@@ -144,36 +166,41 @@ class Packed:
 
     bridge: str
     record: str
-    values: dict[str, Any]
+    numbers: np.ndarray
+    texts: tuple[str, ...]
     events: dict[str, np.ndarray]
     histories: dict[str, Chunk]
 
     @property
-    def status(self) -> str:
-        """``ok``, ``solver_error`` or ``error`` (`layout.STATUSES`)."""
-        return self.values["status"]
+    def values(self) -> dict[str, Any]:
+        """The scalar columns of the peak table by name (counts as int) [SI]."""
+        numbers = {
+            name: int(value) if name in COUNT_COLUMNS else float(value)
+            for name, value in zip(NUMBERS, self.numbers.tolist(), strict=True)
+        }
+        return {**numbers, **dict(zip(TEXTS, self.texts, strict=True))}
 
     @classmethod
     def unpack(cls, bridge: str, record: str, blob: bytes) -> Packed:
         """Read the bytes of `AnalysisResult.pack`."""
-        (length,) = _HEADER.unpack_from(blob)
-        start = _HEADER.size + length
-        header = json.loads(blob[_HEADER.size : start])
-        count = header["events"]
+        length, count = _PREFIX.unpack_from(blob)
+        start = _PREFIX.size + length
+        header = json.loads(blob[_PREFIX.size : start])
+        numbers = np.frombuffer(blob, _SAMPLE, len(NUMBERS), start)
+        start += numbers.nbytes
         events: dict[str, np.ndarray] = {}
-        for name in EVENT_COLUMNS:
-            if name != "kind":
-                events[name] = np.frombuffer(blob, _SAMPLE, count, start)
-                start += count * _SAMPLE.itemsize
+        for name in _EVENT_NUMBERS:
+            events[name] = np.frombuffer(blob, _SAMPLE, count, start)
+            start += count * _SAMPLE.itemsize
         events["kind"] = np.frombuffer(blob, np.int8, count, start)
         start += count
         histories = {}
         for name, size, length in header["chunks"]:
             histories[name] = Chunk(size, blob[start : start + length])
             start += length
-        return cls(bridge, record, header["values"], events, histories)
+        return cls(bridge, record, numbers, tuple(header["texts"]), events, histories)
 
-
-def _plain(value: Any) -> Any:
-    """A JSON value: numpy scalars as Python ones (floats round-trip exactly, NaN included)."""
-    return value.item() if isinstance(value, np.generic) else value
+    @classmethod
+    def of(cls, result: AnalysisResult) -> Packed:
+        """A result as its packed form (what the results file is written from)."""
+        return cls.unpack(result.bridge, result.record, result.pack())

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import json
 import platform
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from typing import TYPE_CHECKING, Any, cast
 
 import h5py
@@ -28,9 +28,8 @@ from .layout import (
     HISTORY_TEXT,
     PEAK_COLUMNS,
     TEXT_COLUMNS,
-    kind_codes,
 )
-from .packing import AnalysisResult, Chunk, Packed
+from .packing import NUMBERS, TEXTS, AnalysisResult, Chunk, Packed
 
 if TYPE_CHECKING:
     from ..config.study import Study, StudyRecord
@@ -40,7 +39,11 @@ PEAK_ROWS = 4096
 chunk length."""
 
 EVENT_ROWS = 65536
-"""The same for the event table (about 100 events an analysis; 2.6 MiB a batch)."""
+"""The HDF5 chunk length of the event table (about 150 events an analysis)."""
+
+EVENTS_HELD = 4 * EVENT_ROWS
+"""Rows of the event table held in memory before they are appended (8.7 MB): each append costs
+HDF5 about 8 ms whatever its length, 18 µs an analysis when it came every 65 536 events."""
 
 _MODEL_UNITS = {
     "B": "m", "H1": "m", "H2": "m", "L1": "m", "L2": "m", "h": "m",
@@ -72,7 +75,9 @@ class ResultsWriter:
         self.events = _table(file.create_group("events"), EVENT_COLUMNS, EVENT_ROWS, "the events "
                              "of every analysis, in the order of /peaks; /peaks/n_events counts "
                              "each analysis's rows (CF contiguous ragged array)")  # fmt: skip
-        self._rows: dict[str, list] = {name: [] for name in PEAK_COLUMNS}
+        self._numbers = np.empty((PEAK_ROWS, len(NUMBERS)))
+        self._texts: dict[str, list[str]] = {name: [] for name in ("bridge", "record", *TEXTS)}
+        self._rows = 0
         self._events: dict[str, list[np.ndarray]] = {name: [] for name in EVENT_COLUMNS}
         self._event_count = 0
         self._templates = h5py.File(f"templates-{id(self)}", "w", driver="core",
@@ -80,24 +85,21 @@ class ResultsWriter:
 
     def add(self, analysis: Packed | AnalysisResult) -> None:
         """Append one analysis: its row of /peaks, its events, its histories."""
-        values = {"bridge": analysis.bridge, "record": analysis.record, **analysis.values}
-        for name, rows in self._rows.items():
-            rows.append(values[name])
-        events = dict(analysis.events)
-        if not isinstance(analysis, Packed):  # kinds by name: a result, or one read back
-            events["kind"] = kind_codes(events["kind"])
+        packed = analysis if isinstance(analysis, Packed) else Packed.of(analysis)
+        self._numbers[self._rows] = packed.numbers
+        self._texts["bridge"].append(packed.bridge)
+        self._texts["record"].append(packed.record)
+        for name, value in zip(TEXTS, packed.texts, strict=True):
+            self._texts[name].append(value)
         for name, parts in self._events.items():
-            parts.append(events[name])
-        self._event_count += len(analysis.events["time"])
-        if isinstance(analysis, Packed):
-            histories: dict[str, Chunk | np.ndarray] = dict(analysis.histories)
-        else:
-            histories = {"time": analysis.time, **analysis.histories} if analysis.histories else {}
-        if histories:
-            parent = self.file.require_group(f"analyses/{analysis.bridge}")
-            _write_histories(parent.create_group(analysis.record), histories, self._templates)
+            parts.append(packed.events[name])
+        self._event_count += len(packed.events["time"])
+        if packed.histories:
+            parent = self.file.require_group(f"analyses/{packed.bridge}")
+            _write_histories(parent.create_group(packed.record), packed.histories, self._templates)
+        self._rows += 1
         self.added += 1
-        if len(self._rows["bridge"]) >= PEAK_ROWS or self._event_count >= EVENT_ROWS:
+        if self._rows >= PEAK_ROWS or self._event_count >= EVENTS_HELD:
             self._flush()
 
     def close(self, finished: str) -> None:
@@ -110,9 +112,12 @@ class ResultsWriter:
         )  # fmt: skip
 
     def _flush(self) -> None:
-        for name, values in self._rows.items():
+        for column, name in enumerate(NUMBERS):
+            _append(self.peaks[name], self._numbers[: self._rows, column])
+        for name, values in self._texts.items():
             _append(self.peaks[name], values)
             values.clear()
+        self._rows = 0
         for name, parts in self._events.items():
             _append(self.events[name], np.concatenate(parts) if parts else [])
             parts.clear()
@@ -151,24 +156,18 @@ def _append(dataset: h5py.Dataset, values: list | np.ndarray) -> None:
     dataset[start:] = np.asarray(values, dtype=dataset.dtype)  # text: str already
 
 
-def _write_histories(
-    parent: h5py.Group, histories: dict[str, Chunk | np.ndarray], templates: h5py.File
-) -> None:
+def _write_histories(parent: h5py.Group, histories: dict[str, Chunk], templates: h5py.File) -> None:
     """The ``histories`` group of one analysis: a copy of an empty one with the same columns and
     length from ``templates`` (an HDF5 object copy costs a quarter of creating and describing
-    the datasets), then filled: a `Chunk` as it is, samples through the filters."""
-    first = next(iter(histories.values()))
-    size = first.size if isinstance(first, Chunk) else len(first)
+    the datasets), then its chunks written in as they are."""
+    size = next(iter(histories.values())).size
     key = f"{size}:{','.join(histories)}"
     if key not in templates:
         _describe_histories(templates.create_group(key), histories, size)
     templates.copy(templates[key], parent, "histories")
     group = parent["histories"]
     for name, history in histories.items() if size else ():
-        if isinstance(history, Chunk):
-            group[name].id.write_direct_chunk((0,), history.data)
-        else:
-            group[name][...] = np.asarray(history, dtype="<f8")
+        group[name].id.write_direct_chunk((0,), history.data)
 
 
 def _describe_histories(group: h5py.Group, names: Iterable[str], size: int) -> None:
@@ -185,7 +184,11 @@ def _describe_histories(group: h5py.Group, names: Iterable[str], size: int) -> N
 
 
 def describe_study(
-    file: h5py.File, study: Study, created: str, shard: tuple[int, int] | None = None
+    file: h5py.File,
+    study: Study,
+    created: str,
+    shard: tuple[int, int] | None = None,
+    summaries: Sequence[dict] | None = None,
 ) -> None:
     """Write what the results rest on: the study and its provenance (root attributes), its
     records and its bridges.
@@ -194,12 +197,15 @@ def describe_study(
     ----------
     shard
         (index, count) when the file holds one shard of the study (0-based index).
+    summaries
+        `core.summary.summarize` of each bridge of the study, in order, where a worker computed
+        them; default: computed here.
     """
     _write_header(file, study, created)
     if shard is not None:
         file.attrs.update({"shard_index": shard[0], "shard_count": shard[1]})
     _write_records(file.create_group("records"), study)
-    _write_bridges(file.create_group("bridges"), study)
+    _write_bridges(file.create_group("bridges"), study, summaries)
 
 
 def copy_description(file: h5py.File, source: h5py.File, skip: tuple[str, ...]) -> None:
@@ -245,29 +251,27 @@ def _write_header(file: h5py.File, study: Study, created: str) -> None:
 
 
 def _write_records(group: h5py.Group, study: Study) -> None:
-    """One group per record. Entries of one file share its description, copied (an HDF5 object
-    copy costs a tenth of writing the attributes again), and its samples (a hard link)."""
+    """One group per record, named by its id. The ids of one file name one group (HDF5 hard
+    links: its description is written once), and files of the same content share their samples
+    (a hard link too)."""
     described: dict[tuple[str, str], h5py.Group] = {}
-    for item in study.records:  # the descriptions first, so that a copy holds no samples
-        if (item.source, item.digest) in described:
-            group.copy(described[item.source, item.digest], item.id)
-        else:
-            described[item.source, item.digest] = _describe_record(group, item)
     written: dict[str, h5py.Dataset] = {}
     for item in study.records:
-        if item.record is None:
+        key = (item.source, item.digest)
+        if key in described:
+            group[item.id] = described[key]
             continue
+        node = described[key] = _describe_record(group, item)
         if item.digest in written:
-            group[item.id]["acceleration"] = written[item.digest]
-            continue
-        dataset = group[item.id].create_dataset(
-            "acceleration", data=item.record.acceleration, **COMPRESSION
-        )
-        dataset.attrs["units"] = "m/s2"
-        dataset.attrs["description"] = (
-            "ground acceleration, positive to the right, from t = 0 at time_step"
-        )
-        written[item.digest] = dataset
+            node["acceleration"] = written[item.digest]
+        elif item.record is not None:
+            dataset = written[item.digest] = node.create_dataset(
+                "acceleration", data=item.record.acceleration, **COMPRESSION
+            )
+            dataset.attrs["units"] = "m/s2"
+            dataset.attrs["description"] = (
+                "ground acceleration, positive to the right, from t = 0 at time_step"
+            )
 
 
 def _describe_record(group: h5py.Group, item: StudyRecord) -> h5py.Group:
@@ -295,14 +299,15 @@ def _describe_record(group: h5py.Group, item: StudyRecord) -> h5py.Group:
     return node
 
 
-def _write_bridges(group: h5py.Group, study: Study) -> None:
+def _write_bridges(group: h5py.Group, study: Study, summaries: Sequence[dict] | None) -> None:
     from ..config.sweep import field_unit
-    from ..core.summary import SUMMARY_UNITS, summarize
+    from ..core.summary import SUMMARY_UNITS, summarize_all
 
-    for item in study.bridges:
-        bridge = item.config.to_bridge()
+    bridges = [item.config.to_bridge() for item in study.bridges]
+    for item, bridge, summary in zip(
+        study.bridges, bridges, summaries or summarize_all(bridges), strict=True
+    ):
         model = bridge.model
-        summary = summarize(bridge)
         node = group.create_group(item.id)
         node.attrs.update(
             {

@@ -1,11 +1,13 @@
-"""Where the cells run: in this process, in a pool of worker processes on this machine, or on
-a Dask distributed cluster.
+"""Where the cells run: in this process, in a pool of worker processes on this machine, or on a Dask
+distributed cluster.
 
-Workers receive the study's `Grid` once, when they start, and then batches of cells; they send
-back packed results (`work.Outcome`), so that what the parent does per analysis is small next to
-the analysis itself. The number of batches in flight is bounded, which keeps the parent's memory
-flat in the number of analyses. Every executor yields the same outcomes; only their order and
-grouping differ, and the journal and the results file put them back in the study's order.
+Workers receive the study's `Grid` once, when they start, and then batches of cells; they send back
+packed results (`work.Outcome`), so that what the parent does per analysis is small next to the
+analysis itself. They also compute what else a run asks of the compiled kernels (the bridges'
+summaries for the results file), so that the parent need not load them. The number of batches in
+flight is bounded, which keeps the parent's memory flat in the number of analyses. Every executor
+yields the same outcomes; only their order and grouping differ, and the journal and the results
+file put them back in the study's order.
 """
 
 from __future__ import annotations
@@ -18,8 +20,10 @@ import os
 import signal
 import sys
 from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures import FIRST_COMPLETED, CancelledError, Future, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
+from typing import Any, NamedTuple
 
 from ..errors import InputError
 from .grid import Cell, Grid
@@ -48,28 +52,65 @@ def batch_size(cells: int, workers: int) -> int:
 Run = Callable[[Sequence[Cell]], Iterator[list[Outcome]]]
 """Runs cells of the grid and yields their outcomes, a batch at a time, as the batches finish."""
 
+Call = Callable[..., Callable[[], Any]]
+"""``call(function, *args)``: computes ``function(*args)`` on a worker and returns what collects
+the result; it is computed in this process instead when no worker runs it (none started, or the
+run was stopped first)."""
+
+
+class Workers(NamedTuple):
+    """What an executor offers a run: ``run`` (`Run`) for the cells, ``call`` (`Call`) for the
+    rest."""
+
+    run: Run
+    call: Call
+
 
 @contextmanager
-def executor(grid: Grid, workers: int, scheduler: str | None = None) -> Iterator[Run]:
+def executor(grid: Grid, workers: int, scheduler: str | None = None) -> Iterator[Workers]:
     """Workers for the cells of ``grid``, for as many calls as a run needs (an IDA's rounds):
     local worker processes (`local_workers`) or a Dask cluster (`dask_workers`)."""
     with (
-        local_workers(grid, workers) if scheduler is None else dask_workers(grid, scheduler) as run
-    ):
-        yield run
+        local_workers(grid, workers) if scheduler is None else dask_workers(grid, scheduler)
+    ) as offered:
+        yield offered
+
+
+def _collector(function: Callable, args: tuple, futures: list[Any]) -> Callable[[], Any]:
+    """What collects ``function(*args)``: the result of the first of ``futures`` (there is at
+    most one), else computed here (none was submitted, it was cancelled, or its worker died)."""
+
+    def collect() -> Any:
+        if futures:
+            try:
+                return futures[0].result()
+            except (CancelledError, BrokenProcessPool):
+                pass
+        return function(*args)
+
+    return collect
 
 
 @contextmanager
-def local_workers(grid: Grid, workers: int) -> Iterator[Run]:
+def local_workers(grid: Grid, workers: int) -> Iterator[Workers]:
     """Worker processes on this machine, started when cells first come.
 
     With one worker everything runs in this process. With more, this process only sends
     batches and receives outcomes: each worker loads the compiled kernels itself (from numba's
     disk cache, ~0.3 s, in parallel), which keeps the parent's share of the work small. The pool
-    has ``workers`` processes, or as many as the first cells if fewer.
+    has ``workers`` processes, or as many as the first cells if fewer. What is asked of ``call``
+    goes to the pool, first, once it starts.
     """
     pool: ProcessPoolExecutor | None = None
     count = 1
+    calls: list[tuple[Callable, tuple, list[Future]]] = []
+
+    def call(function: Callable, *args: Any) -> Callable[[], Any]:
+        futures: list[Future] = []
+        calls.append((function, args, futures))
+        if pool is not None:
+            futures.append(pool.submit(function, *args))
+        return _collector(function, args, futures)
 
     def run(cells: Sequence[Cell]) -> Iterator[list[Outcome]]:
         nonlocal pool, count
@@ -82,6 +123,8 @@ def local_workers(grid: Grid, workers: int) -> Iterator[Run]:
             pool = ProcessPoolExecutor(
                 count, mp_context=context, initializer=_start_worker, initargs=(grid, os.getpid())
             )
+            for function, args, futures in calls:
+                futures.append(pool.submit(function, *args))
         in_flight: set[Future] = set()
         try:
             for batch in _batches(cells, count):
@@ -97,7 +140,7 @@ def local_workers(grid: Grid, workers: int) -> Iterator[Run]:
                 future.cancel()
 
     try:
-        yield run
+        yield Workers(run, call)
     finally:  # wait for the few batches in flight
         if pool is not None:
             pool.shutdown(cancel_futures=True)
@@ -127,7 +170,7 @@ def _run_batch(cells: list[Cell]) -> list[Outcome]:
 
 
 @contextmanager
-def dask_workers(grid: Grid, scheduler: str) -> Iterator[Run]:
+def dask_workers(grid: Grid, scheduler: str) -> Iterator[Workers]:
     """The workers of a Dask distributed cluster.
 
     The grid is sent to every worker once (``scatter``); batches are submitted as earlier ones
@@ -169,5 +212,8 @@ def dask_workers(grid: Grid, scheduler: str) -> Iterator[Run]:
         finally:  # interrupted: nothing more is needed from the cluster
             client.cancel(list(running.futures))
 
+    def call(function: Callable, *args: Any) -> Callable[[], Any]:
+        return _collector(function, args, [client.submit(function, *args, pure=False)])
+
     with client:
-        yield run
+        yield Workers(run, call)

@@ -21,9 +21,9 @@ _CHECKPOINT_PAGES = 16384
 """Pages (4 KiB) the write-ahead log may hold before SQLite copies it into the database, the
 only step that waits for the disk (fsync): every 64 MiB instead of SQLite's default 4 MiB."""
 
-SCHEMA_VERSION = 3
+SCHEMA_VERSION = 4
 """The layout of the journal's tables (SQLite's ``user_version``): 2 added the verdicts, 3 packs
-event kinds as codes (`results.packing`)."""
+event kinds as codes, 4 the numeric values as one vector (`results.packing`)."""
 
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS study (config_hash TEXT NOT NULL);

@@ -28,6 +28,7 @@ from typing import TYPE_CHECKING
 import h5py
 import numpy as np
 
+from ..core.summary import summarize_all
 from ..cpus import usable_cpus
 from ..errors import InputError
 from ..fragility import store as store_fragilities
@@ -175,11 +176,14 @@ def run_study(
             }
             resumed = len(verdicts)
             solve_time, done, total = 0.0, 0, 0
+            summaries: list[list[dict]] = []  # the bridges', from a worker (the kernels' users)
             try:
-                with executor(grid, workers, scheduler) as run:
+                with executor(grid, workers, scheduler) as offered:
+                    bridges = [case.bridge for case in grid.bridges]
+                    summarized = offered.call(summarize_all, bridges)
                     for pending in _rounds(grid, cells, plan, verdicts):
                         total += len(pending)
-                        for batch in run(pending):
+                        for batch in offered.run(pending):
                             journal.add(
                                 (o.cell.index, *grid.ids(o.cell), o.finished.verdict, o.packed)
                                 for o in batch
@@ -191,12 +195,14 @@ def run_study(
                                 done += 1
                                 if progress is not None:
                                     progress(outcome.finished, done, total)
+                    summaries.append(summarized())
             finally:
                 if plan is not None:  # the IDA as far as it got
                     cells = plan.ran(verdicts)
                     grid = dataclasses.replace(grid, listed=tuple(cells))
                 if done or journalled or not output.exists():
-                    _write(output, study, grid, cells, shard, journal, created, assembly)
+                    described = summaries[0] if summaries else None
+                    _write(output, study, grid, cells, shard, journal, created, assembly, described)
                 journal.remove()
         finally:
             journal.close()
@@ -233,14 +239,15 @@ def _is_ida(study: Study) -> bool:
 
 def _write(
     output: Path, study: Study, grid: Grid, cells: list[Cell], shard: tuple[int, int] | None,
-    journal: Journal, created: str, assembly: Assembly | None,
+    journal: Journal, created: str, assembly: Assembly | None, summaries: list[dict] | None,
 ) -> None:  # fmt: skip
     """Write the results file from the journal and the earlier file, in the study's order, into
-    a temporary file renamed over the output at the end."""
+    a temporary file renamed over the output at the end; ``summaries`` are the bridges' (`None`:
+    computed here)."""
     temporary = output.with_name(f".{output.name}.{os.getpid()}.tmp")
     try:
         with h5py.File(temporary, "w") as file, _earlier_results(output, grid) as earlier:
-            describe_study(file, study, created, shard)
+            describe_study(file, study, created, shard, summaries)
             writer = ResultsWriter(file, len(cells))
             for written, analysis in enumerate(_merged(journal, earlier), start=1):
                 writer.add(analysis)

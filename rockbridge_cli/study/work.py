@@ -89,14 +89,16 @@ def _analyse(grid: Grid, bridge: BridgeCase, record: RecordCase) -> AnalysisResu
     start = time.perf_counter()
     try:
         response = analyze(
-            bridge.bridge, record.acceleration, record.time_step, grid.preset, **grid.overrides
-        )
+            bridge.bridge, record.acceleration, record.time_step, grid.preset,
+            histories=bool(grid.keep), **grid.overrides,
+        )  # fmt: skip
         rechecked = grid.recheck and grid.preset != "reference" and _near_a_limit(response)
         if rechecked:
             keep = {k: v for k, v in grid.overrides.items() if k in RECHECK_KEEPS}
             response = analyze(
-                bridge.bridge, record.acceleration, record.time_step, "reference", **keep
-            )
+                bridge.bridge, record.acceleration, record.time_step, "reference",
+                histories=bool(grid.keep), **keep,
+            )  # fmt: skip
     except Exception as exc:  # one failed analysis must not stop the others
         return AnalysisResult.failed(
             bridge.id, record.id, f"{type(exc).__name__}: {exc}", time.perf_counter() - start
