@@ -255,3 +255,8 @@ def test_packed_result_round_trips():
         np.testing.assert_array_equal(packed.events[name], values)
     np.testing.assert_array_equal(packed.histories["time"].samples(), time)
     np.testing.assert_array_equal(packed.histories["u_deck"].samples(), result.histories["u_deck"])
+    # an analysis that could not run: no events, no histories; a NUL, which HDF5 strings cannot
+    # hold, becomes U+FFFD
+    failed = Packed.unpack("b", "r", AnalysisResult.failed("b", "r", "a\0b").pack())
+    assert failed.values["message"] == "a\ufffdb"
+    assert failed.events.size == 0 and not failed.histories

