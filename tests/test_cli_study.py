@@ -14,7 +14,6 @@ from rockbridge_cli.cli import main
 from rockbridge_cli.cli.progress import ProgressDisplay
 from rockbridge_cli.core.analysis import analyze
 from rockbridge_cli.results import read_peaks
-from rockbridge_cli.study import work
 from rockbridge_cli.study.work import Finished
 
 
@@ -131,12 +130,12 @@ def test_ctrl_c_keeps_what_finished(tmp_path, monkeypatch):
             raise KeyboardInterrupt
         return analyze(*args, **kwargs)
 
-    monkeypatch.setattr(work, "analyze", interrupted)
+    monkeypatch.setattr("rockbridge_cli.core.analysis.analyze", interrupted)
     result = invoke("run", write_study(tmp_path), "--workers", "1")
     assert result.exit_code == 130 and "Traceback" not in result.output
     assert "interrupted: the analyses finished so far are in results/study.h5" in result.output
     assert len(read_peaks(tmp_path / "results" / "study.h5")) == 2
-    monkeypatch.setattr(work, "analyze", analyze)
+    monkeypatch.setattr("rockbridge_cli.core.analysis.analyze", analyze)
     resumed = invoke("run", tmp_path / "study.yaml", "--workers", "1")
     assert "(2 run now, 2 already done)" in resumed.output
 

@@ -126,3 +126,22 @@ def test_record_files_sit_below_the_configs_that_read_them():
         assert not {
             m for m in top_level_imports(path) if m.startswith("rockbridge_cli.records.sets")
         }
+
+
+def test_the_parent_of_a_study_loads_no_compiled_kernel():
+    """The process that reads a study and hands its analyses to workers imports neither numba
+    nor scipy's solvers (their import is a third of a second it would add to every run, serial
+    before any worker starts); the workers load them."""
+    code = (
+        "import sys\n"
+        "from rockbridge_cli.config.study import load_study\n"
+        "from rockbridge_cli.study.run import run_study\n"
+        "heavy = {'numba', 'scipy.optimize', 'scipy.interpolate', 'scipy.fft', 'scipy.linalg',"
+        " 'scipy.special', 'scipy.stats', 'scipy.signal'}\n"
+        "print(sorted(heavy & set(sys.modules)))\n"
+    )
+    result = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=False
+    )
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.strip() == "[]"

@@ -29,10 +29,10 @@ pytestmark = pytest.mark.skipif(os.name != "posix", reason="POSIX signals")
 SLOW_RUN = """
 import os, sys, time
 from rockbridge_cli.cli import main
-from rockbridge_cli.study import work
+from rockbridge_cli.core import analysis
 
 started = sys.argv[1]
-analyze = work.analyze
+analyze = analysis.analyze
 
 def slow(*args, **kwargs):
     with open(started, "a") as file:
@@ -40,7 +40,7 @@ def slow(*args, **kwargs):
     time.sleep(0.5)
     return analyze(*args, **kwargs)
 
-work.analyze = slow
+analysis.analyze = slow  # what a worker calls
 main(sys.argv[2:], prog_name="rockbridge")
 """
 

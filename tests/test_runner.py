@@ -20,7 +20,6 @@ from rockbridge_cli.core.analysis import analyze
 from rockbridge_cli.errors import InputError
 from rockbridge_cli.limit_states import Verdict
 from rockbridge_cli.results import AnalysisResult, read_history, read_peaks
-from rockbridge_cli.study import work
 from rockbridge_cli.study.journal import Journal, journal_path
 from rockbridge_cli.study.run import run_study
 
@@ -95,14 +94,14 @@ def test_a_failing_analysis_does_not_stop_the_others(tmp_path, monkeypatch):
             raise RuntimeError("boom")
         return analyze(bridge, acceleration, *args, **kwargs)
 
-    monkeypatch.setattr(work, "analyze", flaky)
+    monkeypatch.setattr("rockbridge_cli.core.analysis.analyze", flaky)
     report = run_study(study, workers=1)
     peaks = report.peaks.set_index(["bridge", "record"])
     assert list(peaks["status"]) == ["ok", "error", "ok", "error"]
     assert list(peaks["message"]) == ["", "RuntimeError: boom", "", "RuntimeError: boom"]
     assert peaks["n_impacts"].isna().tolist() == [False, True, False, True]
     assert np.isnan(peaks.loc[("studied-hbar1.00", "R2"), "u_deck_max"])
-    monkeypatch.setattr(work, "analyze", analyze)
+    monkeypatch.setattr("rockbridge_cli.core.analysis.analyze", analyze)
     again = Recorder()
     assert run_study(study, workers=1, progress=again).ran == 2  # only the failed ones
     assert again.pairs == [("studied-hbar1.00", "R2"), ("studied-hbar2.00", "R2")]
@@ -275,7 +274,7 @@ def test_a_damaged_output_is_refused(tmp_path):
 def test_an_output_that_cannot_be_written_is_refused_before_any_work(tmp_path, monkeypatch):
     (tmp_path / "file").write_text("", encoding="utf-8")
     study = load_study(write_study(tmp_path), output=tmp_path / "file" / "out.h5")
-    monkeypatch.setattr(work, "analyze", None)  # would fail if anything ran
+    monkeypatch.setattr("rockbridge_cli.core.analysis.analyze", None)  # would fail if anything ran
     with pytest.raises(InputError, match="cannot write here"):
         run_study(study, workers=1)
 

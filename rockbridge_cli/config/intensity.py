@@ -11,7 +11,6 @@ from pydantic import Field, PositiveFloat, field_validator, model_validator
 
 from .. import limit_states
 from ..core.quantities import STANDARD_GRAVITY
-from ..core.spectra import compute_psa
 from ..records.files import Record
 from .loading import StrictModel
 
@@ -89,6 +88,8 @@ def intensity_of(record: Record, intensity: Intensity) -> float:
     if intensity.measure == "pga_g":
         return record.peak_acceleration / STANDARD_GRAVITY
     if intensity.measure == "sa_g":
+        from ..core.spectra import compute_psa  # compiled: loaded only where a study needs it
+
         assert intensity.period is not None
         psa = compute_psa(record.acceleration, record.time_step, np.array([intensity.period]),
                           intensity.damping)  # fmt: skip

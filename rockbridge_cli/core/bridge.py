@@ -2,17 +2,21 @@
 restitution of its rocking interfaces.
 
 Everything that analyses or describes a bridge takes this one object, so that no call can forget
-the mirror image or an overridden restitution (`analysis.analyze`, `summary.summarize`).
+the mirror image or an overridden restitution (`analysis.analyze`, `summary.summarize`). Loading
+one does not load the compiled kernels (numba, scipy): a process that only reads configs and
+hands the analyses to workers starts without them.
 """
 
 from __future__ import annotations
 
 import functools
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
-from . import impacts
 from .geometry import Model, pounding_ratio
-from .solver import Laws
+
+if TYPE_CHECKING:
+    from .solver import Laws
 
 
 @dataclass(frozen=True)
@@ -48,6 +52,8 @@ class Bridge:
 
     def eta(self, s: float) -> float:
         """Restitution of the impact that ends the core's mode s: the override, or the law [-]."""
+        from . import impacts  # the compiled kernels, loaded when first needed
+
         return (
             self.restitution if self.restitution is not None else impacts.restitution(self.model, s)
         )
@@ -66,6 +72,9 @@ class Bridge:
 
 @functools.lru_cache(maxsize=256)
 def _laws(bridge: Bridge) -> Laws:
+    from . import impacts
+    from .solver import Laws
+
     eta_p, eta_n = bridge.eta(1.0), bridge.eta(-1.0)
     if min(eta_p, eta_n) <= 0.0:
         raise ValueError(

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from . import impacts
 from .bridge import Bridge
 from .geometry import kind, pounding_ratio, ratios
 
@@ -45,6 +44,8 @@ def summarize(bridge: Bridge) -> dict[str, object]:
     ``governing_failure``. Ratios that mean nothing for the model (q without abutments; h̄, b̄, L̄,
     γ for a single block) are None.
     """
+    from . import impacts  # the compiled kernels, loaded when a summary is first asked for
+
     model, mirrored = bridge.model, bridge.mirrored
     modes = bridge.user_modes()
     onset = [abs(impacts.onset_threshold(model, s)) for s in modes]

@@ -31,7 +31,6 @@ import numpy as np
 from ..core.summary import summarize_all
 from ..cpus import usable_cpus
 from ..errors import InputError
-from ..fragility import store as store_fragilities
 from ..limit_states import Verdict
 from ..paths import replace_atomically, writable
 from ..results.packing import AnalysisResult, Packed
@@ -254,8 +253,10 @@ def _write(
                 if assembly is not None:
                     assembly(written, len(cells))
             writer.close(_timestamp())
-            if shard is None:
-                store_fragilities(file)
+            if shard is None and study.intensity is not None:
+                from ..fragility import store  # scipy's optimizers: only an intensity study's
+
+                store(file)
         replace_atomically(temporary, output)
     except OSError as exc:  # a full disk, a removed folder: say which file, keep the journal
         reason = exc.strerror or str(exc)

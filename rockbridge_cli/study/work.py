@@ -5,14 +5,16 @@ from __future__ import annotations
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
-from ..core.analysis import Response, analyze
 from ..core.fidelity import RECHECK_MARGIN
 from ..core.quantities import NO_FAILURE
 from ..limit_states import Verdict
 from ..results.packing import AnalysisResult
 from .grid import BridgeCase, Cell, Grid, RecordCase
+
+if TYPE_CHECKING:
+    from ..core.analysis import Response
 
 
 @dataclass(frozen=True)
@@ -84,6 +86,8 @@ def analyse(grid: Grid, cell: Cell) -> AnalysisResult:
 
 
 def _analyse(grid: Grid, bridge: BridgeCase, record: RecordCase) -> AnalysisResult:
+    from ..core.analysis import analyze  # the compiled kernels: a worker's, not the parent's
+
     if record.acceleration is None:
         return AnalysisResult.failed(bridge.id, record.id, record.error)
     start = time.perf_counter()
