@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from scipy.integrate import cumulative_trapezoid
 
 from rockbridge_cli.config.loading import load
 from rockbridge_cli.config.records import RecordSetConfig
@@ -20,7 +21,11 @@ from rockbridge_cli.core import baseline, matching, wavelets
 from rockbridge_cli.core.ec8 import compute_elastic_spectrum
 from rockbridge_cli.core.spectra import compute_psa, find_peak_responses
 from rockbridge_cli.records.files import read_record_set
-from rockbridge_cli.records.sets import generate_record_set, read_set_target
+from rockbridge_cli.records.sets import (
+    GROUND_DISPLACEMENT_AIM,
+    generate_record_set,
+    read_set_target,
+)
 
 ROOT = Path(__file__).parents[1]
 PAPER = ROOT / "configs" / "records" / "ec8-type1-C-ag0.6g.yaml"
@@ -49,6 +54,13 @@ def assert_targets(records, target, per_record=0.10, mean=0.03):
     # baseline correction zeroes the final velocity and displacement, up to rounding.
     np.testing.assert_allclose(pga, 1.0, rtol=1e-9)
     assert np.all(np.abs(motion) < 1e-6)
+    # rockbridge's aim for the ground's wander (issue 16): PGD within 2 d_g, the displacement
+    # integrated here by scipy's trapezoids, not the generator's piecewise-linear integral
+    for record in records:
+        velocity = cumulative_trapezoid(record.acceleration, dx=record.time_step, initial=0)
+        displacement = cumulative_trapezoid(velocity, dx=record.time_step, initial=0)
+        limit = GROUND_DISPLACEMENT_AIM * target.ground_displacement
+        assert np.abs(displacement).max() <= limit, (record.name, np.abs(displacement).max())
 
 
 # ---------------------------------------------------------------------------------------------
@@ -83,10 +95,61 @@ def test_baseline_correction_zeroes_final_motion():
     rng = np.random.default_rng(1)
     envelope = matching.compute_envelope(np.arange(1001) * 0.01, matching.Envelope(1, 6, 3))
     record = rng.normal(size=1001) + 0.3
-    corrected = baseline.correct_baseline(record, 0.01, envelope)
-    v, d = baseline.compute_final_motion(corrected, 0.01)
-    assert abs(v) < 1e-12 and abs(d) < 1e-12
-    assert corrected[0] == record[0]  # the correction follows the envelope, which is 0 at t = 0
+    for terms in (2, 6, 12):
+        corrected = baseline.BaselineCorrection.of(envelope, 0.01, terms)(record)
+        v, d = baseline.compute_final_motion(corrected, 0.01)
+        assert abs(v) < 1e-11 and abs(d) < 1e-11, terms
+        assert corrected[0] == record[0]  # the correction follows the envelope, 0 at t = 0
+
+
+def test_the_displacement_gradient_is_the_adjoint_of_the_integration():
+    """Σ m·d(a) = gradient(m)·a for any a and m, d from `integrate_motion` (the recurrences run
+    forwards) and the gradient from the same recurrences run backwards."""
+    rng = np.random.default_rng(7)
+    for size in (2, 3, 50, 1001):
+        record, factors = rng.normal(size=size), rng.normal(size=size)
+        _, displacement = baseline.integrate_motion(record, 0.02)
+        gradient = baseline.displacement_gradient(factors, 0.02)
+        assert factors @ displacement == pytest.approx(gradient @ record, rel=1e-12, abs=1e-15)
+
+
+def test_the_baseline_correction_leaves_the_least_displacement():
+    """Against an independent solution of the same problem: the trend's coefficients that zero
+    the final motion, minimising Σ d² over the samples, from scipy's null space of the two
+    conditions and numpy's least squares on the displacements. Two terms are Boore's enveloped
+    linear trend (I and I·t span the same trends), fixed by the conditions alone, and more
+    terms leave less displacement."""
+    from scipy.linalg import null_space
+
+    step, rng = 0.01, np.random.default_rng(3)
+    times = np.arange(2001) * step
+    envelope = matching.compute_envelope(times, matching.Envelope(3, 10, 5))
+    record = envelope * rng.normal(size=times.size) + 0.2 * np.sin(2 * np.pi * 0.05 * times)
+    rms = {}
+    for terms in (2, 5, 9):
+        correction = baseline.BaselineCorrection.of(envelope, step, terms)
+        corrected = correction(record)
+        functions = correction.functions
+        shapes = np.stack([baseline.integrate_motion(f, step)[1] for f in functions])
+        ends = np.stack([baseline.compute_final_motion(f, step) for f in functions], axis=1)
+        start = np.linalg.lstsq(ends, baseline.compute_final_motion(record, step), rcond=None)[0]
+        free = null_space(ends)
+        residual = baseline.integrate_motion(record, step)[1] - start @ shapes
+        if free.shape[1]:
+            start = start + free @ np.linalg.lstsq((free.T @ shapes).T, residual, rcond=None)[0]
+        np.testing.assert_allclose(corrected, record - start @ functions, rtol=0, atol=1e-9)
+        rms[terms] = np.sqrt(np.mean(baseline.integrate_motion(corrected, step)[1] ** 2))
+    two = np.stack([envelope, envelope * times])
+    trend = record - baseline.BaselineCorrection.of(envelope, step, 2)(record)
+    fitted = np.linalg.lstsq(two.T, trend, rcond=None)
+    assert np.max(np.abs(two.T @ fitted[0] - trend)) < 1e-12
+    assert rms[9] < rms[5] < rms[2]
+
+
+def test_correction_terms_follow_the_band():
+    # 30 s and a band to 4 s: degree 10 swings every 6 s = 1.5 × 4 s; never fewer than two terms
+    assert baseline.correction_terms(30.0, 4.0, 1.5) == 11
+    assert baseline.correction_terms(1.0, 4.0, 1.5) == 2
 
 
 def test_significant_duration_of_a_steady_signal():

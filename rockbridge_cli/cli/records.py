@@ -97,6 +97,8 @@ def plot_record(
 
 def format_report(report: RecordSetReport) -> str:
     """The EN 1998-1 §3.2.3.1.2 compliance report of a generated set, as text."""
+    from ..records.sets import GROUND_DISPLACEMENT_AIM
+
     c = report.compliance
     low, high = report.band
     lines = [
@@ -125,6 +127,8 @@ def format_report(report: RecordSetReport) -> str:
         f"EN 1998-1 §3.2.2.4 design ground displacement d_g = 0.025*a_g*S*T_C*T_D = "
         f"{dg * 100:.1f} cm; largest PGD {largest / dg:.2f} d_g (PGD: peak of the doubly "
         "integrated record, from rest)",
+        f"rockbridge's aim: every record's PGD within {GROUND_DISPLACEMENT_AIM:g} d_g -> "
+        f"{_verdict(largest <= GROUND_DISPLACEMENT_AIM * dg)}",
         "EN 1998-1 §3.2.3.1.2:",
         f"  (4)a at least 3 records: {c.count} -> {_verdict(c.count_ok)}",
         f"  (4)b mean zero-period value {c.mean_zero_period:.4g} m/s2 >= a_g*S "

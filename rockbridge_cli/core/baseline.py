@@ -1,10 +1,14 @@
 """The ground's velocity and displacement under a record, and the correction that zeroes them at
 its end: both integrated exactly for a piecewise-linear acceleration; the baseline correction
-(Boore 2001); and the significant duration D5–95."""
+(Boore 2001), with the least ground displacement; and the significant duration D5–95."""
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass
+
 import numpy as np
+from numpy.polynomial import legendre
 
 
 def integrate_motion(acceleration: np.ndarray, time_step: float) -> tuple[np.ndarray, np.ndarray]:
@@ -31,27 +35,70 @@ def integrate_motion(acceleration: np.ndarray, time_step: float) -> tuple[np.nda
     return velocity, np.concatenate([[0.0], np.cumsum(steps)])
 
 
-def correct_baseline(acceleration: np.ndarray, time_step: float, shape: np.ndarray) -> np.ndarray:
-    """Remove an enveloped linear trend so that the final velocity and displacement are zero.
+@dataclass(frozen=True)
+class BaselineCorrection:
+    """The baseline correction of records of one envelope and length: the enveloped slow trend
+    whose removal zeroes the final velocity and displacement and, of all such trends, leaves the
+    least ground displacement.
 
-    The correction is I(t)·(c0 + c1·t/t_end), I being the envelope, with c0 and c1 solving the two
-    linear conditions v(t_end) = 0 and d(t_end) = 0, both integrated exactly for a piecewise-linear
-    acceleration. It is the least-change member of Boore's (2001) polynomial corrections: it
-    vanishes where the record does and only touches periods far longer than the record's band.
+    The trends are I(t)·Σ c_k·P_k(τ), I the envelope, P_k the Legendre polynomials of
+    τ = 2t/t_end − 1 for k < ``terms``. Two terms give Boore's (2001) enveloped linear trend,
+    which the two final conditions fix alone; it can leave the ground a metre away from rest in
+    mid-record. More terms leave freedom that the correction spends on the least squares of the
+    displacement over the samples, which removes that long-period wander; its functions only
+    reach periods of about 2·t_end/(terms − 1), longer than the matched band
+    (`correction_terms`). All of it is linear in the acceleration.
 
-    Parameters
+    Attributes
     ----------
-    acceleration
-        ground acceleration [m/s²].
-    time_step
-        time step [s].
-    shape
-        envelope at the samples [-].
+    functions
+        the trend's functions at the samples, shape (terms, n) [-].
+    weights
+        rows whose products with an acceleration are all the coefficients depend on: what its
+        displacement gives each coefficient, then its final velocity and displacement, shape
+        (terms + 2, n).
+    gain
+        coefficients = ``gain @ (weights @ acceleration)``, shape (terms, terms + 2).
     """
-    basis = baseline_values(shape)
-    matrix = np.stack([final_motion_vector(row, time_step) for row in basis], axis=1)
-    coefficients = np.linalg.solve(matrix, final_motion_vector(acceleration, time_step))
-    return acceleration - coefficients @ basis
+
+    functions: np.ndarray
+    weights: np.ndarray
+    gain: np.ndarray
+
+    @classmethod
+    def of(cls, shape: np.ndarray, time_step: float, terms: int = 2) -> BaselineCorrection:
+        """The correction for records of envelope ``shape`` [-] at ``time_step`` [s]."""
+        if terms < 2:
+            raise ValueError(f"the two final conditions need two terms or more, got {terms}")
+        tau = np.linspace(-1.0, 1.0, shape.size)
+        functions = shape * legendre.legvander(tau, terms - 1).T
+        shapes = np.stack([integrate_motion(row, time_step)[1] for row in functions])
+        scale = np.sqrt(np.mean(shapes**2, axis=1))  # balance the system: unit RMS displacements
+        functions, shapes = functions / scale[:, None], shapes / scale[:, None]
+        # c = P·f + Z·z: P meets the final conditions f, Z (their null space) is free; z is the
+        # least-squares fit of the rest of the displacement (SVDs: no squared condition number)
+        final = final_motion_weights(shape.size, time_step)
+        ends = final @ functions.T
+        particular = np.linalg.pinv(ends)
+        free = np.linalg.svd(ends)[2][2:].T
+        spread = free @ np.linalg.pinv(shapes.T @ free)  # displacement → coefficients
+        gain = np.hstack([np.eye(terms), particular - spread @ (shapes.T @ particular)])
+        projections = np.stack([displacement_gradient(row, time_step) for row in spread])
+        return cls(functions, np.vstack([projections, final]), gain)
+
+    def coefficients(self, measures: np.ndarray) -> np.ndarray:
+        """The trend's coefficients from ``weights @ acceleration`` (a column per record)."""
+        return self.gain @ measures
+
+    def __call__(self, acceleration: np.ndarray) -> np.ndarray:
+        """The corrected acceleration [m/s²]."""
+        return acceleration - self.coefficients(self.weights @ acceleration) @ self.functions
+
+
+def correction_terms(duration: float, longest_period: float, reach: float) -> int:
+    """Terms of a `BaselineCorrection` whose functions stay at periods above ``reach`` times the
+    longest matched period: a polynomial of degree k swings k times over ``duration`` [-]."""
+    return 1 + max(1, math.ceil(2.0 * duration / (reach * longest_period)))
 
 
 def compute_final_motion(acceleration: np.ndarray, time_step: float) -> tuple[float, float]:
@@ -120,13 +167,22 @@ def displacement_weights(n: int) -> np.ndarray:
     return weights
 
 
-def baseline_values(shape: np.ndarray) -> np.ndarray:
-    """The baseline correction's functions I(t) and I(t)·t/t_end at the samples, shape (2, n)."""
-    return np.stack([shape, shape * np.linspace(0.0, 1.0, shape.size)])
-
-
 def final_motion_weights(n: int, time_step: float) -> np.ndarray:
     """Rows w_v, w_d with v_end = w_v·a and d_end = w_d·a (see `final_motion_vector`)."""
     velocity = np.full(n, time_step)
     velocity[[0, -1]] *= 0.5
     return np.stack([velocity, time_step**2 * displacement_weights(n)])
+
+
+def displacement_gradient(factors: np.ndarray, time_step: float) -> np.ndarray:
+    """g with Σ_k factors_k·d_k = g·a for the displacement d of `integrate_motion` (its adjoint:
+    the same recurrences run backwards)."""
+    h = time_step
+    later = np.cumsum(factors[::-1])[::-1][1:]  # Σ of the factors after each step
+    gradient = np.zeros(factors.size)
+    gradient[:-1] += h * h * later / 3.0
+    gradient[1:] += h * h * later / 6.0
+    through_velocity = np.cumsum(later[::-1])[::-1] - later  # Σ over the later steps' h·v terms
+    gradient[:-1] += 0.5 * h * h * through_velocity
+    gradient[1:] += 0.5 * h * h * through_velocity
+    return gradient

@@ -11,9 +11,10 @@ A record is built in four steps, all deterministic for a given random generator:
    wavelets to the crests (Lilhanand & Tseng 1988; Abrahamson 1992; Al Atik & Abrahamson 2010);
    the same system holds the peak ground acceleration at its target; a step is halved until it
    lowers the RMS misfit;
-4. after each step, a baseline correction that zeroes the final velocity and displacement (a
-   low-order correction in the spirit of Boore 2001) and an exact scaling to the target PGA, so
-   that every iterate is a finished record; the best one is kept.
+4. after each step, a baseline correction that zeroes the final velocity and displacement with
+   the least ground displacement (an enveloped slow trend, in the spirit of Boore 2001) and an
+   exact scaling to the target PGA, so that every iterate is a finished record; the best one is
+   kept.
 
 Step 3's wavelets and their linear system are in `wavelets`, step 4's baseline correction in
 `baseline`. The wavelet system uses the exact response of the discrete (piecewise-linear) record,
@@ -45,10 +46,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import fft
 
-from .baseline import (
-    correct_baseline,
-    final_motion_weights,
-)
+from .baseline import BaselineCorrection, correction_terms
 from .spectra import compute_psa, find_peak_responses
 from .wavelets import (
     build_baseline_basis,
@@ -145,6 +143,9 @@ class MatchSettings:
         how many times a step that does not lower the RMS misfit is halved [-].
     patience
         an attempt stops after this many iterations without a new best [-].
+    baseline_reach
+        the baseline correction's functions stay at periods above this multiple of the longest
+        period of the band (`baseline.correction_terms`) [-].
     """
 
     tolerance: float = 0.05
@@ -158,6 +159,7 @@ class MatchSettings:
     initial_regularisation: float = 0.3
     halvings: int = 2
     patience: int = 6
+    baseline_reach: float = 1.5
 
 
 @dataclass(frozen=True)
@@ -393,6 +395,7 @@ class _Problem:
     taper: np.ndarray
     counted: np.ndarray
     settings: MatchSettings
+    baseline: BaselineCorrection
 
     @classmethod
     def of(cls, periods, target, pga, time_step, shape, taper, settings, band) -> _Problem:
@@ -405,7 +408,10 @@ class _Problem:
         counted = (periods >= low * (1.0 - 1e-9)) & (periods <= high * (1.0 + 1e-9))
         if not counted.any():
             raise ValueError(f"no matching period lies in the band {band!r}")
-        return cls(periods, target, pga, time_step, shape, taper, counted, settings)
+        duration = (shape.size - 1) * time_step
+        terms = correction_terms(duration, high, settings.baseline_reach)
+        baseline = BaselineCorrection.of(shape, time_step, terms)
+        return cls(periods, target, pga, time_step, shape, taper, counted, settings, baseline)
 
     @property
     def omegas(self) -> np.ndarray:
@@ -413,7 +419,7 @@ class _Problem:
 
     def finish(self, acceleration: np.ndarray) -> np.ndarray:
         """Baseline correction, then exact scaling to the target PGA (both linear)."""
-        corrected = correct_baseline(acceleration, self.time_step, self.shape)
+        corrected = self.baseline(acceleration)
         return corrected * (self.pga / np.max(np.abs(corrected)))
 
     def measure(self, acceleration: np.ndarray):
@@ -497,14 +503,11 @@ def _compute_correction(problem: _Problem, acceleration, crests, delay, weight) 
         ),
         build_peak_patterns(acceleration, samples, half_width),
     )
-    basis = build_baseline_basis(problem.shape)
+    basis = build_baseline_basis(problem.baseline.functions)
     arguments = (row_times, omegas, settings.damping, time_step)
     influence = compute_influence(*arguments, *patterns.arrays, samples)
-    weights = final_motion_weights(acceleration.size, time_step)
-    coupling = np.linalg.solve(
-        compute_pattern_motion(*basis.arrays, weights),
-        compute_pattern_motion(*patterns.arrays, weights),
-    )
+    weights = problem.baseline.weights
+    coupling = problem.baseline.coefficients(compute_pattern_motion(*patterns.arrays, weights))
     influence -= compute_influence(*arguments, *basis.arrays, samples) @ coupling
     signed_psa = omegas**2 * current
     held = np.minimum(np.abs(acceleration[samples]), pga)

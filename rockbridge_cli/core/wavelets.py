@@ -11,26 +11,27 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._jit import jit
-from .baseline import baseline_values
 from .spectra import find_peak_responses
 
 #: Local peaks of |a| within this fraction of the PGA are held in place while matching [-].
 PEAK_MARGIN = 0.05
 
 
-def build_baseline_basis(shape: np.ndarray) -> Patterns:
-    """The two functions of `correct_baseline` as full-length patterns."""
-    return Patterns(np.zeros(2, np.int64), np.full(2, shape.size, np.int64), baseline_values(shape))
+def build_baseline_basis(functions: np.ndarray) -> Patterns:
+    """The functions of a `baseline.BaselineCorrection` as full-length patterns."""
+    count, length = functions.shape
+    return Patterns(np.zeros(count, np.int64), np.full(count, length, np.int64), functions)
 
 
 @jit
 def compute_pattern_motion(starts, lengths, values, weights):
-    """Final velocity and displacement that each pattern adds (2 × patterns)."""
-    motion = np.zeros((2, starts.size))
-    for j in range(starts.size):
-        for k in range(lengths[j]):
-            motion[0, j] += weights[0, starts[j] + k] * values[j, k]
-            motion[1, j] += weights[1, starts[j] + k] * values[j, k]
+    """``weights @ pattern`` for each pattern: what the baseline correction depends on
+    (`baseline.BaselineCorrection.weights`; rows × patterns)."""
+    motion = np.zeros((weights.shape[0], starts.size))
+    for row in range(weights.shape[0]):
+        for j in range(starts.size):
+            for k in range(lengths[j]):
+                motion[row, j] += weights[row, starts[j] + k] * values[j, k]
     return motion
 
 

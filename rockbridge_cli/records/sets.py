@@ -21,6 +21,12 @@ from ..errors import InputError
 from ..paths import writable
 from .files import MANIFEST, Record, read_manifest, read_record, write_record
 
+GROUND_DISPLACEMENT_AIM = 2.0
+"""The peak ground displacement a matched record should stay within, as a multiple of EN 1998-1's
+d_g (§3.2.2.4): rockbridge's aim, not a rule of the code; the compliance report states it. The
+least-displacement baseline correction (`baseline.BaselineCorrection`) keeps the bundled sets
+at 0.9–1.9 d_g."""
+
 
 @dataclass(frozen=True)
 class RecordSummary:
