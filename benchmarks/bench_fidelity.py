@@ -37,6 +37,7 @@ VARIANTS = [  # (label, preset, knob overrides)
     ("default rtol=1e-9", "default", {"rtol": 1e-9, "atol": 1e-12}),
     ("default", "default", {}),
     ("default, exact kinematics", "default", {"kinematics": "exact"}),
+    ("default rtol=1e-7", "default", {"rtol": 1e-7, "atol": 1e-10}),
     ("default rtol=1e-6", "default", {"rtol": 1e-6, "atol": 1e-9}),
     ("default event_tol=1e-11", "default", {"event_tol": 1e-11}),
     ("default event_tol=1e-9", "default", {"event_tol": 1e-9}),

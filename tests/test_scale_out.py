@@ -52,9 +52,9 @@ def test_the_paper_s_demand_capacity_ratio(paper):
     """docs/model.md §8: the paper's 46 / 44.5 / 42 % at each bridge's worst record is the
     backfill's ratio. The worst of ten chaotic responses is an extreme, so the comparison is of
     the ensemble: every bridge's gaps close and its backfill holds (0 < ratio < 1), the mean over
-    the records lies within 10 points of the paper's worst-record values from below (38.0 /
-    36.8 / 38.1 % measured), and the worst record within 10 points of them (43.7 / 43.0 /
-    50.6 %)."""
+    the records lies within 10 points of the paper's worst-record values from below (38.7 /
+    38.1 / 36.8 % measured), and the worst record within 10 points of them (42.0 / 44.0 /
+    47.8 %), inside the 38–50 % that issue 9 asks of the paper's 42–46 %."""
     study, _ = paper
     peaks = read_peaks(study.output)
     ratios = peaks.groupby("bridge", sort=False)["dcr_backfill"]
@@ -62,6 +62,7 @@ def test_the_paper_s_demand_capacity_ratio(paper):
     assert (peaks["dcr_backfill"] > 0).all() and (peaks["dcr_backfill"] < 1).all()
     for mean, worst, paper in zip(ratios.mean(), ratios.max(), (0.46, 0.445, 0.42), strict=True):
         assert paper - 0.10 <= mean <= paper and abs(worst - paper) <= 0.10
+        assert 0.38 <= worst <= 0.50
     assert (peaks["n_impacts_significant"] <= peaks["n_impacts"]).all()
 
 

@@ -217,7 +217,7 @@ def test_config_hash_follows_the_inputs_not_their_place(tmp_path):
     first = load_study(write_study(tmp_path / "a"))
     moved = load_study(write_study(tmp_path / "b"))  # same content, another folder
     assert moved.config_hash == first.config_hash
-    changed = load_study(write_study(tmp_path / "c", extra="fidelity: {rtol: 1.0e-8}\n"))
+    changed = load_study(write_study(tmp_path / "c", extra="fidelity: {rtol: 1.0e-9}\n"))
     assert changed.config_hash != first.config_hash
     fewer = load_study(write_study(tmp_path / "d", extra="output: {histories: none}\n"))
     assert fewer.config_hash != first.config_hash

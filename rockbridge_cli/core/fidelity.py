@@ -3,9 +3,10 @@
 ``reference``  the yardstick: adaptive Dormand–Prince 5(4) at rtol 1e-12, events located to
                1e-13 s, every turning point located, exact kinematics.
 ``default``    the best trade measured by ``benchmarks/bench_fidelity.py``: the same scheme at
-               rtol 1e-7, events to 1e-13 s, tabulated kinematics (`tables`: piecewise cubics
-               within 1e-12 of the exact linkage); Fig. 9 peaks within 1e-8 of ``reference``
-               (events located to 1e-11 s left 3e-7: near-grazing impacts amplify their error).
+               rtol 1e-8, events to 1e-13 s, tabulated kinematics (`tables`: piecewise cubics
+               within 1e-13 of the exact linkage); Fig. 9 peaks within 3e-9 of ``reference``
+               (rtol 1e-7 left one analysis 2e-8 off for 7 % less time; events located to
+               1e-11 s left 3e-8: near-grazing impacts amplify their error).
 ``fast``       for screening large studies: rtol 1e-5, events to 1e-7 s, peaks at the steps'
                ends (no turning points located), tabulated kinematics.
 ``paper``      the paper's own scheme: fixed-step Runge–Kutta (order 4) at 1e-3 s, events refined
@@ -33,7 +34,7 @@ PRESETS: dict[str, dict[str, Any]] = {
         "max_step": 0.01, "event_tol": 1e-13, "bisection": False, "turning_points": True,
     },
     "default": {
-        "kinematics": "tabulated", "scheme": "dopri5", "step": 1e-3, "rtol": 1e-7, "atol": 1e-10,
+        "kinematics": "tabulated", "scheme": "dopri5", "step": 1e-3, "rtol": 1e-8, "atol": 1e-11,
         "max_step": 0.01, "event_tol": 1e-13, "bisection": False, "turning_points": True,
     },
     "fast": {
