@@ -114,6 +114,7 @@ def test_regenerating_the_paper_set_reproduces_the_bundled_files(tmp_path):
     # EN 1998-1 §3.2.2.4, type 1 ground C (S = 1.15, T_C = 0.6 s, T_D = 2 s), a_g = 0.6 g:
     # d_g = 0.025 · 5.886 · 1.15 · 0.6 · 2.0 = 0.2031 m
     assert "d_g = 0.025*a_g*S*T_C*T_D = 20.3 cm" in result.output
+    assert "rockbridge's aim: every record's PGD within 2 d_g -> yes" in result.output
     assert record_set_differences(tmp_path / "set", BUNDLED) == []
     environment = json.loads((tmp_path / "set" / MANIFEST).read_text())["environment"]
     assert environment == {

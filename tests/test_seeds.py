@@ -189,3 +189,4 @@ def test_the_bundled_seed_example_runs_as_readme_says(tmp_path):
     result = CliRunner().invoke(main, ["generate-records", str(config), "--out", str(tmp_path)])
     assert result.exit_code == 0, result.output
     assert len(read_record_set(tmp_path)) == 10 and "overall: compliant" in result.output
+    assert "their PGD is reported, not bounded" in result.output  # a seed's own long periods

@@ -5,8 +5,8 @@
 ``default``    the best trade measured by ``benchmarks/bench_fidelity.py``: the same scheme at
                rtol 1e-8, events to 1e-13 s, tabulated kinematics (`tables`: piecewise cubics
                within 1e-13 of the exact linkage); Fig. 9 peaks within 3e-9 of ``reference``
-               (rtol 1e-7 left one analysis 2e-8 off for 7 % less time; events located to
-               1e-11 s left 3e-8: near-grazing impacts amplify their error).
+               (rtol 1e-7 left one analysis 2e-8 off for 8 % less time; events located to
+               1e-11 s left 2.4e-8: near-grazing impacts amplify their error).
 ``fast``       for screening large studies: rtol 1e-5, events to 1e-7 s, peaks at the steps'
                ends (no turning points located), tabulated kinematics.
 ``paper``      the paper's own scheme: fixed-step Runge–Kutta (order 4) at 1e-3 s, events refined

@@ -247,7 +247,7 @@ def generate_matched_record(
     shape = compute_envelope(times, envelope)
     taper = np.where(times < envelope.rise, shape, 1.0)
     problem = _Problem.of(
-        periods, target, peak_acceleration, time_step, shape, taper, settings, band
+        periods, target, peak_acceleration, time_step, shape, taper, settings, band, bounded=True
     )
     periods, target = problem.periods, problem.target
     best = None
@@ -278,8 +278,10 @@ def match_seed(
     The Fourier amplitudes of the seed are first scaled by target / computed spectrum, its phases
     kept (step 2 of the generator); then the time-domain wavelets of step 3. Both are tapered
     where the seed's own envelope (`seed_envelope`) is below `QUIET`, so that its quiet lead-in
-    and tail stay quiet; the baseline correction of step 4 follows that envelope too. One
-    attempt: there are no phases to draw again.
+    and tail stay quiet; the baseline correction of step 4 follows that envelope too, and only
+    zeroes the final velocity and displacement: the long-period content of a recorded motion is
+    its own (its processing chose its high-pass), so its ground displacement is reported, not
+    bounded. One attempt: there are no phases to draw again.
 
     Parameters
     ----------
@@ -296,7 +298,7 @@ def match_seed(
     shape = seed_envelope(seed, time_step)
     taper = np.minimum(1.0, shape / QUIET)
     problem = _Problem.of(periods, target, peak_acceleration, time_step, shape, taper, settings,
-                          band)  # fmt: skip
+                          band, bounded=False)  # fmt: skip
     start = _scale_seed(problem, seed)
     acceleration, iterations, misfit = _match_in_time_domain(problem, start)
     return MatchedRecord(acceleration, time_step, 1, iterations, misfit)
@@ -398,9 +400,11 @@ class _Problem:
     baseline: BaselineCorrection
 
     @classmethod
-    def of(cls, periods, target, pga, time_step, shape, taper, settings, band) -> _Problem:
+    def of(cls, periods, target, pga, time_step, shape, taper, settings, band, bounded) -> _Problem:
         """The checked problem: ``band`` (default: all the periods) says which periods count in
-        the misfit compared with the tolerance."""
+        the misfit compared with the tolerance; ``bounded``: the baseline correction also keeps
+        the ground displacement least (synthetic records), else it only zeroes the final
+        motion (seeds)."""
         periods = np.asarray(periods, dtype=float)
         target = np.asarray(target, dtype=float)
         _check_matching_inputs(periods, target, pga, time_step)
@@ -409,7 +413,7 @@ class _Problem:
         if not counted.any():
             raise ValueError(f"no matching period lies in the band {band!r}")
         duration = (shape.size - 1) * time_step
-        terms = correction_terms(duration, high, settings.baseline_reach)
+        terms = correction_terms(duration, high, settings.baseline_reach) if bounded else 2
         baseline = BaselineCorrection.of(shape, time_step, terms)
         return cls(periods, target, pga, time_step, shape, taper, counted, settings, baseline)
 
