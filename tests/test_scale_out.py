@@ -278,6 +278,34 @@ def test_a_dask_worker_killed_mid_run(paper, cluster, tmp_path):
     assert without(contents(output), "host") == without(expected, "host")
 
 
+@pytest.mark.skipif(os.name != "posix", reason="kills the worker processes")
+def test_a_dask_run_sends_the_grid_again_when_every_worker_holding_it_dies(
+    paper, cluster, tmp_path
+):
+    """The grid is scattered data: when every worker holding it dies, Dask cannot recompute it
+    and cancels the batches that need it; the run sends it again with them, and the file is the
+    same (the nannies restart the workers)."""
+    from distributed import Client
+
+    study, expected = paper
+    with Client(cluster.scheduler_address) as client:
+        victims = list(client.run(os.getpid).values())
+    killed = []
+
+    def kill_all(finished, done, total):
+        if not killed:
+            for victim in victims:
+                os.kill(victim, signal.SIGKILL)
+            killed.append(done)
+
+    output = tmp_path / "all-killed.h5"
+    report = run_study(
+        load_study(PAPER, output=output), scheduler=cluster.scheduler_address, progress=kill_all
+    )
+    assert killed and report.ran == 30
+    assert without(contents(output), "host") == without(expected, "host")
+
+
 def test_without_dask_the_option_says_how_to_install_it(tmp_path, monkeypatch):
     import builtins
 

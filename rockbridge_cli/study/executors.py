@@ -49,6 +49,9 @@ def batch_size(cells: int, workers: int) -> int:
     return max(1, min(MAX_BATCH, math.ceil(cells / (workers * BATCHES_PER_WORKER))))
 
 
+RESENDS = 8
+"""Batches a Dask run sends again after the grid was lost with a worker, before it gives up."""
+
 Run = Callable[[Sequence[Cell]], Iterator[list[Outcome]]]
 """Runs cells of the grid and yields their outcomes, a batch at a time, as the batches finish."""
 
@@ -175,7 +178,9 @@ def dask_workers(grid: Grid, scheduler: str) -> Iterator[Workers]:
 
     The grid is sent to every worker once (``scatter``); batches are submitted as earlier ones
     come back, at most two per worker thread in flight. Dask runs a batch again elsewhere if its
-    worker dies, and a batch gives the same outcomes wherever it runs.
+    worker dies, and a batch gives the same outcomes wherever it runs. A batch that Dask cancels
+    because the grid died with a worker (the scattered data has no task to recompute it) is sent
+    again with the grid, up to `RESENDS` times a run.
 
     Raises
     ------
@@ -192,23 +197,41 @@ def dask_workers(grid: Grid, scheduler: str) -> Iterator[Workers]:
     except (OSError, TimeoutError) as exc:
         raise InputError(scheduler, [("", f"cannot reach the Dask scheduler ({exc})")]) from None
     shared = None
+    resends = 0
 
     def run(cells: Sequence[Cell]) -> Iterator[list[Outcome]]:
-        nonlocal shared
+        nonlocal shared, resends
         if not cells:
             return
         if shared is None:
-            shared = client.scatter(grid, broadcast=True)
+            shared = client.scatter(grid, broadcast=True, hash=False)
         threads = max(sum(client.nthreads().values()), 1)
         batches = _batches(cells, threads)
         running = as_completed()
+        sent: dict[Any, list[Cell]] = {}
+
+        def submit(batch: list[Cell]) -> None:
+            future = client.submit(run_cells, shared, batch, pure=False)
+            sent[future] = batch
+            running.add(future)
+
         try:
             for batch in itertools.islice(batches, 2 * threads):
-                running.add(client.submit(run_cells, shared, batch, pure=False))
+                submit(batch)
             for future in running:
-                yield future.result()
+                batch = sent.pop(future)
+                try:
+                    outcomes = future.result()
+                except CancelledError:
+                    if resends == RESENDS:
+                        raise
+                    resends += 1
+                    shared = client.scatter(grid, broadcast=True, hash=False)
+                    submit(batch)
+                    continue
+                yield outcomes
                 for batch in itertools.islice(batches, 1):
-                    running.add(client.submit(run_cells, shared, batch, pure=False))
+                    submit(batch)
         finally:  # interrupted: nothing more is needed from the cluster
             client.cancel(list(running.futures))
 
