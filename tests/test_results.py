@@ -244,19 +244,20 @@ def test_packed_result_round_trips():
     result = AnalysisResult(
         "b", "r", values, time, {"u_deck": rng.normal(size=5)}, {**events, "kind": kinds}
     )
-    packed = Packed.unpack("b", "r", result.pack())
+    packed = result.pack()
+    assert isinstance(packed, Packed)
     unpacked = packed.values
     assert unpacked.keys() == values.keys()
     for name, value in values.items():
         assert unpacked[name] == value or (value != value and unpacked[name] != unpacked[name])
         assert type(unpacked[name]) is type(value), name
-    assert [EVENT_NAMES[code] for code in packed.events["kind"]] == list(kinds)
+    assert [EVENT_NAMES[code] for code in packed.event_rows["kind"]] == list(kinds)
     for name, values in events.items():
-        np.testing.assert_array_equal(packed.events[name], values)
-    np.testing.assert_array_equal(packed.histories["time"].samples(), time)
-    np.testing.assert_array_equal(packed.histories["u_deck"].samples(), result.histories["u_deck"])
+        np.testing.assert_array_equal(packed.event_rows[name], values)
+    np.testing.assert_array_equal(packed.chunks["time"].samples(), time)
+    np.testing.assert_array_equal(packed.chunks["u_deck"].samples(), result.histories["u_deck"])
     # an analysis that could not run: no events, no histories; a NUL, which HDF5 strings cannot
     # hold, becomes U+FFFD
-    failed = Packed.unpack("b", "r", AnalysisResult.failed("b", "r", "a\0b").pack())
+    failed = AnalysisResult.failed("b", "r", "a\0b").pack()
     assert failed.values["message"] == "a\ufffdb"
-    assert failed.events.size == 0 and not failed.histories
+    assert failed.event_rows.size == 0 and not failed.chunks

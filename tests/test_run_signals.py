@@ -22,6 +22,7 @@ from studies import contents, write_study
 from rockbridge_cli.config.study import load_study
 from rockbridge_cli.errors import InputError
 from rockbridge_cli.results import read_peaks
+from rockbridge_cli.study.journal import Journal
 from rockbridge_cli.study.run import run_study
 
 pytestmark = pytest.mark.skipif(os.name != "posix", reason="POSIX signals")
@@ -173,3 +174,23 @@ def test_a_full_disk_is_one_line_and_the_finished_analyses_stay(tmp_path, monkey
     assert {k: v for k, v in found.items() if k != "/"} == {
         k: v for k, v in expected.items() if k != "/"
     }
+
+
+def test_a_sigkill_keeps_what_the_workers_journalled(tmp_path, study):
+    """After a SIGKILL of a two-worker run (the workers die with it), the journal holds the
+    analyses that finished (the workers commit their own batches), and the next run resumes from
+    it to the file an uninterrupted run writes."""
+    path, expected = study
+    child, started = start_run(tmp_path, path, workers=2)
+    # a third analysis starts once a worker has committed its first (batches of one)
+    wait_for(lambda: len(started.read_text().split()) >= 3 if started.exists() else False)
+    child.send_signal(signal.SIGKILL)
+    child.wait(timeout=120)
+    assert not (tmp_path / "out.h5").exists()
+    journal = Journal(tmp_path / "out.h5", load_study(path).config_hash)
+    journalled = len(journal)
+    journal.close()
+    assert 1 <= journalled < 4
+    report = run_study(load_study(path), workers=1)
+    assert report.resumed == journalled and report.ran == 4 - journalled
+    assert contents(tmp_path / "out.h5") == expected

@@ -18,10 +18,11 @@ from rockbridge_cli import results
 from rockbridge_cli.config.study import load_study
 from rockbridge_cli.core.analysis import analyze
 from rockbridge_cli.errors import InputError
-from rockbridge_cli.limit_states import Verdict
 from rockbridge_cli.results import AnalysisResult, read_history, read_peaks
+from rockbridge_cli.study.grid import Cell
 from rockbridge_cli.study.journal import Journal, journal_path
 from rockbridge_cli.study.run import run_study
+from rockbridge_cli.study.work import Finished, Outcome
 
 
 @pytest.fixture(autouse=True)
@@ -233,10 +234,9 @@ def test_a_journal_of_another_study_is_refused(tmp_path):
     study = load_study(write_study(tmp_path))
     study.output.parent.mkdir(parents=True)
     journal = Journal(study.output, "another study's hash")
-    failed = Verdict("error", "", float("nan"))
-    journal.add(
-        [(0, "studied-hbar1.00", "R1", failed, AnalysisResult.failed("b", "r", "x").pack())]
-    )
+    nan = float("nan")
+    failed = Finished("studied-hbar1.00", "R1", "error", "x", nan, "", nan)
+    journal.add([(Outcome(Cell(0, 0, 0), failed), AnalysisResult.failed("b", "r", "x").pack())])
     journal.close()
     with pytest.raises(InputError, match="journal.db: holds analyses of a different study"):
         run_study(study, workers=1)
@@ -326,15 +326,35 @@ def test_what_is_called_runs_on_a_worker_once_the_pool_runs(tmp_path):
     from rockbridge_cli.study.executors import local_workers
     from rockbridge_cli.study.grid import Grid
 
-    grid = Grid.of(load_study(write_study(tmp_path)))
-    with local_workers(grid, 2) as workers:
+    study = load_study(write_study(tmp_path))
+    grid = Grid.of(study)
+    study.output.parent.mkdir(parents=True)
+    journal = Journal(study.output, study.config_hash)
+    with local_workers(grid, journal, 2) as workers:
         before = workers.call(os.getpid)
         outcomes = [o for batch in workers.run(grid.cells) for o in batch]
         after = workers.call(os.getpid)
         assert len(outcomes) == len(grid.cells)
         assert before() != os.getpid() and after() != os.getpid()
     for count, cells in ((1, grid.cells), (2, [])):
-        with local_workers(grid, count) as workers:
+        with local_workers(grid, journal, count) as workers:
             here = workers.call(os.getpid)
             list(workers.run(cells))
             assert here() == os.getpid()
+
+
+@pytest.mark.parametrize("cells, workers", [(10_000, 2), (10_000, 16), (37, 2), (3, 4), (1, 1)])
+def test_batches_shrink_as_the_run_nears_its_end(cells, workers):
+    """Guided scheduling: every cell once, in order; no batch above `MAX_BATCH` or above a
+    `BATCHES_PER_WORKER`-th of what is left per worker, so the last ones hold a single cell."""
+    from rockbridge_cli.study.executors import BATCHES_PER_WORKER, MAX_BATCH, _batches
+
+    grid = [Cell(index, 0, index) for index in range(cells)]
+    batches = list(_batches(grid, workers))
+    assert [cell for batch in batches for cell in batch] == grid
+    left = cells
+    for batch in batches:
+        assert 1 <= len(batch) <= min(MAX_BATCH, -(-left // (workers * BATCHES_PER_WORKER)))
+        left -= len(batch)
+    sizes = [len(batch) for batch in batches]
+    assert sizes == sorted(sizes, reverse=True) and sizes[-1] == 1

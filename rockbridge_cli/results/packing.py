@@ -1,14 +1,14 @@
-"""One analysis's results, and the compact bytes they travel and wait in.
+"""One analysis's results, and the compact form they travel and wait in.
 
-A worker packs its result (`AnalysisResult.pack`); the bytes go to the parent process and into
-the journal unchanged, and the results file is written from them (`Packed`). They are laid out the
-way the results file's tables take them, so that reading them back costs the parent about a
-microsecond: the numeric values as one float64 vector in the order of `NUMBERS` (the row of the
-peak table), the events as rows of `EVENT_RECORD` (the event table's columns side by side), the
-few texts NUL-separated. The histories are packed as HDF5 chunks already: byte-shuffled and
-deflated exactly as the results file's filters (`layout.COMPRESSION`) would store them, so the
-workers compress in parallel and the parent copies the chunks into the file without touching
-the samples.
+A worker packs its result (`AnalysisResult.pack`); the packed parts go into the journal unchanged,
+and the results file is written from them (`results.writing.ResultsWriter`), many analyses at a
+time. They are laid out the way the results file's tables take them, so that the parent process
+joins the parts of a few thousand analyses and appends them without looking at any one of them:
+the numeric values as one float64 vector in the order of `NUMBERS` (a row of the peak table), the
+events as rows of `EVENT_RECORD` (the event table's columns side by side), the texts
+NUL-separated. The histories are packed as HDF5 chunks already: byte-shuffled and deflated exactly
+as the results file's filters (`layout.COMPRESSION`) would store them, so the workers compress in
+parallel and the parent copies the chunks into the file without touching the samples.
 """
 
 from __future__ import annotations
@@ -46,9 +46,8 @@ EVENT_RECORD = np.dtype([(name, "i1" if name == "kind" else "<f8") for name in E
 """One event as a packed result stores it: the columns of `EVENT_COLUMNS`, float64 but the kind,
 an int8 code of `quantities.EVENT_NAMES` (as the results file stores it)."""
 
-_PREFIX = struct.Struct("<III")
-"""What starts a packed result: the lengths of its texts and of its histories' JSON header
-[bytes], and its event count."""
+_HEADER = struct.Struct("<I")
+"""What starts packed histories: the length of their JSON header [bytes]."""
 
 _SAMPLE = np.dtype("<f8")
 """Every history and every numeric event column is stored as little-endian float64."""
@@ -132,74 +131,72 @@ class AnalysisResult:
         events = {name: np.zeros(0) for name in EVENT_COLUMNS}
         return cls(bridge, record, values, events={**events, "kind": np.zeros(0, dtype=str)})
 
-    def pack(self) -> bytes:
-        """The result as bytes: a prefix of lengths, the texts of `TEXTS` (UTF-8, NUL-separated:
-        a NUL, which HDF5 strings cannot hold, becomes U+FFFD), the values of `NUMBERS` as
-        float64, the events as `EVENT_RECORD` rows, then, if it keeps histories, a JSON header
-        of their names and sizes and the histories (``time`` first) as `Chunk` s."""
-        texts = "\0".join(self.values[name].replace("\0", "\ufffd") for name in TEXTS).encode()
+    def pack(self) -> Packed:
+        """The result in its packed form (`Packed`)."""
+        texts = "\0".join(self.values[name].replace("\0", "\ufffd") for name in TEXTS)
         numbers = np.array([self.values[name] for name in NUMBERS], dtype=_SAMPLE)
         events = np.empty(len(self.events["kind"]), EVENT_RECORD)
         for name in EVENT_COLUMNS:
             events[name] = self.events[name] if name != "kind" else kind_codes(self.events[name])
         chunks = {"time": Chunk.of(self.time)} if self.histories else {}
         chunks.update((name, Chunk.of(values)) for name, values in self.histories.items())
-        sizes = [[name, chunk.size, len(chunk.data)] for name, chunk in chunks.items()]
-        header = json.dumps(sizes).encode() if chunks else b""
-        parts = [_PREFIX.pack(len(texts), len(header), events.size), texts, numbers.tobytes()]
-        parts += [events.tobytes(), header, *(chunk.data for chunk in chunks.values())]
-        return b"".join(parts)
+        histories = b""
+        if chunks:
+            header = json.dumps([[name, chunk.size, len(chunk.data)]
+                                 for name, chunk in chunks.items()]).encode()  # fmt: skip
+            histories = b"".join(
+                [_HEADER.pack(len(header)), header, *(chunk.data for chunk in chunks.values())]
+            )
+        return Packed(self.bridge, self.record, texts, numbers.tobytes(), events.tobytes(),
+                      histories)  # fmt: skip
 
 
-@dataclass(frozen=True)
-class Packed:
-    """A packed result read back: what the results file is written from.
+class Packed(NamedTuple):
+    """One analysis's results packed: what travels from a worker, waits in the journal and is
+    written into the results file.
 
     Attributes
     ----------
     bridge, record : ids
-    numbers : the values of the numeric columns, in the order of `NUMBERS` [SI]
-    texts : the values of the text columns of `TEXTS`
-    events : one `EVENT_RECORD` row per event (a column by name: ``events["time"]``)
-    histories : name → `Chunk`, ``time`` first; empty when the study keeps no histories
+    texts : the values of the text columns of `TEXTS`, NUL-separated (a NUL in a value, which
+        HDF5 strings cannot hold, becomes U+FFFD)
+    numbers : the values of the numeric columns as float64, in the order of `NUMBERS` [SI]
+    events : one `EVENT_RECORD` row per event
+    histories : empty when the study keeps none; else a length-prefixed JSON header of their
+        names, sizes and lengths, then the histories (``time`` first) as `Chunk` s
     """
 
     bridge: str
     record: str
-    numbers: np.ndarray
-    texts: tuple[str, ...]
-    events: np.ndarray
-    histories: dict[str, Chunk]
+    texts: str
+    numbers: bytes
+    events: bytes
+    histories: bytes
 
     @property
     def values(self) -> dict[str, Any]:
         """The scalar columns of the peak table by name (counts as int) [SI]."""
         numbers = {
             name: int(value) if name in COUNT_COLUMNS else float(value)
-            for name, value in zip(NUMBERS, self.numbers.tolist(), strict=True)
-        }
-        return {**numbers, **dict(zip(TEXTS, self.texts, strict=True))}
+            for name, value in zip(NUMBERS, np.frombuffer(self.numbers, _SAMPLE).tolist(),
+                                   strict=True)
+        }  # fmt: skip
+        return {**numbers, **dict(zip(TEXTS, self.texts.split("\0"), strict=True))}
 
-    @classmethod
-    def unpack(cls, bridge: str, record: str, blob: bytes) -> Packed:
-        """Read the bytes of `AnalysisResult.pack` (the arrays are views of ``blob``)."""
-        text_length, header_length, count = _PREFIX.unpack_from(blob)
-        start = _PREFIX.size + text_length
-        texts = tuple(blob[_PREFIX.size : start].decode().split("\0"))
-        numbers = np.frombuffer(blob, _SAMPLE, len(NUMBERS), start)
-        start += numbers.nbytes
-        events = np.frombuffer(blob, EVENT_RECORD, count, start)
-        start += events.nbytes
-        histories = {}
-        if header_length:
-            header = json.loads(blob[start : start + header_length])
-            start += header_length
-            for name, size, length in header:
-                histories[name] = Chunk(size, blob[start : start + length])
-                start += length
-        return cls(bridge, record, numbers, texts, events, histories)
+    @property
+    def event_rows(self) -> np.ndarray:
+        """The events as `EVENT_RECORD` rows (a column by name: ``event_rows["time"]``)."""
+        return np.frombuffer(self.events, EVENT_RECORD)
 
-    @classmethod
-    def of(cls, result: AnalysisResult) -> Packed:
-        """A result as its packed form (what the results file is written from)."""
-        return cls.unpack(result.bridge, result.record, result.pack())
+    @property
+    def chunks(self) -> dict[str, Chunk]:
+        """The histories by name, ``time`` first; empty when the study keeps none."""
+        if not self.histories:
+            return {}
+        (length,) = _HEADER.unpack_from(self.histories)
+        start = _HEADER.size + length
+        chunks = {}
+        for name, size, stored in json.loads(self.histories[_HEADER.size : start]):
+            chunks[name] = Chunk(size, self.histories[start : start + stored])
+            start += stored
+        return chunks

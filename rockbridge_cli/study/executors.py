@@ -1,13 +1,15 @@
 """Where the cells run: in this process, in a pool of worker processes on this machine, or on a Dask
 distributed cluster.
 
-Workers receive the study's `Grid` once, when they start, and then batches of cells; they send back
-packed results (`work.Outcome`), so that what the parent does per analysis is small next to the
-analysis itself. They also compute what else a run asks of the compiled kernels (the bridges'
-summaries for the results file), so that the parent need not load them. The number of batches in
-flight is bounded, which keeps the parent's memory flat in the number of analyses. Every executor
-yields the same outcomes; only their order and grouping differ, and the journal and the results
-file put them back in the study's order.
+Workers receive the study's `Grid` once, when they start, and then batches of cells. Local worker
+processes commit their results to the journal themselves and send back only the outcomes
+(`work.Outcome`), so that what the parent does per analysis is small next to the analysis
+itself; the workers of a Dask cluster, which may not reach the journal's disk, send the packed
+results too, and the parent journals them. Workers also compute what else a run asks of the
+compiled kernels (the bridges' summaries for the results file), so that the parent need not load
+them. The number of batches in flight is bounded, which keeps the parent's memory flat in the
+number of analyses. Every executor yields the same outcomes, journalled; only their order and
+grouping differ, and the journal and the results file put them back in the study's order.
 """
 
 from __future__ import annotations
@@ -23,19 +25,23 @@ from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, CancelledError, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
+from pathlib import Path
 from typing import Any, NamedTuple
 
 from ..errors import InputError
+from ..results.packing import Packed
 from .grid import Cell, Grid
+from .journal import Journal
 from .work import Outcome, run_cells
 
-MAX_BATCH = 32
-"""Most cells sent to a worker at once. Batches of a few tens of analyses make the cost of
-sending them (≈ 0.2 ms a batch) negligible, and a SIGKILL of the run loses at most the batches
-in flight."""
+MAX_BATCH = 128
+"""Most cells sent to a worker at once. What the parent does per batch (≈ 0.2 ms: send it, wake
+up, receive its outcomes) is then a microsecond or two an analysis, and a SIGKILL of the run
+loses at most the batches in flight (a few seconds of work)."""
 
-BATCHES_PER_WORKER = 8
-"""Smaller batches when there are few cells, so that the workers finish together."""
+BATCHES_PER_WORKER = 4
+"""A batch holds at most this fraction of the cells left per worker: batches shrink as the run
+nears its end (guided scheduling), so that the workers finish together."""
 
 _PR_SET_PDEATHSIG = 1
 """Linux prctl(2) option: the signal a process gets when its parent dies."""
@@ -43,9 +49,12 @@ _PR_SET_PDEATHSIG = 1
 _grid: Grid | None = None
 """The grid of the study a worker process serves (set when it starts)."""
 
+_journal: Journal | None = None
+"""The journal a worker process commits to (opened when it starts)."""
+
 
 def batch_size(cells: int, workers: int) -> int:
-    """Cells per batch for ``cells`` analyses on ``workers`` processes."""
+    """Cells in the next batch when ``cells`` analyses are left for ``workers`` processes."""
     return max(1, min(MAX_BATCH, math.ceil(cells / (workers * BATCHES_PER_WORKER))))
 
 
@@ -53,7 +62,8 @@ RESENDS = 8
 """Batches a Dask run sends again after the grid was lost with a worker, before it gives up."""
 
 Run = Callable[[Sequence[Cell]], Iterator[list[Outcome]]]
-"""Runs cells of the grid and yields their outcomes, a batch at a time, as the batches finish."""
+"""Runs cells of the grid and yields their outcomes, a batch at a time, as the batches finish and
+are journalled."""
 
 Call = Callable[..., Callable[[], Any]]
 """``call(function, *args)``: computes ``function(*args)`` on a worker and returns what collects
@@ -70,11 +80,16 @@ class Workers(NamedTuple):
 
 
 @contextmanager
-def executor(grid: Grid, workers: int, scheduler: str | None = None) -> Iterator[Workers]:
-    """Workers for the cells of ``grid``, for as many calls as a run needs (an IDA's rounds):
-    local worker processes (`local_workers`) or a Dask cluster (`dask_workers`)."""
+def executor(
+    grid: Grid, journal: Journal, workers: int, scheduler: str | None = None
+) -> Iterator[Workers]:
+    """Workers for the cells of ``grid``, journalling into ``journal``, for as many calls as a
+    run needs (an IDA's rounds): local worker processes (`local_workers`) or a Dask cluster
+    (`dask_workers`)."""
     with (
-        local_workers(grid, workers) if scheduler is None else dask_workers(grid, scheduler)
+        local_workers(grid, journal, workers)
+        if scheduler is None
+        else dask_workers(grid, journal, scheduler)
     ) as offered:
         yield offered
 
@@ -95,14 +110,14 @@ def _collector(function: Callable, args: tuple, futures: list[Any]) -> Callable[
 
 
 @contextmanager
-def local_workers(grid: Grid, workers: int) -> Iterator[Workers]:
+def local_workers(grid: Grid, journal: Journal, workers: int) -> Iterator[Workers]:
     """Worker processes on this machine, started when cells first come.
 
     With one worker everything runs in this process. With more, this process only sends
     batches and receives outcomes: each worker loads the compiled kernels itself (from numba's
-    disk cache, ~0.3 s, in parallel), which keeps the parent's share of the work small. The pool
-    has ``workers`` processes, or as many as the first cells if fewer. What is asked of ``call``
-    goes to the pool, first, once it starts.
+    disk cache, ~0.3 s, in parallel) and journals its own batches, which keeps the parent's
+    share of the work small. The pool has ``workers`` processes, or as many as the first cells
+    if fewer. What is asked of ``call`` goes to the pool, first, once it starts.
     """
     pool: ProcessPoolExecutor | None = None
     count = 1
@@ -118,14 +133,18 @@ def local_workers(grid: Grid, workers: int) -> Iterator[Workers]:
     def run(cells: Sequence[Cell]) -> Iterator[list[Outcome]]:
         nonlocal pool, count
         if workers <= 1 or (pool is None and len(cells) <= 1):
-            yield from (run_cells(grid, batch) for batch in _batches(cells, 1))
+            yield from (_journalled(journal, run_cells(grid, batch)) for batch in
+                        _batches(cells, 1))  # fmt: skip
             return
         if pool is None:
             count = min(workers, len(cells))
             context = multiprocessing.get_context("fork") if hasattr(os, "fork") else None
-            pool = ProcessPoolExecutor(
-                count, mp_context=context, initializer=_start_worker, initargs=(grid, os.getpid())
-            )
+            with journal.released():  # no SQLite connection may cross a fork
+                pool = ProcessPoolExecutor(
+                    count, mp_context=context, initializer=_start_worker,
+                    initargs=(grid, journal.output, journal.config_hash, os.getpid()),
+                )  # fmt: skip
+                pool.submit(os.getpid)  # the first submission starts (forks) the workers
             for function, args, futures in calls:
                 futures.append(pool.submit(function, *args))
         in_flight: set[Future] = set()
@@ -150,15 +169,27 @@ def local_workers(grid: Grid, workers: int) -> Iterator[Workers]:
 
 
 def _batches(cells: Sequence[Cell], workers: int) -> Iterator[list[Cell]]:
-    size = batch_size(len(cells), workers)
-    return (list(cells[start : start + size]) for start in range(0, len(cells), size))
+    """The cells in batches of `batch_size`, in order."""
+    start = 0
+    while start < len(cells):
+        size = batch_size(len(cells) - start, workers)
+        yield list(cells[start : start + size])
+        start += size
 
 
-def _start_worker(grid: Grid, parent: int) -> None:
-    """Worker start-up: keep the study; leave Ctrl-C and SIGTERM to the parent, which stops the
-    pool and saves the results; die with the parent, however it dies."""
-    global _grid
+def _journalled(journal: Journal, analysed: list[tuple[Outcome, Packed]]) -> list[Outcome]:
+    """Commit a batch's results to the journal; its outcomes."""
+    journal.add(analysed)
+    return [outcome for outcome, _ in analysed]
+
+
+def _start_worker(grid: Grid, output: Path, config_hash: str, parent: int) -> None:
+    """Worker start-up: keep the study, open the journal (a connection of its own); leave
+    Ctrl-C and SIGTERM to the parent, which stops the pool and saves the results; die with the
+    parent, however it dies."""
+    global _grid, _journal
     _grid = grid
+    _journal = Journal(output, config_hash)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_IGN)
     if sys.platform.startswith("linux"):
@@ -168,19 +199,20 @@ def _start_worker(grid: Grid, parent: int) -> None:
 
 
 def _run_batch(cells: list[Cell]) -> list[Outcome]:
-    assert _grid is not None, "a worker runs cells only after _start_worker"
-    return run_cells(_grid, cells)
+    assert _grid is not None and _journal is not None, "a worker runs cells after _start_worker"
+    return _journalled(_journal, run_cells(_grid, cells))
 
 
 @contextmanager
-def dask_workers(grid: Grid, scheduler: str) -> Iterator[Workers]:
+def dask_workers(grid: Grid, journal: Journal, scheduler: str) -> Iterator[Workers]:
     """The workers of a Dask distributed cluster.
 
     The grid is sent to every worker once (``scatter``); batches are submitted as earlier ones
-    come back, at most two per worker thread in flight. Dask runs a batch again elsewhere if its
-    worker dies, and a batch gives the same outcomes wherever it runs. A batch that Dask cancels
-    because the grid died with a worker (the scattered data has no task to recompute it) is sent
-    again with the grid, up to `RESENDS` times a run.
+    come back with their packed results (which this process journals), at most two per worker
+    thread in flight. Dask runs a batch again elsewhere if its worker dies, and a batch gives the
+    same outcomes wherever it runs. A batch that Dask cancels because the grid died with a worker
+    (the scattered data has no task to recompute it) is sent again with the grid, up to
+    `RESENDS` times a run.
 
     Raises
     ------
@@ -221,7 +253,7 @@ def dask_workers(grid: Grid, scheduler: str) -> Iterator[Workers]:
             for future in running:
                 batch = sent.pop(future)
                 try:
-                    outcomes = future.result()
+                    analysed = future.result()
                 except CancelledError:
                     if resends == RESENDS:
                         raise
@@ -229,7 +261,7 @@ def dask_workers(grid: Grid, scheduler: str) -> Iterator[Workers]:
                     shared = client.scatter(grid, broadcast=True, hash=False)
                     submit(batch)
                     continue
-                yield outcomes
+                yield _journalled(journal, analysed)
                 for batch in itertools.islice(batches, 1):
                     submit(batch)
         finally:  # interrupted: nothing more is needed from the cluster

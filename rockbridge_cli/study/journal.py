@@ -1,8 +1,9 @@
 """The journal: the analyses finished since the results file was last written, crash-safe.
 
 An SQLite database (Python's standard library) next to the results file,
-``<output>.journal.db``, in write-ahead-log mode. The parent process commits what the workers
-send back, a batch at a time; a committed transaction survives any death of the process, SIGKILL
+``<output>.journal.db``, in write-ahead-log mode. Whoever runs a batch of analyses commits it —
+each local worker process for itself, or the parent for a Dask cluster's — and SQLite takes the
+writers one at a time; a committed transaction survives any death of the process, SIGKILL
 included (with ``synchronous=NORMAL`` only a power cut can undo the last ones, and it never
 leaves the database damaged). The journal is tied to one study by its config hash, so results of
 another study are never mixed in; it is removed once the results file holds its analyses.
@@ -12,18 +13,30 @@ from __future__ import annotations
 
 import sqlite3
 from collections.abc import Iterable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 from ..errors import InputError
 from ..limit_states import Verdict
+from ..results.packing import Packed
+from .work import Outcome
 
-_CHECKPOINT_PAGES = 16384
-"""Pages (4 KiB) the write-ahead log may hold before SQLite copies it into the database, the
-only step that waits for the disk (fsync): every 64 MiB instead of SQLite's default 4 MiB."""
+PAGE_BYTES = 65536
+"""SQLite's page size for the journal, its largest: an analysis (≈ 5 kB without histories) fits in
+one page instead of spilling over two, which makes reading the journal back twice as fast."""
 
-SCHEMA_VERSION = 4
+_CHECKPOINT_PAGES = 1024
+"""Pages the write-ahead log may hold before SQLite copies it into the database, the only step
+that waits for the disk (fsync): every 64 MiB instead of SQLite's default 4 MiB."""
+
+SCHEMA_VERSION = 5
 """The layout of the journal's tables (SQLite's ``user_version``): 2 added the verdicts, 3 packs
-event kinds as codes, 4 the numeric values as one vector (`results.packing`)."""
+event kinds as codes, 4 the numeric values as one vector, 5 the packed parts in columns of their
+own (`results.packing.Packed`)."""
+
+BUSY_TIMEOUT_S = 60.0
+"""How long a writer waits for another's transaction to end [s] (each takes about a
+millisecond)."""
 
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS study (config_hash TEXT NOT NULL);
@@ -34,7 +47,10 @@ CREATE TABLE IF NOT EXISTS analyses (
     status TEXT NOT NULL,       -- ok, solver_error or error
     failure_mode TEXT NOT NULL, -- with dcr_backfill, what decides the limit states (an IDA's)
     dcr_backfill REAL,
-    packed BLOB NOT NULL        -- `results.packing.AnalysisResult.pack`
+    texts TEXT NOT NULL,        -- `results.packing.Packed`
+    numbers BLOB NOT NULL,
+    events BLOB NOT NULL,
+    histories BLOB NOT NULL
 );
 """
 
@@ -56,10 +72,18 @@ class Journal:
     """
 
     def __init__(self, output: Path, config_hash: str):
+        self.output = output
+        self.config_hash = config_hash
         self.path = journal_path(output)
+        self._connect()
+
+    def _connect(self) -> None:
         hint = "rerun with --overwrite to discard it"
         try:
-            self.connection = sqlite3.connect(self.path, isolation_level=None)
+            self.connection = sqlite3.connect(
+                self.path, timeout=BUSY_TIMEOUT_S, isolation_level=None
+            )
+            self.connection.execute(f"PRAGMA page_size={PAGE_BYTES}")  # a new journal's
             self.connection.execute("PRAGMA journal_mode=WAL")
             self.connection.execute("PRAGMA synchronous=NORMAL")
             self.connection.execute(f"PRAGMA wal_autocheckpoint={_CHECKPOINT_PAGES}")
@@ -70,19 +94,19 @@ class Journal:
             raise InputError(self.path, [("", f"not a readable journal ({exc}); {hint}")]) from None
         if stored is None:
             self.connection.execute(f"PRAGMA user_version={SCHEMA_VERSION}")
-            self.connection.execute("INSERT INTO study VALUES (?)", (config_hash,))
+            self.connection.execute("INSERT INTO study VALUES (?)", (self.config_hash,))
         elif version != SCHEMA_VERSION:
             self.connection.close()
             reason = "was written by another version of rockbridge (an interrupted run)"
             raise InputError(self.path, [("", f"{reason}; {hint}")])
-        elif stored[0] != config_hash:
+        elif stored[0] != self.config_hash:
             self.connection.close()
             reason = "holds analyses of a different study or different inputs (an interrupted run)"
             raise InputError(self.path, [("", f"{reason}; {hint}")])
 
-    def add(self, rows: Iterable[tuple[int, str, str, Verdict, bytes]]) -> None:
-        """Commit finished analyses: (cell, bridge, record, verdict, packed) each, in one
-        transaction (an analysis journalled again replaces the earlier entry).
+    def add(self, analysed: Iterable[tuple[Outcome, Packed]]) -> None:
+        """Commit finished analyses, each with its packed result, in one transaction (an analysis
+        journalled again replaces the earlier entry).
 
         Raises
         ------
@@ -93,9 +117,10 @@ class Journal:
             with self.connection:
                 self.connection.execute("BEGIN")
                 self.connection.executemany(
-                    "INSERT OR REPLACE INTO analyses VALUES (?, ?, ?, ?, ?, ?, ?)",
-                    ((cell, bridge, record, *verdict, packed)
-                     for cell, bridge, record, verdict, packed in rows),
+                    "INSERT OR REPLACE INTO analyses VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
+                    ((outcome.cell.index, packed.bridge, packed.record, *outcome.finished.verdict,
+                      packed.texts, packed.numbers, packed.events, packed.histories)
+                     for outcome, packed in analysed),
                 )  # fmt: skip
         except sqlite3.Error as exc:
             raise OSError(f"{self.path}: cannot write the journal ({exc})") from None
@@ -110,11 +135,27 @@ class Journal:
             for bridge, record, status, mode, ratio in rows
         }
 
-    def packed(self) -> Iterator[tuple[int, str, str, bytes]]:
-        """The journalled analyses in the order of the results: (cell, bridge, record, packed)."""
-        yield from self.connection.execute(
-            "SELECT cell, bridge, record, packed FROM analyses ORDER BY cell"
+    def __len__(self) -> int:
+        """How many analyses the journal holds."""
+        return self.connection.execute("SELECT count(*) FROM analyses").fetchone()[0]
+
+    def packed(self) -> Iterator[tuple[int, Packed]]:
+        """The journalled analyses in the order of the results: (cell, packed result)."""
+        rows = self.connection.execute(
+            "SELECT cell, bridge, record, texts, numbers, events, histories FROM analyses "
+            "ORDER BY cell"
         )
+        return ((cell, Packed(*parts)) for cell, *parts in rows)
+
+    @contextmanager
+    def released(self) -> Iterator[None]:
+        """Close the connection for a while, then open it again: no SQLite connection may be
+        open across a fork (the worker processes open their own)."""
+        self.close()
+        try:
+            yield
+        finally:
+            self._connect()
 
     def close(self) -> None:
         """Close the database (what is committed stays)."""

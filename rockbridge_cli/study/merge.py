@@ -104,8 +104,7 @@ def merge_results(output: Path, parts: list[Path], overwrite: bool = False) -> M
                      for path, f in zip(parts, files, strict=True)], indent=1),
             )  # fmt: skip
             writer = ResultsWriter(file, len(order))
-            for result in _in_order(files, holders, order):
-                writer.add(result)
+            writer.add(result.pack() for result in _in_order(files, holders, order))
             writer.close(max(str(part.attrs["finished"]) for part in files))
             store_fragilities(file)
         replace_atomically(temporary, output)

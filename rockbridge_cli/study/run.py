@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 import heapq
+import itertools
 import math
 import os
 import signal
@@ -176,19 +177,17 @@ def run_study(
             resumed = len(verdicts)
             solve_time, done, total = 0.0, 0, 0
             summaries: list[list[dict]] = []  # the bridges', from a worker (the kernels' users)
+            tally = None
             try:
-                with executor(grid, workers, scheduler) as offered:
+                with executor(grid, journal, workers, scheduler) as offered:
                     bridges = [case.bridge for case in grid.bridges]
                     summarized = offered.call(summarize_all, bridges)
                     for pending in _rounds(grid, cells, plan, verdicts):
                         total += len(pending)
-                        for batch in offered.run(pending):
-                            journal.add(
-                                (o.cell.index, *grid.ids(o.cell), o.finished.verdict, o.packed)
-                                for o in batch
-                            )
+                        for batch in offered.run(pending):  # journalled
                             for outcome in batch:
-                                verdicts[grid.ids(outcome.cell)] = outcome.finished.verdict
+                                if plan is not None:  # what an IDA's next round rests on
+                                    verdicts[grid.ids(outcome.cell)] = outcome.finished.verdict
                                 if math.isfinite(outcome.finished.solve_time_s):
                                     solve_time += outcome.finished.solve_time_s
                                 done += 1
@@ -196,16 +195,17 @@ def run_study(
                                     progress(outcome.finished, done, total)
                     summaries.append(summarized())
             finally:
-                if plan is not None:  # the IDA as far as it got
-                    cells = plan.ran(verdicts)
+                if plan is not None:  # the IDA as far as it got, the batches in flight included
+                    cells = plan.ran(verdicts | journal.verdicts())
                     grid = dataclasses.replace(grid, listed=tuple(cells))
-                if done or journalled or not output.exists():
+                if len(journal) or not output.exists():
                     described = summaries[0] if summaries else None
-                    _write(output, study, grid, cells, shard, journal, created, assembly, described)
+                    tally = _write(output, study, grid, cells, shard, journal, created, assembly,
+                                   described)  # fmt: skip
                 journal.remove()
         finally:
             journal.close()
-    statuses, failures = _tally(output)
+    statuses, failures = tally or _tally(output)
     return RunReport(
         output=output,
         total=len(cells),
@@ -239,19 +239,18 @@ def _is_ida(study: Study) -> bool:
 def _write(
     output: Path, study: Study, grid: Grid, cells: list[Cell], shard: tuple[int, int] | None,
     journal: Journal, created: str, assembly: Assembly | None, summaries: list[dict] | None,
-) -> None:  # fmt: skip
+) -> tuple[dict[str, int], int]:  # fmt: skip
     """Write the results file from the journal and the earlier file, in the study's order, into
     a temporary file renamed over the output at the end; ``summaries`` are the bridges' (`None`:
-    computed here)."""
+    computed here). Returns how many analyses of the file ended with each status, and with a
+    failure."""
     temporary = output.with_name(f".{output.name}.{os.getpid()}.tmp")
     try:
         with h5py.File(temporary, "w") as file, _earlier_results(output, grid) as earlier:
             describe_study(file, study, created, shard, summaries)
             writer = ResultsWriter(file, len(cells))
-            for written, analysis in enumerate(_merged(journal, earlier), start=1):
-                writer.add(analysis)
-                if assembly is not None:
-                    assembly(written, len(cells))
+            merged = _merged(journal, earlier, {cell.index for cell in cells})
+            writer.add(merged, None if assembly is None else lambda n: assembly(n, len(cells)))
             writer.close(_timestamp())
             if shard is None and study.intensity is not None:
                 from ..fragility import store  # scipy's optimizers: only an intensity study's
@@ -264,20 +263,23 @@ def _write(
                       "analyses stay in the journal: rerun to resume") from None  # fmt: skip
     finally:
         temporary.unlink(missing_ok=True)
+    return dict(writer.statuses), writer.failures
 
 
 def _merged(
-    journal: Journal, earlier: Iterator[tuple[int, AnalysisResult]]
-) -> Iterator[Packed | AnalysisResult]:
-    """The journalled analyses and those of the earlier file, in the order of the results; the
-    journal's where both have one."""
-    journalled = (
-        (cell, Packed.unpack(bridge, record, blob))
-        for cell, bridge, record, blob in journal.packed()
-    )
+    journal: Journal, earlier: Iterator[tuple[int, AnalysisResult]], wanted: set[int]
+) -> Iterator[Packed]:
+    """The analyses of ``wanted`` cells in the journal and in the earlier file, in the order of
+    the results; the journal's where both have one."""
+    journalled = ((cell, packed) for cell, packed in journal.packed() if cell in wanted)
+    stored = ((cell, result.pack()) for cell, result in earlier)
+    first = next(stored, None)
+    if first is None:  # a first run: the journal alone
+        yield from (packed for _, packed in journalled)
+        return
     last = None
-    both: Iterator[tuple[int, Packed | AnalysisResult]] = heapq.merge(
-        journalled, earlier, key=lambda item: item[0]
+    both: Iterator[tuple[int, Packed]] = heapq.merge(
+        journalled, itertools.chain([first], stored), key=lambda item: item[0]
     )
     for cell, analysis in both:
         if cell != last:  # on a tie the journal's comes first: heapq.merge is stable

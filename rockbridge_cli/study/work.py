@@ -4,22 +4,20 @@ from __future__ import annotations
 
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, NamedTuple
 
 from ..core.fidelity import RECHECK_MARGIN
 from ..core.quantities import NO_FAILURE
 from ..limit_states import Verdict
-from ..results.packing import AnalysisResult
+from ..results.packing import AnalysisResult, Packed
 from .grid import BridgeCase, Cell, Grid, RecordCase
 
 if TYPE_CHECKING:
     from ..core.analysis import Response
 
 
-@dataclass(frozen=True)
-class Finished:
-    """One analysis done.
+class Finished(NamedTuple):
+    """One analysis done (a tuple: it travels back from a worker with every analysis).
 
     Attributes
     ----------
@@ -46,16 +44,16 @@ class Finished:
 
 
 class Outcome(NamedTuple):
-    """A finished cell as it travels back from a worker: what it says, and its packed result."""
+    """A finished cell: which, and what it says (its results wait in the journal)."""
 
     cell: Cell
     finished: Finished
-    packed: bytes
 
 
-def run_cells(grid: Grid, cells: Sequence[Cell]) -> list[Outcome]:
-    """Run the analyses of ``cells``; an exception fails only its own analysis."""
-    outcomes = []
+def run_cells(grid: Grid, cells: Sequence[Cell]) -> list[tuple[Outcome, Packed]]:
+    """Run the analyses of ``cells``: each one's outcome and packed result. An exception fails
+    only its own analysis."""
+    analysed = []
     for cell in cells:
         result = analyse(grid, cell)
         values = result.values
@@ -63,8 +61,8 @@ def run_cells(grid: Grid, cells: Sequence[Cell]) -> list[Outcome]:
             result.bridge, result.record, values["status"], values["message"],
             values["solve_time_s"], values["failure_mode"], values["dcr_backfill"],
         )  # fmt: skip
-        outcomes.append(Outcome(cell, finished, result.pack()))
-    return outcomes
+        analysed.append((Outcome(cell, finished), result.pack()))
+    return analysed
 
 
 RECHECK_KEEPS = ("tail", "output_step")
