@@ -11,7 +11,10 @@ entries (the ten bundled records, each listed several times under its own id) an
   file: journal, progress, the results file) and of the workers (each loads the kernels from
   numba's cache, then runs its batches); their ratio is the ceiling on any number of cores:
   with N cores at most ``worker/parent`` of them stay busy;
-- peak resident memory of the parent and of the largest worker.
+- peak resident memory of the parent and of the largest worker;
+- with ``--repeat R``, the medians of R runs of each row, the rows of one N run in turn (so that
+  a drift of the host's speed, which reaches 1.5× between hours on a shared VM, hits them all),
+  and the speed-up of each worker count over one worker: the median of the R pairs of runs.
 
 The kernels are compiled (or loaded from numba's cache) before the rows are timed.
 
@@ -21,7 +24,7 @@ multiple-stripe study and the IDA of the paper's bridges (``rockbridge run``, th
 
     python benchmarks/bench_study.py [--sizes 30 300 3000 10000] [--workers 1 2]
                                      [--fidelity default] [--histories none all]
-                                     [--bundled paper-stripes paper-ida]
+                                     [--bundled paper-stripes paper-ida] [--repeat 1]
 """
 
 from __future__ import annotations
@@ -30,6 +33,7 @@ import argparse
 import json
 import os
 import platform
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -113,6 +117,8 @@ def main() -> None:
     parser.add_argument("--histories", nargs="+", default=["none", "all"])
     parser.add_argument("--fidelity", default="default")
     parser.add_argument("--bundled", nargs="*", default=["paper-stripes", "paper-ida"])
+    parser.add_argument("--repeat", type=int, default=1, help="runs of each row, interleaved; "
+                        "the table gives their medians")  # fmt: skip
     options = parser.parse_args()
 
     measure(3, "none", 1, options.fidelity)  # compile the kernels into numba's cache
@@ -126,8 +132,12 @@ def main() -> None:
     print(f"{'':>6} {'':>4} {'':>3} | {'ms/analysis':^39} {'':>7} | {'s':^14} | {'MiB':^23}")
     for analyses in options.sizes:
         for histories in options.histories:
-            for workers in options.workers:
-                row = measure(analyses, histories, workers, options.fidelity)
+            runs: dict[int, list[dict]] = {workers: [] for workers in options.workers}
+            for _ in range(options.repeat):  # interleaved: a drift of the host's speed hits all
+                for workers in options.workers:
+                    runs[workers].append(measure(analyses, histories, workers, options.fidelity))
+            for workers, rows in runs.items():
+                row = {key: statistics.median(r[key] for r in rows) for key in rows[0]}
                 n = row["n"]
                 ms = {key: 1e3 * row[key] / n for key in ("e2e", "solve", "parent", "worker")}
                 over = ms["e2e"] * workers - ms["solve"]
@@ -139,6 +149,13 @@ def main() -> None:
                     f"{row['rss_worker']:7.0f} {row['size']:7.1f}",
                     flush=True,
                 )
+            if 1 in runs and len(runs) > 1:
+                for workers in sorted(runs)[1:]:
+                    ratios = [a["e2e"] / b["e2e"] for a, b in zip(runs[1], runs[workers],
+                                                                  strict=True)]  # fmt: skip
+                    print(f"{'':>6} {histories:>4} {workers:>3} | speed-up over 1 worker "
+                          f"{statistics.median(ratios):.2f} (each pair of runs: "
+                          f"{min(ratios):.2f}-{max(ratios):.2f})", flush=True)  # fmt: skip
     if options.bundled:
         print(f"\n{'bundled study':<14} {'wrk':>3} | {'analyses':>8} {'run':>7} {'solve':>7} "
               f"{'ms/an.':>7} | {'fragility':>9}")  # fmt: skip

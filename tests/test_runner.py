@@ -343,18 +343,36 @@ def test_what_is_called_runs_on_a_worker_once_the_pool_runs(tmp_path):
             assert here() == os.getpid()
 
 
+@pytest.mark.parametrize("seconds", [None, 2**-8, 0.03, 0.0])
 @pytest.mark.parametrize("cells, workers", [(10_000, 2), (10_000, 16), (37, 2), (3, 4), (1, 1)])
-def test_batches_shrink_as_the_run_nears_its_end(cells, workers):
-    """Guided scheduling: every cell once, in order; no batch above `MAX_BATCH` or above a
-    `BATCHES_PER_WORKER`-th of what is left per worker, so the last ones hold a single cell."""
-    from rockbridge_cli.study.executors import BATCHES_PER_WORKER, MAX_BATCH, _batches
+def test_batches_hold_a_second_of_work_and_shrink_at_the_end(cells, workers, seconds):
+    """Every cell once, in order; a batch holds at most `BATCH_SECONDS` of work at the pace the
+    analyses have come back at (`FIRST_BATCH` cells before any has), at most `MAX_BATCH` cells,
+    and at most a `BATCHES_PER_WORKER`-th of what is left per worker (guided scheduling), so
+    the last ones hold a single cell. ``seconds``: each analysis's solve time, None before any
+    came back, 0 for analyses too short to time."""
+    from rockbridge_cli.study.executors import (
+        BATCH_SECONDS,
+        BATCHES_PER_WORKER,
+        FIRST_BATCH,
+        MAX_BATCH,
+        Pace,
+        _batches,
+    )  # fmt: skip
 
+    pace = Pace()
+    if seconds is not None:
+        done = Finished("b", "r", "ok", "", seconds, "none", 0.0)
+        pace.record([Outcome(Cell(0, 0, 0), done)] * 10)
+    timed = {None: FIRST_BATCH, 0.0: MAX_BATCH}.get(seconds) or int(BATCH_SECONDS / seconds)
     grid = [Cell(index, 0, index) for index in range(cells)]
-    batches = list(_batches(grid, workers))
+    batches = list(_batches(grid, workers, pace))
     assert [cell for batch in batches for cell in batch] == grid
     left = cells
     for batch in batches:
-        assert 1 <= len(batch) <= min(MAX_BATCH, -(-left // (workers * BATCHES_PER_WORKER)))
+        guided = -(-left // (workers * BATCHES_PER_WORKER))
+        assert 1 <= len(batch) <= min(MAX_BATCH, timed, guided)
+        assert len(batch) == min(MAX_BATCH, timed, guided)
         left -= len(batch)
     sizes = [len(batch) for batch in batches]
     assert sizes == sorted(sizes, reverse=True) and sizes[-1] == 1

@@ -34,10 +34,16 @@ from .grid import Cell, Grid
 from .journal import Journal
 from .work import Outcome, run_cells
 
-MAX_BATCH = 128
-"""Most cells sent to a worker at once. What the parent does per batch (≈ 0.2 ms: send it, wake
-up, receive its outcomes) is then a microsecond or two an analysis, and a SIGKILL of the run
-loses at most the batches in flight (a few seconds of work)."""
+BATCH_SECONDS = 1.0
+"""The work a batch holds, at most [s]: what the parent does per batch (send it, wake up three
+threads, receive its outcomes: ≈ 0.7 ms of CPU when every core is busy) is then negligible, and
+an interrupted run waits for at most about this long for the batches that are running."""
+
+MAX_BATCH = 512
+"""Most cells in a batch, however short the analyses."""
+
+FIRST_BATCH = 8
+"""Cells in a batch before any has come back to tell how long an analysis takes."""
 
 BATCHES_PER_WORKER = 4
 """A batch holds at most this fraction of the cells left per worker: batches shrink as the run
@@ -53,9 +59,33 @@ _journal: Journal | None = None
 """The journal a worker process commits to (opened when it starts)."""
 
 
-def batch_size(cells: int, workers: int) -> int:
-    """Cells in the next batch when ``cells`` analyses are left for ``workers`` processes."""
-    return max(1, min(MAX_BATCH, math.ceil(cells / (workers * BATCHES_PER_WORKER))))
+class Pace:
+    """How long the analyses of a run have taken so far, which sizes its batches."""
+
+    def __init__(self) -> None:
+        self.seconds = 0.0
+        self.analyses = 0
+
+    def record(self, outcomes: list[Outcome]) -> list[Outcome]:
+        """Count a batch's solve times in; the outcomes, unchanged."""
+        for outcome in outcomes:
+            if math.isfinite(outcome.finished.solve_time_s):
+                self.seconds += outcome.finished.solve_time_s
+                self.analyses += 1
+        return outcomes
+
+    def batch_size(self, cells: int, workers: int) -> int:
+        """Cells in the next batch when ``cells`` are left for ``workers`` processes: about
+        `BATCH_SECONDS` of work (`FIRST_BATCH` until an analysis has come back), at most
+        `MAX_BATCH` and a `BATCHES_PER_WORKER`-th of what is left per worker."""
+        if not self.analyses:
+            timed = FIRST_BATCH
+        elif self.seconds > 0.0:
+            timed = int(BATCH_SECONDS * self.analyses / self.seconds)
+        else:
+            timed = MAX_BATCH
+        guided = math.ceil(cells / (workers * BATCHES_PER_WORKER))
+        return max(1, min(MAX_BATCH, timed, guided))
 
 
 RESENDS = 8
@@ -122,6 +152,7 @@ def local_workers(grid: Grid, journal: Journal, workers: int) -> Iterator[Worker
     pool: ProcessPoolExecutor | None = None
     count = 1
     calls: list[tuple[Callable, tuple, list[Future]]] = []
+    pace = Pace()
 
     def call(function: Callable, *args: Any) -> Callable[[], Any]:
         futures: list[Future] = []
@@ -133,8 +164,8 @@ def local_workers(grid: Grid, journal: Journal, workers: int) -> Iterator[Worker
     def run(cells: Sequence[Cell]) -> Iterator[list[Outcome]]:
         nonlocal pool, count
         if workers <= 1 or (pool is None and len(cells) <= 1):
-            yield from (_journalled(journal, run_cells(grid, batch)) for batch in
-                        _batches(cells, 1))  # fmt: skip
+            yield from (pace.record(_journalled(journal, run_cells(grid, batch)))
+                        for batch in _batches(cells, 1, pace))  # fmt: skip
             return
         if pool is None:
             count = min(workers, len(cells))
@@ -149,14 +180,14 @@ def local_workers(grid: Grid, journal: Journal, workers: int) -> Iterator[Worker
                 futures.append(pool.submit(function, *args))
         in_flight: set[Future] = set()
         try:
-            for batch in _batches(cells, count):
+            for batch in _batches(cells, count, pace):
                 if len(in_flight) >= 2 * count:
                     done, in_flight = wait(in_flight, return_when=FIRST_COMPLETED)
-                    yield from (future.result() for future in done)
+                    yield from (pace.record(future.result()) for future in done)
                 in_flight.add(pool.submit(_run_batch, batch))
             while in_flight:
                 done, in_flight = wait(in_flight, return_when=FIRST_COMPLETED)
-                yield from (future.result() for future in done)
+                yield from (pace.record(future.result()) for future in done)
         finally:  # interrupted: drop the batches not started
             for future in in_flight:
                 future.cancel()
@@ -168,11 +199,11 @@ def local_workers(grid: Grid, journal: Journal, workers: int) -> Iterator[Worker
             pool.shutdown(cancel_futures=True)
 
 
-def _batches(cells: Sequence[Cell], workers: int) -> Iterator[list[Cell]]:
-    """The cells in batches of `batch_size`, in order."""
+def _batches(cells: Sequence[Cell], workers: int, pace: Pace) -> Iterator[list[Cell]]:
+    """The cells in batches of `Pace.batch_size`, in order (each sized when it is taken)."""
     start = 0
     while start < len(cells):
-        size = batch_size(len(cells) - start, workers)
+        size = pace.batch_size(len(cells) - start, workers)
         yield list(cells[start : start + size])
         start += size
 
@@ -230,6 +261,7 @@ def dask_workers(grid: Grid, journal: Journal, scheduler: str) -> Iterator[Worke
         raise InputError(scheduler, [("", f"cannot reach the Dask scheduler ({exc})")]) from None
     shared = None
     resends = 0
+    pace = Pace()
 
     def run(cells: Sequence[Cell]) -> Iterator[list[Outcome]]:
         nonlocal shared, resends
@@ -238,7 +270,7 @@ def dask_workers(grid: Grid, journal: Journal, scheduler: str) -> Iterator[Worke
         if shared is None:
             shared = client.scatter(grid, broadcast=True, hash=False)
         threads = max(sum(client.nthreads().values()), 1)
-        batches = _batches(cells, threads)
+        batches = _batches(cells, threads, pace)
         running = as_completed()
         sent: dict[Any, list[Cell]] = {}
 
@@ -261,7 +293,7 @@ def dask_workers(grid: Grid, journal: Journal, scheduler: str) -> Iterator[Worke
                     shared = client.scatter(grid, broadcast=True, hash=False)
                     submit(batch)
                     continue
-                yield _journalled(journal, analysed)
+                yield pace.record(_journalled(journal, analysed))
                 for batch in itertools.islice(batches, 1):
                     submit(batch)
         finally:  # interrupted: nothing more is needed from the cluster

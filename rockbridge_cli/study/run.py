@@ -62,6 +62,11 @@ Assembly = Callable[[int, int], None]
 """Called while the results file is written with (analyses written, analyses to write)."""
 
 
+ORPHAN_WAIT_S = 10.0
+"""How long a run waits for the lock of a run that has died to be released by its dying worker
+processes [s]."""
+
+
 class Terminated(KeyboardInterrupt):
     """The run was asked to stop by SIGTERM (``docker stop``, Kubernetes, SLURM); handled like
     Ctrl-C: the finished analyses are saved."""
@@ -347,7 +352,9 @@ def _exclusive(output: Path) -> Iterator[None]:
 
     The lock is an advisory ``flock`` on ``.<output>.lock`` beside it; the operating system
     releases it when the process ends, however it ends, so a killed run never blocks the next.
-    (Where ``fcntl`` does not exist, Windows, runs are not locked.)
+    Its worker processes share the lock until they have died with it, a few milliseconds later:
+    a lock whose run has died is waited for, up to `ORPHAN_WAIT_S`. (Where ``fcntl`` does not
+    exist, Windows, runs are not locked.)
     """
     try:
         import fcntl
@@ -357,13 +364,18 @@ def _exclusive(output: Path) -> Iterator[None]:
     path = output.with_name(f".{output.name}.lock")
     descriptor = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
     try:
-        try:
-            fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            holder = os.pread(descriptor, 32, 0).decode(errors="replace").strip() or "?"
-            reason = (f"another rockbridge run (process {holder}) is writing this file; wait "
-                      "for it to end, or choose another output")  # fmt: skip
-            raise InputError(output, [("", reason)]) from None
+        deadline = time.monotonic() + ORPHAN_WAIT_S
+        while True:
+            try:
+                fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                break
+            except BlockingIOError:
+                holder = os.pread(descriptor, 32, 0).decode(errors="replace").strip() or "?"
+                if _alive(holder) or time.monotonic() > deadline:
+                    reason = (f"another rockbridge run (process {holder}) is writing this file; "
+                              "wait for it to end, or choose another output")  # fmt: skip
+                    raise InputError(output, [("", reason)]) from None
+                time.sleep(0.02)
         os.ftruncate(descriptor, 0)
         os.pwrite(descriptor, str(os.getpid()).encode(), 0)
         try:
@@ -372,6 +384,18 @@ def _exclusive(output: Path) -> Iterator[None]:
             path.unlink(missing_ok=True)
     finally:
         os.close(descriptor)
+
+
+def _alive(pid: str) -> bool:
+    """Whether the process of that id (as a lock file states it) exists; unknown ids count as
+    alive."""
+    try:
+        os.kill(int(pid), 0)
+    except ProcessLookupError:
+        return False
+    except (ValueError, OSError):  # not a number, or another user's process
+        return True
+    return True
 
 
 @contextmanager
