@@ -349,8 +349,8 @@ def test_batches_hold_a_second_of_work_and_shrink_at_the_end(cells, workers, sec
     """Every cell once, in order; a batch holds at most `BATCH_SECONDS` of work at the pace the
     analyses have come back at (`FIRST_BATCH` cells before any has), at most `MAX_BATCH` cells,
     and at most a `BATCHES_PER_WORKER`-th of what is left per worker (guided scheduling), so
-    the last ones hold a single cell. ``seconds``: each analysis's solve time, None before any
-    came back, 0 for analyses too short to time."""
+    the last ones hold a single cell. ``seconds``: each analysis's time in its worker, None
+    before any came back, 0 for analyses too short to time."""
     from rockbridge_cli.study.executors import (
         BATCH_SECONDS,
         BATCHES_PER_WORKER,
@@ -362,7 +362,7 @@ def test_batches_hold_a_second_of_work_and_shrink_at_the_end(cells, workers, sec
 
     pace = Pace()
     if seconds is not None:
-        done = Finished("b", "r", "ok", "", seconds, "none", 0.0)
+        done = Finished("b", "r", "ok", "", 0.9 * seconds, "none", 0.0, seconds)
         pace.record([Outcome(Cell(0, 0, 0), done)] * 10)
     timed = {None: FIRST_BATCH, 0.0: MAX_BATCH}.get(seconds) or int(BATCH_SECONDS / seconds)
     grid = [Cell(index, 0, index) for index in range(cells)]

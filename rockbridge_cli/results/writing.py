@@ -7,11 +7,10 @@ histories go into the file as soon as it is added.
 
 from __future__ import annotations
 
-import itertools
 import json
 import platform
 from collections import Counter
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from typing import TYPE_CHECKING, Any, cast
 
 import h5py
@@ -50,7 +49,11 @@ PEAKS_HELD = 4 * PEAK_ROWS
 append costs HDF5 and h5py about 0.2 ms a column whatever its length."""
 
 ADDED_AT_ONCE = 1024
-"""Analyses the writer takes at a time (column by column, not one by one)."""
+"""Analyses the writer takes at a time (column by column, not one by one)..."""
+
+ADDED_BYTES = 4 * 2**20
+"""... or fewer, as soon as their events and histories reach this size [bytes] (a thousand
+analyses that keep their histories would hold 200 MB; without histories, ≈ 800 analyses)."""
 
 EVENT_ROWS = 65536
 """The HDF5 chunk length of the event table (about 150 events an analysis)."""
@@ -107,10 +110,9 @@ class ResultsWriter:
 
     def add(self, analyses: Iterable[Packed], written: Callable[[int], None] | None = None) -> None:
         """Append analyses, in the study's order: their rows of /peaks, their events, their
-        histories; ``written`` is called with the analyses added so far after each
-        `ADDED_AT_ONCE`."""
-        analyses = iter(analyses)
-        while block := list(itertools.islice(analyses, ADDED_AT_ONCE)):
+        histories; ``written`` is called with the analyses added so far after each block of
+        them (`ADDED_AT_ONCE`, `ADDED_BYTES`)."""
+        for block in _blocks(analyses):
             bridges, records, texts, numbers, events, _ = zip(*block, strict=True)
             self._bridges += bridges
             self._records += records
@@ -160,6 +162,20 @@ class ResultsWriter:
             _append(self.events[name], events[name])
         del events  # a view of the buffer, which cannot be cleared while it exists
         self._events.clear()
+
+
+def _blocks(analyses: Iterable[Packed]) -> Iterator[list[Packed]]:
+    """The analyses a block at a time: `ADDED_AT_ONCE` of them, or `ADDED_BYTES`."""
+    block: list[Packed] = []
+    size = 0
+    for packed in analyses:
+        block.append(packed)
+        size += len(packed.events) + len(packed.histories)
+        if len(block) == ADDED_AT_ONCE or size >= ADDED_BYTES:
+            yield block
+            block, size = [], 0
+    if block:
+        yield block
 
 
 def _table(

@@ -67,10 +67,10 @@ class Pace:
         self.analyses = 0
 
     def record(self, outcomes: list[Outcome]) -> list[Outcome]:
-        """Count a batch's solve times in; the outcomes, unchanged."""
+        """Count a batch's times in (`work.Finished.busy_s`); the outcomes, unchanged."""
         for outcome in outcomes:
-            if math.isfinite(outcome.finished.solve_time_s):
-                self.seconds += outcome.finished.solve_time_s
+            if math.isfinite(outcome.finished.busy_s):
+                self.seconds += outcome.finished.busy_s
                 self.analyses += 1
         return outcomes
 

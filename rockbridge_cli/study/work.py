@@ -27,6 +27,7 @@ class Finished(NamedTuple):
     solve_time_s : integration time, NaN if it could not run [s]
     failure_mode : how the bridge failed (``none`` if it did not, empty if it could not run)
     dcr_backfill : peak backfill demand/capacity ratio [-]
+    busy_s : how long the worker took, from the start of the analysis to its packed result [s]
     """
 
     bridge: str
@@ -36,6 +37,7 @@ class Finished(NamedTuple):
     solve_time_s: float
     failure_mode: str
     dcr_backfill: float
+    busy_s: float = float("nan")
 
     @property
     def verdict(self) -> Verdict:
@@ -55,13 +57,16 @@ def run_cells(grid: Grid, cells: Sequence[Cell]) -> list[tuple[Outcome, Packed]]
     only its own analysis."""
     analysed = []
     for cell in cells:
+        start = time.perf_counter()
         result = analyse(grid, cell)
+        packed = result.pack()
         values = result.values
         finished = Finished(
             result.bridge, result.record, values["status"], values["message"],
             values["solve_time_s"], values["failure_mode"], values["dcr_backfill"],
+            time.perf_counter() - start,
         )  # fmt: skip
-        analysed.append((Outcome(cell, finished), result.pack()))
+        analysed.append((Outcome(cell, finished), packed))
     return analysed
 
 
