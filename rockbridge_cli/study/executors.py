@@ -45,7 +45,7 @@ MAX_BATCH = 512
 FIRST_BATCH = 8
 """Cells in a batch before any has come back to tell how long an analysis takes."""
 
-BATCHES_PER_WORKER = 8
+BATCHES_PER_WORKER = 4
 """A batch holds at most this fraction of the cells left per worker: batches shrink as the run
 nears its end (guided scheduling), so that the workers finish together."""
 
