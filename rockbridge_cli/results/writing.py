@@ -119,10 +119,11 @@ class ResultsWriter:
             self._texts += texts
             self._numbers += numbers
             self._events += b"".join(events)
-            for packed in (packed for packed in block if packed.histories):
-                parent = self.file.require_group(f"analyses/{packed.bridge}")
-                _write_histories(parent.create_group(packed.record), packed.chunks,
-                                 self._templates)  # fmt: skip
+            for packed in block:
+                if packed.histories:
+                    parent = self.file.require_group(f"analyses/{packed.bridge}")
+                    _write_histories(parent.create_group(packed.record), packed.chunks,
+                                     self._templates)  # fmt: skip
             self.added += len(block)
             if len(self._numbers) >= PEAKS_HELD:
                 self._flush_peaks()

@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import dataclasses
 import heapq
-import itertools
 import math
 import os
 import signal
@@ -29,6 +28,7 @@ from typing import TYPE_CHECKING
 import h5py
 import numpy as np
 
+from ..core.quantities import NO_FAILURE
 from ..core.summary import summarize_all
 from ..cpus import usable_cpus
 from ..errors import InputError
@@ -181,7 +181,7 @@ def run_study(
             }
             resumed = len(verdicts)
             solve_time, done, total = 0.0, 0, 0
-            summaries: list[list[dict]] = []  # the bridges', from a worker (the kernels' users)
+            summaries: list[dict] | None = None  # the bridges', from a worker (the kernels')
             tally = None
             try:
                 with executor(grid, journal, workers, scheduler) as offered:
@@ -198,15 +198,14 @@ def run_study(
                                 done += 1
                                 if progress is not None:
                                     progress(outcome.finished, done, total)
-                    summaries.append(summarized())
+                    summaries = summarized()
             finally:
                 if plan is not None:  # the IDA as far as it got, the batches in flight included
                     cells = plan.ran(verdicts | journal.verdicts())
                     grid = dataclasses.replace(grid, listed=tuple(cells))
                 if len(journal) or not output.exists():
-                    described = summaries[0] if summaries else None
                     tally = _write(output, study, grid, cells, shard, journal, created, assembly,
-                                   described)  # fmt: skip
+                                   summaries)  # fmt: skip
                 journal.remove()
         finally:
             journal.close()
@@ -278,14 +277,8 @@ def _merged(
     the results; the journal's where both have one."""
     journalled = ((cell, packed) for cell, packed in journal.packed() if cell in wanted)
     stored = ((cell, result.pack()) for cell, result in earlier)
-    first = next(stored, None)
-    if first is None:  # a first run: the journal alone
-        yield from (packed for _, packed in journalled)
-        return
     last = None
-    both: Iterator[tuple[int, Packed]] = heapq.merge(
-        journalled, itertools.chain([first], stored), key=lambda item: item[0]
-    )
+    both: Iterator[tuple[int, Packed]] = heapq.merge(journalled, stored, key=lambda item: item[0])
     for cell, analysis in both:
         if cell != last:  # on a tie the journal's comes first: heapq.merge is stable
             yield analysis
@@ -342,7 +335,7 @@ def _tally(output: Path) -> tuple[dict[str, int], int]:
     with open_results(output) as file:
         columns = peak_columns(file)
     names, counts = np.unique(columns["status"], return_counts=True)
-    failures = int(np.isin(columns["failure_mode"], ("", "none"), invert=True).sum())
+    failures = int(np.isin(columns["failure_mode"], ("", NO_FAILURE), invert=True).sum())
     return dict(zip(names.tolist(), counts.tolist(), strict=True)), failures
 
 
