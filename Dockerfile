@@ -27,7 +27,7 @@ COPY records ./records
 # The package itself (its dependencies are all in the lock), then every kernel compiled once.
 # The cache is open to any user: `docker run --user` may give the container any uid.
 RUN pip install --no-deps --no-build-isolation . \
-    && python -m rockbridge_cli.core.warmup \
+    && python -m rockbridge_cli.warmup \
     && chmod -R a+rwX "$NUMBA_CACHE_DIR"
 
 USER rockbridge

@@ -16,8 +16,8 @@ import numpy as np
 
 from rockbridge_cli.config.loading import load
 from rockbridge_cli.config.records import RecordSetConfig
-from rockbridge_cli.core.baseline import compute_final_motion
-from rockbridge_cli.core.spectra import compute_psa
+from rockbridge_cli.motions.baseline import compute_final_motion
+from rockbridge_cli.motions.spectra import compute_psa
 from rockbridge_cli.records.files import read_record_set
 from rockbridge_cli.records.sets import generate_record_set
 

@@ -7,7 +7,7 @@ REQPY (reqpy-M, Montejo) is an optional comparison, not a dependency: ``pip inst
 without it only rockbridge's rows are printed. The seeds are recorded motions given with
 ``--seeds`` (any format rockbridge reads; ``--units`` where a file does not state them), or
 by default ten recorded-like stand-ins (`tests/test_seeds.py`: no recorded motion ships with the
-repository). Both outputs are checked by the same spectrum code (`core.spectra`, Nigam–Jennings,
+repository). Both outputs are checked by the same spectrum code (`motions.spectra`, Nigam–Jennings,
 exact for piecewise-linear records) at 100 log-spaced periods over the band.
 """
 
@@ -25,8 +25,8 @@ sys.path.insert(0, str(REPO / "tests"))  # the recorded-like stand-ins of the se
 
 from test_seeds import recorded_like  # noqa: E402
 
-from rockbridge_cli.core import baseline, ec8, matching, spectra  # noqa: E402
 from rockbridge_cli.core.quantities import STANDARD_GRAVITY  # noqa: E402
+from rockbridge_cli.motions import baseline, ec8, matching, spectra  # noqa: E402
 from rockbridge_cli.records.files import read_record  # noqa: E402
 
 BAND = (0.05, 4.0)

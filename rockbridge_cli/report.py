@@ -221,7 +221,7 @@ def _summary(columns: dict[str, np.ndarray], bridges: dict[str, dict]) -> str:
 
 
 def _intensity_section(results: Path, intensity: dict, figure: Callable[..., str]) -> str:
-    from .fragility import fragilities
+    from .assessment.fragility import fragilities
     from .plots.fragility import plot_fragility
     from .plots.ida import plot_ida
 

@@ -12,7 +12,7 @@ import pytest
 from click.testing import CliRunner
 
 from rockbridge_cli.cli import main
-from rockbridge_cli.plausibility import record_warnings
+from rockbridge_cli.config.plausibility import record_warnings
 from rockbridge_cli.records.files import read_record
 
 BRIDGE = """\

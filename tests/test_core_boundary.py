@@ -1,5 +1,7 @@
-"""The numerical core stays free of the I/O and presentation libraries (click, yaml, pydantic,
-h5py, pandas, matplotlib): checked on the imports as written and on what importing loads."""
+"""The numerical rooms (the core and the ground-motion numerics) stay free of the I/O and
+presentation libraries (click, yaml, pydantic, h5py, pandas, matplotlib): checked on the imports as
+written and on what importing loads. The package's rooms import in one direction, from the ground
+up (docs/architecture.md)."""
 
 from __future__ import annotations
 
@@ -13,7 +15,12 @@ import rockbridge_cli.core
 
 FORBIDDEN = ("click", "yaml", "pydantic", "h5py", "pandas", "matplotlib")
 CORE = Path(rockbridge_cli.core.__file__).resolve().parent
+MOTIONS = CORE.parent / "motions"
 MODULES = sorted(p.stem for p in CORE.glob("*.py"))
+NUMERIC = sorted(
+    f"{folder.name}.{p.stem}" for folder in (CORE, MOTIONS) for p in folder.glob("*.py")
+)
+"""The modules of the numerical rooms, as ``core.solver``, ``motions.matching``."""
 
 
 def test_core_has_modules():
@@ -32,17 +39,21 @@ def imported_names(path: Path) -> list[tuple[str, int]]:
 
 
 def test_core_sources_import_nothing_forbidden():
-    for name in MODULES:
-        for module, level in imported_names(CORE / f"{name}.py"):
+    for name in NUMERIC:
+        room = name.split(".")[0]
+        for module, level in imported_names(CORE.parent / f"{name.replace('.', '/')}.py"):
             top = module.split(".")[0]
             if level == 0:
                 assert top not in FORBIDDEN, (name, module)
                 # absolute imports of the package must stay inside the core
                 if top == "rockbridge_cli":
                     assert module.startswith("rockbridge_cli.core"), (name, module)
-            else:
+            elif room == "core":
                 # relative imports may not climb out of core/ (to config, cli, plots, …)
                 assert level == 1, (name, module, level)
+            else:
+                # the ground-motion numerics reach the core for its compiler only
+                assert level == 1 or (level == 2 and module == "core._jit"), (name, module)
 
 
 def test_importing_the_core_loads_nothing_forbidden():
@@ -54,8 +65,8 @@ def test_importing_the_core_loads_nothing_forbidden():
         "loaded = lambda: {m for m in sys.modules if m.split('.')[0] in forbidden}\n"
         "import numpy, scipy.optimize, scipy.fft, numba\n"
         "baseline = loaded()\n"
-        f"for name in {MODULES!r}:\n"
-        "    importlib.import_module('rockbridge_cli.core.' + name)\n"
+        f"for name in {NUMERIC!r}:\n"
+        "    importlib.import_module('rockbridge_cli.' + name)\n"
         "print(json.dumps({'baseline': sorted(baseline), 'added': sorted(loaded() - baseline)}))\n"
     )
     result = subprocess.run(
@@ -76,12 +87,14 @@ def module_name(path: Path) -> str:
     return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
 
 
-def top_level_imports(path: Path) -> set[str]:
-    """The package's modules a file imports at its top level (what loading it loads)."""
+def imports(path: Path, anywhere: bool = True) -> set[str]:
+    """The package's modules a file imports: at any depth (inside functions and ``TYPE_CHECKING``
+    blocks too), or at its top level only (what loading it loads)."""
     name = module_name(path)
     package = name if path.stem == "__init__" else name.rpartition(".")[0]
+    tree = ast.parse(path.read_text(encoding="utf-8"))
     found = set()
-    for node in ast.parse(path.read_text(encoding="utf-8")).body:
+    for node in ast.walk(tree) if anywhere else tree.body:
         if isinstance(node, ast.ImportFrom):
             base = package.split(".")
             base = base[: len(base) - node.level + 1] if node.level else []
@@ -95,11 +108,19 @@ def top_level_imports(path: Path) -> set[str]:
     return found
 
 
+def top_level_imports(path: Path) -> set[str]:
+    """The package's modules a file imports at its top level."""
+    return imports(path, anywhere=False)
+
+
+SOURCES = {module_name(p): p for p in PACKAGE.rglob("*.py")}
+
+
 def test_the_package_imports_in_one_direction():
-    """No two modules import each other, directly or round a loop (issue 13: config.study read
-    records, which read config.records back)."""
-    sources = {module_name(p): p for p in PACKAGE.rglob("*.py")}
-    graph = {name: top_level_imports(path) & sources.keys() for name, path in sources.items()}
+    """No two modules import each other, directly or round a loop, counting the imports inside
+    functions (issue 13: config.study read records, which read config.records back; issue 30:
+    fragility imported the IDA rule from study, which imported fragility)."""
+    graph = {name: imports(path) & SOURCES.keys() for name, path in SOURCES.items()}
     for name in graph:  # a package's __init__ is loaded on the way to any of its modules
         graph[name] -= {name.rpartition(".")[0]}
     state: dict[str, int] = {}
@@ -115,6 +136,51 @@ def test_the_package_imports_in_one_direction():
     for name in sorted(graph):
         if name not in state:
             visit(name, [])
+
+
+LAYERS = (
+    ("core", "errors", "cpus"),
+    ("motions", "paths"),
+    ("records", "warmup"),
+    ("config",),
+    ("results",),
+    ("assessment",),
+    ("study", "plots"),
+    ("report",),
+    ("cli",),
+)
+"""The package's rooms from the ground up (docs/architecture.md): a room imports its own modules and
+the rooms of the layers below it, never those above."""
+
+BACK_UP = {("rockbridge_cli.records.sets", "rockbridge_cli.config.records")}
+"""The one import that runs back up: a record set is generated from its config."""
+
+
+def room(module: str) -> str:
+    """The room of a module: its subpackage, or the module itself at the package's top."""
+    return module.split(".")[1]
+
+
+def test_each_room_imports_only_the_rooms_below_it():
+    layer = {name: height for height, names in enumerate(LAYERS) for name in names}
+    assert {room(m) for m in SOURCES if m != "rockbridge_cli"} == layer.keys()
+    upward = set()
+    for name, path in SOURCES.items():
+        for target in imports(path) & SOURCES.keys():
+            if target != "rockbridge_cli" and layer[room(target)] > layer[room(name)]:
+                upward.add((name, target))
+    assert upward == BACK_UP
+
+
+def test_nothing_below_the_study_imports_it():
+    """The IDA rule lives in `assessment`; `study` plans its rounds with it (issue 30)."""
+    below = [
+        m
+        for m in SOURCES
+        if m != "rockbridge_cli" and room(m) not in ("study", "plots", "report", "cli")
+    ]
+    for name in below:
+        assert not {t for t in imports(SOURCES[name]) if t.startswith("rockbridge_cli.study")}
 
 
 def test_record_files_sit_below_the_configs_that_read_them():

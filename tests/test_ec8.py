@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 
-from rockbridge_cli.core import ec8
+from rockbridge_cli.motions import ec8
 
 # EN 1998-1 Table 3.2 (Type 1) and Table 3.3 (Type 2), copied from the standard.
 TABLES = {

@@ -2,7 +2,7 @@
 and the fragility of the capacities.
 
 Expected values: for the rule on synthetic curves, a capacity must bracket the synthetic
-threshold to the tolerance (the definition in `study.ida`); on real analyses, the capacity must
+threshold to the tolerance (the definition in `assessment.ida`); on real analyses, the capacity must
 agree with plain stripe runs of the same record scaled to the capacity and to the level just
 below it (a plain `rockbridge run` computes the same scaled samples, so the verdicts must be the
 same, bit for bit); the censored fit must recover the lognormal the capacities were drawn from.
@@ -21,13 +21,14 @@ from click.testing import CliRunner
 from scipy.stats import norm
 from studies import contents, write_study
 
-from rockbridge_cli import limit_states
+from rockbridge_cli.assessment import limit_states
+from rockbridge_cli.assessment.fragility import fit_capacities
+from rockbridge_cli.assessment.ida import Lattice, walk
 from rockbridge_cli.cli import main
 from rockbridge_cli.config.study import load_study
+from rockbridge_cli.core.quantities import check_limit_state
 from rockbridge_cli.errors import InputError
-from rockbridge_cli.fragility import fit_capacities
 from rockbridge_cli.results import read_peaks
-from rockbridge_cli.study.ida import Lattice, walk
 from rockbridge_cli.study.run import run_study
 
 IDA = (
@@ -124,7 +125,7 @@ def test_limit_states_of_a_peak_table():
     assert limit_states.reached("backfill_25", columns).tolist() == [0, 1, 1, 1, 0]
     assert limit_states.reached("abutment_failure", columns).tolist() == [0, 0, 0, 1, 0]
     with pytest.raises(ValueError, match="unknown limit state 'backfill_0'"):
-        limit_states.check("backfill_0")
+        check_limit_state("backfill_0")
 
 
 # The config

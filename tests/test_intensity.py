@@ -15,12 +15,12 @@ from click.testing import CliRunner
 from scipy.stats import norm
 from studies import write_study
 
+from rockbridge_cli.assessment.fragility import fit_lognormal
 from rockbridge_cli.cli import main
 from rockbridge_cli.config.study import load_study
 from rockbridge_cli.core.quantities import STANDARD_GRAVITY
-from rockbridge_cli.core.spectra import compute_psa
 from rockbridge_cli.errors import InputError
-from rockbridge_cli.fragility import fit_lognormal
+from rockbridge_cli.motions.spectra import compute_psa
 from rockbridge_cli.results import read_peaks
 from rockbridge_cli.study.run import run_study
 

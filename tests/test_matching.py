@@ -17,9 +17,9 @@ from scipy.integrate import cumulative_trapezoid
 
 from rockbridge_cli.config.loading import load
 from rockbridge_cli.config.records import RecordSetConfig
-from rockbridge_cli.core import baseline, matching, wavelets
-from rockbridge_cli.core.ec8 import compute_elastic_spectrum
-from rockbridge_cli.core.spectra import compute_psa, find_peak_responses
+from rockbridge_cli.motions import baseline, matching, wavelets
+from rockbridge_cli.motions.ec8 import compute_elastic_spectrum
+from rockbridge_cli.motions.spectra import compute_psa, find_peak_responses
 from rockbridge_cli.records.files import read_record_set
 from rockbridge_cli.records.sets import (
     GROUND_DISPLACEMENT_AIM,
@@ -233,8 +233,8 @@ def test_core_imports_no_edge_library():
     code = (
         "import sys, numpy, scipy.fft, numba\n"
         "before = set(sys.modules)\n"
-        "import rockbridge_cli.core.ec8, rockbridge_cli.core.spectra\n"
-        "import rockbridge_cli.core.matching\n"
+        "import rockbridge_cli.motions.ec8, rockbridge_cli.motions.spectra\n"
+        "import rockbridge_cli.motions.matching\n"
         "edge = {'click', 'yaml', 'pydantic', 'h5py', 'pandas', 'matplotlib'}\n"
         "print(sorted(edge & {name.split('.')[0] for name in set(sys.modules) - before}))\n"
     )
@@ -292,6 +292,6 @@ def test_ground_motion_integrates_exactly_for_piecewise_linear_acceleration():
 def test_design_ground_displacement_of_en1998():
     """§3.2.2.4: d_g = 0.025·a_g·S·T_C·T_D; type 1 ground C (S 1.15, T_C 0.6 s, T_D 2.0 s) at
     a_g = 0.6·9.81 m/s² is 0.025·5.886·1.15·0.6·2.0 = 0.2030670 m."""
-    from rockbridge_cli.core.ec8 import design_ground_displacement
+    from rockbridge_cli.motions.ec8 import design_ground_displacement
 
     assert design_ground_displacement(1, "C", 5.886) == pytest.approx(0.203067, rel=1e-12)

@@ -55,7 +55,7 @@ def test_dockerfile_installs_from_the_lock_and_runs_as_a_user():
     ]
     lock = commands.index("pip install --require-hashes -r requirements.lock")
     package = commands.index("pip install --no-deps --no-build-isolation .")
-    warm = commands.index("python -m rockbridge_cli.core.warmup")
+    warm = commands.index("python -m rockbridge_cli.warmup")
     assert lock < package < warm
     assert commands[warm + 1] == 'chmod -R a+rwX "$NUMBA_CACHE_DIR"'
     assert re.search(r"^FROM python:3\.\d+-slim$", docker, re.M)
@@ -126,7 +126,7 @@ print(json.dumps({
 @pytest.mark.slow
 @pytest.mark.skipif(os.environ.get("NUMBA_DISABLE_JIT") == "1", reason="nothing is compiled")
 def test_a_run_after_the_image_s_warm_up_compiles_nothing(tmp_path):
-    """The Dockerfile's build step (`python -m rockbridge_cli.core.warmup` with the image's
+    """The Dockerfile's build step (`python -m rockbridge_cli.warmup` with the image's
     NUMBA_CACHE_DIR) fills the cache a later process reads: `rockbridge run` at every preset
     then loads every kernel from it and compiles none (numba's per-kernel cache statistics)."""
     cache = dict(
@@ -138,7 +138,7 @@ def test_a_run_after_the_image_s_warm_up_compiles_nothing(tmp_path):
     )["NUMBA_CACHE_DIR"]
     assert cache.startswith("/opt/rockbridge/")  # inside the image, beside the bundled files
     environment = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
-    build = [sys.executable, "-m", "rockbridge_cli.core.warmup"]
+    build = [sys.executable, "-m", "rockbridge_cli.warmup"]
     subprocess.run(build, env=environment, check=True, timeout=600)
     assert list((tmp_path / "cache").rglob("*.nbc")), "the warm-up wrote no compiled kernel"
     study = str(REPO / "configs" / "studies" / "quick.yaml")

@@ -18,8 +18,8 @@ from click.testing import CliRunner
 from rockbridge_cli.cli import main
 from rockbridge_cli.config.loading import load
 from rockbridge_cli.config.records import RecordSetConfig
-from rockbridge_cli.core import baseline, ec8, spectra
 from rockbridge_cli.errors import InputError
+from rockbridge_cli.motions import baseline, ec8, spectra
 from rockbridge_cli.records.files import read_record, read_record_set
 from rockbridge_cli.records.sets import generate_record_set
 

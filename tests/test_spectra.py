@@ -11,7 +11,7 @@ import time
 import numpy as np
 import pytest
 
-from rockbridge_cli.core.spectra import (
+from rockbridge_cli.motions.spectra import (
     compute_oscillator_response,
     compute_psa,
     find_peak_responses,
@@ -162,7 +162,7 @@ def test_compiled_and_plain_python_agree():
     periods = [0.03, 0.2, 1.0]
     code = (
         "import json, sys, numpy as np\n"
-        "from rockbridge_cli.core.spectra import compute_psa\n"
+        "from rockbridge_cli.motions.spectra import compute_psa\n"
         "data = json.load(sys.stdin)\n"
         "print(json.dumps(compute_psa(np.array(data['a']), 0.01, data['T']).tolist()))\n"
     )

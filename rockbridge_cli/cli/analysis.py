@@ -55,8 +55,8 @@ def analyze(
     Exits 1 if the integrator stopped before the end of the record (its peaks are then NaN).
     """
     from ..config.bridge import load_bridge  # pydantic: loaded on use
+    from ..config.plausibility import bridge_warnings, record_warnings
     from ..core.analysis import analyze as run_analysis  # the compiled core: loaded on use
-    from ..plausibility import bridge_warnings, record_warnings
     from ..records.files import read_record
 
     config = load_bridge(bridge)

@@ -17,8 +17,8 @@ from .output import echo_json, echo_table
 def describe(bridge: Path, as_json: bool) -> None:
     """Print the model used and the quantities a designer checks first for BRIDGE (a YAML file)."""
     from ..config.bridge import load_bridge  # pydantic: loaded on use
+    from ..config.plausibility import bridge_warnings
     from ..core.summary import summarize  # the compiled core: loaded on use
-    from ..plausibility import bridge_warnings
 
     config = load_bridge(bridge)
     for warning in bridge_warnings(config):

@@ -25,7 +25,7 @@ def fragility(results: Path, as_json: bool, csv_file: str | None) -> None:
     log-mean and log-standard deviation of the capacities (censored where a record reaches the
     state at the first level or never); 90 % interval of the median by a bootstrap over the
     records. The run stores the same in RESULTS (/fragility)."""
-    from ..fragility import fragilities
+    from ..assessment.fragility import fragilities
 
     found = fragilities(results)
     if csv_file is not None:

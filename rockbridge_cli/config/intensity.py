@@ -1,6 +1,6 @@
 """The intensity section of a study: every record scaled to stated levels of an intensity
-measure (multiple stripes), or to the levels an incremental dynamic analysis finds (`study.ida`),
-and the ids of the scaled records."""
+measure (multiple stripes), or to the levels an incremental dynamic analysis finds
+(`assessment.ida`), and the ids of the scaled records."""
 
 from __future__ import annotations
 
@@ -9,8 +9,7 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, PositiveFloat, field_validator, model_validator
 
-from .. import limit_states
-from ..core.quantities import STANDARD_GRAVITY
+from ..core.quantities import LIMIT_STATES, STANDARD_GRAVITY, check_limit_state
 from ..records.files import Record
 from .loading import StrictModel
 
@@ -20,7 +19,7 @@ MAX_BISECTIONS = 20
 
 class Ida(StrictModel):
     """Incremental dynamic analysis: for each bridge × record and limit state, the lowest level at
-    which the state is reached (`study.ida`). Levels are in the section's measure."""
+    which the state is reached (`assessment.ida`). Levels are in the section's measure."""
 
     start: PositiveFloat = Field(description="First level of the upward scan")
     step: PositiveFloat = Field(description="Increment of the scan")
@@ -29,7 +28,7 @@ class Ida(StrictModel):
         0.02, gt=0.0, lt=1.0, description="Bisect to this width relative to the capacity [-]"
     )
     limit_states: list[str] = Field(
-        default_factory=lambda: list(limit_states.DEFAULT),
+        default_factory=lambda: list(LIMIT_STATES),
         min_length=1,
         description="Limit states: gap_closure, backfill_<p>, abutment_failure, overturning",
     )
@@ -39,7 +38,7 @@ class Ida(StrictModel):
     def _known_states(cls, names: list[str]) -> list[str]:
         if len(set(names)) != len(names):
             raise ValueError("a limit state is listed twice")
-        return [limit_states.check(name) for name in names]
+        return [check_limit_state(name) for name in names]
 
     @model_validator(mode="after")
     def _scan(self) -> Ida:
@@ -88,7 +87,7 @@ def intensity_of(record: Record, intensity: Intensity) -> float:
     if intensity.measure == "pga_g":
         return record.peak_acceleration / STANDARD_GRAVITY
     if intensity.measure == "sa_g":
-        from ..core.spectra import compute_psa  # compiled: loaded only where a study needs it
+        from ..motions.spectra import compute_psa  # compiled: loaded only where a study needs it
 
         assert intensity.period is not None
         psa = compute_psa(record.acceleration, record.time_step, np.array([intensity.period]),

@@ -38,12 +38,12 @@ from pydantic import (
 from ..core.fidelity import PRESETS, knobs
 from ..core.quantities import HISTORY_UNITS
 from ..errors import InputError
-from ..plausibility import bridge_warnings, record_warnings
 from ..records.files import Record, read_manifest, read_record
 from . import loading
 from .bridge import BridgeConfig, load_bridge
 from .intensity import Intensity, intensity_of, scaled_id
 from .loading import ID_PATTERN, StrictModel, resolve_path
+from .plausibility import bridge_warnings, record_warnings
 from .records import RecordFile
 from .sweep import Sweep, field_value, variant_id, varied
 
@@ -255,7 +255,7 @@ class Study:
     warnings : legal but implausible inputs (`plausibility`), ``source: field: reason`` each
     intensity : the intensity section (measure, levels or ida, period, damping), None without;
         with ``ida``, ``records`` are the records as read, and the levels are found as the study
-        runs (`study.ida`)
+        runs (`assessment.ida`)
     """
 
     path: Path

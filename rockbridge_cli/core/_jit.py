@@ -1,4 +1,4 @@
-"""The one place the numerical core chooses its compiler.
+"""The one place the package chooses its compiler (for the core and for `motions`).
 
 Every hot kernel is plain Python on floats and numpy arrays, decorated with `jit`. numba compiles it
 to machine code (cached on disk after the first run); with the environment variable

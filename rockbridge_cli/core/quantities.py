@@ -1,5 +1,8 @@
-"""The quantities an analysis reports, with their units: a vocabulary shared by the core, the
-configs and the results file, importable without the compiled core."""
+"""The quantities an analysis reports, with their units, and the names of the limit states it can
+reach: a vocabulary shared by the core, the configs, the results file and the assessment,
+importable without the compiled core."""
+
+import re
 
 HISTORY_UNITS = {
     "theta1": "rad", "theta1_rate": "rad/s", "mode": "-", "theta2": "rad", "theta_deck": "rad",
@@ -45,3 +48,25 @@ and COSMOS files), whatever gravity the structure is analysed with (docs/model.m
 ROUND_OFF = 1e-12
 """A peak below this in SI units (a picometre, a picoradian) is round-off and is shown as 0: the
 deck of a symmetric bridge does not rotate, though the arithmetic leaves ~1e-16 rad."""
+
+LIMIT_STATES = ("gap_closure", "backfill_50", "abutment_failure", "overturning")
+"""The limit states a study reports when it names none (`assessment.limit_states` decides which
+an analysis reaches); ``backfill_<p>`` for any whole p from 1 to 100 is one too."""
+
+_BACKFILL_STATE = re.compile(r"^backfill_([1-9][0-9]?|100)$")
+
+
+def check_limit_state(name: str) -> str:
+    """``name`` if it names a limit state.
+
+    Raises
+    ------
+    ValueError
+        It does not: the message lists the choices.
+    """
+    if name in LIMIT_STATES or _BACKFILL_STATE.match(name):
+        return name
+    raise ValueError(
+        f"unknown limit state {name!r}: choose gap_closure, abutment_failure, overturning or "
+        "backfill_<p> (p % of the backfill's capacity, 1-100)"
+    )

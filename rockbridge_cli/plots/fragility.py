@@ -10,7 +10,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from scipy.stats import norm
 
-from ..fragility import Fragility, fragilities
+from ..assessment.fragility import Fragility, fragilities
 from .common import PLAIN, check_format, panel_label, save, style
 
 MEASURE_LABELS = {"pga_g": "PGA [g]", "sa_g": "Sa(T) [g]", "scale": "scale factor [-]"}

@@ -10,9 +10,9 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
+from ..assessment.fragility import fragilities_of
 from ..core.quantities import NO_FAILURE
 from ..errors import InputError
-from ..fragility import fragilities_of
 from ..results.reading import open_results, peak_columns, peak_units
 from .common import check_format, panel_label, save, style
 from .fragility import MEASURE_LABELS

@@ -9,8 +9,8 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-from ..core.baseline import integrate_motion
 from ..core.quantities import STANDARD_GRAVITY
+from ..motions.baseline import integrate_motion
 from .common import FAILURE_LINE, check_format, legend_columns, panel_label, save, style
 from .spectra import NAMED_RECORDS, load_records
 

@@ -15,7 +15,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import NullFormatter
 
 from ..core.quantities import STANDARD_GRAVITY
-from ..core.spectra import compute_psa
+from ..motions.spectra import compute_psa
 from ..records.files import (
     MANIFEST,
     Record,

@@ -10,9 +10,9 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-from .. import limit_states
+from ..assessment.fragility import fragilities_of
+from ..core.quantities import check_limit_state
 from ..errors import InputError
-from ..fragility import fragilities_of
 from ..results.reading import open_results, peak_columns, peak_units, swept_values
 from .common import check_format, save, style
 from .ida import QUANTITY_SCALE
@@ -101,7 +101,7 @@ def plot_sweep(
 
 def _is_limit_state(name: str) -> bool:
     try:
-        limit_states.check(name)
+        check_limit_state(name)
     except ValueError:
         return False
     return True

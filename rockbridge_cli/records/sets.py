@@ -16,8 +16,8 @@ import scipy
 
 from .. import __version__
 from ..config.records import RecordSetConfig
-from ..core import baseline, ec8, matching, spectra
 from ..errors import InputError
+from ..motions import baseline, ec8, matching, spectra
 from ..paths import writable
 from .files import MANIFEST, Record, read_manifest, read_record, write_record
 

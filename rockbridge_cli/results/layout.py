@@ -10,7 +10,7 @@
     /events/<column>           the events of every analysis, the analyses one after the other
                                in the order of /peaks
     /fragility/<column>        with an intensity section: fragility per bridge × limit state
-                               (`rockbridge_cli.fragility.store`)
+                               (`rockbridge_cli.assessment.fragility.store`)
     /analyses/<bridge>/<record>/histories/<name>     histories, where the study keeps them
 
 ``/events`` is a contiguous ragged array in the sense of the CF conventions (§9.3.3): the column

@@ -6,7 +6,6 @@ they are called, so that a command printing a table starts quickly.
 
 from __future__ import annotations
 
-import itertools
 import json
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -18,7 +17,6 @@ import numpy as np
 
 from ..core.quantities import HISTORY_UNITS
 from ..errors import InputError
-from ..limit_states import Verdict
 from .layout import COUNT_COLUMNS, EVENT_COLUMNS, FORMAT, FORMAT_VERSION, READABLE_VERSIONS
 from .packing import AnalysisResult
 
@@ -111,17 +109,6 @@ def read_peaks(path: str | Path) -> pd.DataFrame:
     )
     frame.attrs["units"] = units
     return frame
-
-
-def stored_verdicts(file: h5py.File) -> dict[tuple[str, str], Verdict]:
-    """The verdict of each analysis an open results file holds, by (bridge, record)."""
-    group = file["peaks"]
-    pairs = zip(group["bridge"].asstr()[()], group["record"].asstr()[()], strict=True)
-    verdicts = zip(
-        group["status"].asstr()[()], group["failure_mode"].asstr()[()],
-        group["dcr_backfill"][()].tolist(), strict=True,
-    )  # fmt: skip
-    return dict(zip(pairs, itertools.starmap(Verdict, verdicts), strict=True))
 
 
 def stored_shard_of(file: h5py.File) -> tuple[int, int] | None:

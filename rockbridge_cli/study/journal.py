@@ -16,8 +16,8 @@ from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
+from ..assessment.limit_states import Verdict
 from ..errors import InputError
-from ..limit_states import Verdict
 from ..results.packing import Packed
 from .work import Outcome
 

@@ -20,11 +20,12 @@ from pathlib import Path
 
 import h5py
 
+from ..assessment.fragility import store as store_fragilities
+from ..assessment.limit_states import stored_verdicts
 from ..errors import InputError
-from ..fragility import store as store_fragilities
 from ..paths import replace_atomically, writable
 from ..results.packing import AnalysisResult
-from ..results.reading import open_results, stored_results, stored_verdicts
+from ..results.reading import open_results, stored_results
 from ..results.writing import ResultsWriter, copy_description
 
 PROVENANCE = (

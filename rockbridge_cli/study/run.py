@@ -28,11 +28,11 @@ from typing import TYPE_CHECKING
 import h5py
 import numpy as np
 
+from ..assessment.limit_states import Verdict, stored_verdicts
 from ..core.quantities import NO_FAILURE
 from ..core.summary import summarize_all
 from ..cpus import usable_cpus
 from ..errors import InputError
-from ..limit_states import Verdict
 from ..paths import replace_atomically, writable
 from ..results.packing import AnalysisResult, Packed
 from ..results.reading import (
@@ -40,13 +40,12 @@ from ..results.reading import (
     peak_columns,
     stored_results,
     stored_shard_of,
-    stored_verdicts,
 )
 from ..results.writing import ResultsWriter, describe_study
 from .executors import executor
 from .grid import Cell, Grid
-from .ida import Plan
 from .journal import Journal, remove_journal
+from .plan import Plan
 from .shards import shard_label
 from .work import Finished
 
@@ -257,7 +256,9 @@ def _write(
             writer.add(merged, None if assembly is None else lambda n: assembly(n, len(cells)))
             writer.close(_timestamp())
             if shard is None and study.intensity is not None:
-                from ..fragility import store  # scipy's optimizers: only an intensity study's
+                from ..assessment.fragility import (
+                    store,  # scipy's optimizers: only an intensity study's
+                )
 
                 store(file)
         replace_atomically(temporary, output)

@@ -6,9 +6,9 @@ import time
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, NamedTuple
 
+from ..assessment.limit_states import Verdict
 from ..core.fidelity import RECHECK_MARGIN
 from ..core.quantities import NO_FAILURE
-from ..limit_states import Verdict
 from ..results.packing import AnalysisResult, Packed
 from .grid import BridgeCase, Cell, Grid, RecordCase
 

@@ -5,7 +5,7 @@ From multiple stripes, the fit is Baker's (2015, Earthquake Spectra 31(1)): at e
 level x_j, z_j of the n_j records reach the state; the median θ and the log-standard deviation β
 maximise the binomial likelihood Π_j Φ((ln x_j − ln θ)/β)^z_j · (1 − Φ(…))^(n_j − z_j).
 
-From an IDA, each record has a capacity (`study.ida`); ln θ and β are the mean and standard
+From an IDA, each record has a capacity (`assessment.ida`); ln θ and β are the mean and standard
 deviation (1/n, the maximum-likelihood estimate) of the log-capacities. A curve the IDA has not
 finished (an interrupted run, an analysis that could not run) is left out. Records that reach the
 state at the first level already, or never up to the last, are censored there (their likelihood
@@ -29,11 +29,13 @@ import numpy as np
 from scipy.optimize import minimize
 from scipy.special import log_ndtr, ndtr
 
+from ..config.intensity import scaled_id
+from ..core.quantities import LIMIT_STATES
+from ..errors import InputError
+from ..results.reading import open_results, peak_columns
 from . import limit_states
-from .config.intensity import scaled_id
-from .errors import InputError
+from .ida import Lattice, Walk, walk
 from .limit_states import Verdict
-from .results.reading import open_results, peak_columns
 
 BOOTSTRAP = 100
 """Resamplings of the records for the interval of the median."""
@@ -201,7 +203,7 @@ def _stripe_fragility(bridge, mine, intensity, rng, bootstrap) -> list[Fragility
     levels = np.array(sorted(set(mine["intensity"].tolist())))
     records = list(dict.fromkeys(mine["base_record"]))
     found = []
-    for state in limit_states.DEFAULT:
+    for state in LIMIT_STATES:
         table = _reached(mine, limit_states.reached(state, mine), records, levels)
         counts = _counts(table)  # records × levels above, NaN where not analysed
         fit = fit_lognormal(levels, *counts)
@@ -221,8 +223,6 @@ def _stripe_fragility(bridge, mine, intensity, rng, bootstrap) -> list[Fragility
 
 
 def _ida_fragility(bridge, mine, intensity, rng, bootstrap) -> list[Fragility]:
-    from .study.ida import Lattice, Walk, walk
-
     lattice = Lattice.of(intensity["ida"])
     states = tuple(intensity["ida"]["limit_states"])
     verdicts = {
@@ -305,8 +305,8 @@ def store(file: h5py.File) -> None:
     records = list(dict.fromkeys(record for item in found for record in item.capacities))
     group = file.create_group("fragility")
     group.attrs["description"] = (
-        "lognormal fragility per bridge and limit state (rockbridge_cli.fragility), as the run "
-        "computed it; rockbridge fragility RESULTS.h5 prints the same"
+        "lognormal fragility per bridge and limit state (rockbridge_cli.assessment.fragility), "
+        "as the run computed it; rockbridge fragility RESULTS.h5 prints the same"
     )
     group.attrs["measure"] = intensity["measure"]
     group.attrs["records"] = json.dumps(records)

@@ -1,5 +1,5 @@
-"""Incremental dynamic analysis (Vamvatsikos & Cornell 2002): for each bridge × record (a curve)
-and each limit state, the lowest intensity at which the state is reached.
+"""The rule of incremental dynamic analysis (Vamvatsikos & Cornell 2002): for each bridge × record
+(a curve) and each limit state, the lowest intensity at which the state is reached.
 
 The rule (docs/batch.md): scan upward from ``start`` by ``step`` until every limit state has been
 reached or the next level would pass ``max``; then, for each state, bisect between the last scan
@@ -10,23 +10,16 @@ capacity may again not reach the state; the rule is the definition, and every le
 Every level an IDA can run lies on a lattice, ``start + step · n / 2^depth`` (bisection halves
 the step), so a level has one exact value and one id however it was reached, and the position of
 an analysis in the results is its lattice index. The rule is a function of the verdicts found so
-far, so the runner runs it in rounds — each round the levels the verdicts so far call for, on
-every curve at once — and a resumed run replays it from the stored verdicts without re-running
-anything. The workers hold the records as read; each analysis scales its record itself
-(`grid.Cell`).
+far: a study runs it in rounds (`study.plan`), and the fragility fits replay it from the stored
+verdicts (`assessment.fragility`) without running anything.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
-
-from ..config.intensity import Intensity, intensity_of
-from ..config.study import Study
-from ..limit_states import Verdict
-from .grid import Cell, Grid
 
 
 @dataclass(frozen=True)
@@ -125,64 +118,3 @@ def walk(
             below, level = (below, middle) if state in found else (middle, level)
         capacities[state] = (max(below, -1), level)
     return Walk(frozenset(wanted), frozenset(visited), capacities)
-
-
-class Plan:
-    """The IDA of a study, or of some of its curves: its rounds, and what it has run.
-
-    Parameters
-    ----------
-    study
-        A study whose intensity section has ``ida``; its records are the records as read.
-    grid
-        The study's grid (`Grid.of`): one cell per curve, bridge × record as read.
-    curves
-        The curves to follow (a shard's); default every cell of ``grid``.
-    """
-
-    def __init__(self, study: Study, grid: Grid, curves: Iterable[Cell] | None = None):
-        intensity = Intensity.model_validate(study.intensity)
-        assert intensity.ida is not None
-        self.grid = grid
-        self.lattice = Lattice.of(intensity.ida.model_dump())
-        self.tolerance = intensity.ida.tolerance
-        self.states = tuple(intensity.ida.limit_states)
-        self.curves = list(grid.cells if curves is None else curves)
-        self.natives = [
-            intensity_of(r.record, intensity) if r.record is not None else 1.0
-            for r in study.records
-        ]
-
-    def round(self, verdicts: Mapping[tuple[str, str], Verdict]) -> list[Cell]:
-        """The analyses to run next, on every curve at once; empty when the IDA is done."""
-        return self._cells(verdicts, "wanted")
-
-    def ran(self, verdicts: Mapping[tuple[str, str], Verdict]) -> list[Cell]:
-        """The analyses the rule has used so far, in the order of the results (bridge, record,
-        level)."""
-        return sorted(self._cells(verdicts, "visited"))
-
-    def walk(self, curve: Cell, verdicts: Mapping[tuple[str, str], Verdict]) -> Walk:
-        """Where one curve stands, given the verdicts so far."""
-
-        def reaches(n: int) -> frozenset[str] | None:
-            verdict = verdicts.get(self.grid.ids(self.cell(curve, n)))
-            return None if verdict is None else verdict.reaches(self.states)
-
-        return walk(self.lattice, self.tolerance, self.states, reaches)
-
-    def cell(self, curve: Cell, n: int) -> Cell:
-        """The analysis of a curve at lattice index ``n``; its index orders the results by
-        bridge, record and level."""
-        level = self.lattice.level(n)
-        return Cell(
-            curve.index * self.lattice.count + n, curve.bridge, curve.record, level,
-            level / self.natives[curve.record],
-        )  # fmt: skip
-
-    def _cells(self, verdicts: Mapping[tuple[str, str], Verdict], which: str) -> list[Cell]:
-        return [
-            self.cell(curve, n)
-            for curve in self.curves
-            for n in sorted(getattr(self.walk(curve, verdicts), which))
-        ]

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._jit import jit
+from ..core._jit import jit
 from .spectra import find_peak_responses
 
 #: Local peaks of |a| within this fraction of the PGA are held in place while matching [-].

@@ -8,40 +8,23 @@ An analysis reaches
 - ``abutment_failure`` when the abutment–backfill fails (``failure_mode`` ``abutment``);
 - ``overturning`` when a pier overturns (``failure_mode`` ``overturning_*``).
 
-(docs/model.md §7–8.) The tests take the columns of a peak table, or the scalars of one
-analysis, and never fail on a missing value: an analysis that could not run reaches nothing.
+(docs/model.md §7–8; their names are `core.quantities.LIMIT_STATES`.) The tests take the columns
+of a peak table, or the scalars of one analysis, and never fail on a missing value: an analysis
+that could not run reaches nothing.
 """
 
 from __future__ import annotations
 
-import re
+import itertools
 from collections.abc import Iterable, Mapping
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
-from .core.quantities import ABUTMENT, PIER1_OVERTURNING, PIER2_OVERTURNING
+from ..core.quantities import ABUTMENT, PIER1_OVERTURNING, PIER2_OVERTURNING, check_limit_state
 
-DEFAULT = ("gap_closure", "backfill_50", "abutment_failure", "overturning")
-"""The limit states a study reports when it names none."""
-
-_BACKFILL = re.compile(r"^backfill_([1-9][0-9]?|100)$")
-
-
-def check(name: str) -> str:
-    """``name`` if it is a limit state.
-
-    Raises
-    ------
-    ValueError
-        It is not: the message lists the choices.
-    """
-    if name in DEFAULT or _BACKFILL.match(name):
-        return name
-    raise ValueError(
-        f"unknown limit state {name!r}: choose gap_closure, abutment_failure, overturning or "
-        "backfill_<p> (p % of the backfill's capacity, 1-100)"
-    )
+if TYPE_CHECKING:
+    import h5py
 
 
 def reached(name: str, columns: Mapping[str, Any]) -> np.ndarray:
@@ -65,7 +48,7 @@ def reached(name: str, columns: Mapping[str, Any]) -> np.ndarray:
         return mode == ABUTMENT
     if name == "overturning":
         return (mode == PIER1_OVERTURNING) | (mode == PIER2_OVERTURNING)
-    return ratio >= int(check(name).removeprefix("backfill_")) / 100.0
+    return ratio >= int(check_limit_state(name).removeprefix("backfill_")) / 100.0
 
 
 class Verdict(NamedTuple):
@@ -80,3 +63,14 @@ class Verdict(NamedTuple):
         if self.status == "error":
             return frozenset()
         return frozenset(name for name in names if bool(reached(name, self._asdict())))
+
+
+def stored_verdicts(file: h5py.File) -> dict[tuple[str, str], Verdict]:
+    """The verdict of each analysis an open results file holds, by (bridge, record)."""
+    group = file["peaks"]
+    pairs = zip(group["bridge"].asstr()[()], group["record"].asstr()[()], strict=True)
+    verdicts = zip(
+        group["status"].asstr()[()], group["failure_mode"].asstr()[()],
+        group["dcr_backfill"][()].tolist(), strict=True,
+    )  # fmt: skip
+    return dict(zip(pairs, itertools.starmap(Verdict, verdicts), strict=True))

@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from ._jit import jit
+from ..core._jit import jit
 
 #: Minimum number of (sub-)steps per oscillator period [-].
 POINTS_PER_PERIOD = 10

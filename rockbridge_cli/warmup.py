@@ -2,9 +2,10 @@
 
 numba compiles a kernel on its first call in a process unless its disk cache (``__pycache__``
 next to the source, or the folder named by ``NUMBA_CACHE_DIR``) already holds it; compiling the
-whole core takes 8–10 s. A container image runs ``python -m rockbridge_cli.core.warmup`` at build
-time with ``NUMBA_CACHE_DIR`` set for good (see the Dockerfile), so that every container of a batch
-job starts analysing at once. Any installation can run it after ``pip install`` for the same effect.
+whole package (the core and the ground-motion numerics) takes 8–10 s. A container image runs
+``python -m rockbridge_cli.warmup`` at build time with ``NUMBA_CACHE_DIR`` set for good (see the
+Dockerfile), so that every container of a batch job starts analysing at once. Any installation can
+run it after ``pip install`` for the same effect.
 
 The calls below reach every compiled kernel with the argument types the package uses: one
 analysis at every fidelity preset, of a bridge and of a single block, a response spectrum and one
@@ -15,10 +16,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import geometry, matching, spectra
-from .analysis import analyze
-from .bridge import Bridge
-from .fidelity import PRESETS
+from .core import geometry
+from .core.analysis import analyze
+from .core.bridge import Bridge
+from .core.fidelity import PRESETS
+from .motions import matching, spectra
 
 TIME_STEP = 0.01
 """Sample interval of the warm-up ground motion [s]."""

@@ -12,11 +12,11 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-from .core.quantities import STANDARD_GRAVITY
+from ..core.quantities import STANDARD_GRAVITY
 
 if TYPE_CHECKING:
-    from .config.bridge import BridgeConfig
-    from .records.files import Record
+    from ..records.files import Record
+    from .bridge import BridgeConfig
 
 RECORD_PGA_G = (0.001, 5.0)
 """Peak ground accelerations outside this range [g] are not earthquake records (the largest

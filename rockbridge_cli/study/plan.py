@@ -1,0 +1,76 @@
+"""The plan of an incremental dynamic analysis: the rounds in which a study runs the IDA rule
+(`assessment.ida`) on every curve at once — each round the levels the verdicts so far call for —
+and, on resuming, the replay of the rule from the stored verdicts without re-running anything. The
+workers hold the records as read; each analysis scales its record itself (`grid.Cell`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+
+from ..assessment.ida import Lattice, Walk, walk
+from ..assessment.limit_states import Verdict
+from ..config.intensity import Intensity, intensity_of
+from ..config.study import Study
+from .grid import Cell, Grid
+
+
+class Plan:
+    """The IDA of a study, or of some of its curves: its rounds, and what it has run.
+
+    Parameters
+    ----------
+    study
+        A study whose intensity section has ``ida``; its records are the records as read.
+    grid
+        The study's grid (`Grid.of`): one cell per curve, bridge × record as read.
+    curves
+        The curves to follow (a shard's); default every cell of ``grid``.
+    """
+
+    def __init__(self, study: Study, grid: Grid, curves: Iterable[Cell] | None = None):
+        intensity = Intensity.model_validate(study.intensity)
+        assert intensity.ida is not None
+        self.grid = grid
+        self.lattice = Lattice.of(intensity.ida.model_dump())
+        self.tolerance = intensity.ida.tolerance
+        self.states = tuple(intensity.ida.limit_states)
+        self.curves = list(grid.cells if curves is None else curves)
+        self.natives = [
+            intensity_of(r.record, intensity) if r.record is not None else 1.0
+            for r in study.records
+        ]
+
+    def round(self, verdicts: Mapping[tuple[str, str], Verdict]) -> list[Cell]:
+        """The analyses to run next, on every curve at once; empty when the IDA is done."""
+        return self._cells(verdicts, "wanted")
+
+    def ran(self, verdicts: Mapping[tuple[str, str], Verdict]) -> list[Cell]:
+        """The analyses the rule has used so far, in the order of the results (bridge, record,
+        level)."""
+        return sorted(self._cells(verdicts, "visited"))
+
+    def walk(self, curve: Cell, verdicts: Mapping[tuple[str, str], Verdict]) -> Walk:
+        """Where one curve stands, given the verdicts so far."""
+
+        def reaches(n: int) -> frozenset[str] | None:
+            verdict = verdicts.get(self.grid.ids(self.cell(curve, n)))
+            return None if verdict is None else verdict.reaches(self.states)
+
+        return walk(self.lattice, self.tolerance, self.states, reaches)
+
+    def cell(self, curve: Cell, n: int) -> Cell:
+        """The analysis of a curve at lattice index ``n``; its index orders the results by
+        bridge, record and level."""
+        level = self.lattice.level(n)
+        return Cell(
+            curve.index * self.lattice.count + n, curve.bridge, curve.record, level,
+            level / self.natives[curve.record],
+        )  # fmt: skip
+
+    def _cells(self, verdicts: Mapping[tuple[str, str], Verdict], which: str) -> list[Cell]:
+        return [
+            self.cell(curve, n)
+            for curve in self.curves
+            for n in sorted(getattr(self.walk(curve, verdicts), which))
+        ]
