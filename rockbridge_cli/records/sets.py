@@ -15,11 +15,12 @@ import numpy as np
 import scipy
 
 from .. import __version__
-from ..config.records import RecordSetConfig
+from ..config.records import FemaSet, RecordSetConfig
 from ..errors import InputError
 from ..motions import baseline, ec8, matching, spectra
 from ..paths import writable
-from .files import MANIFEST, Record, read_manifest, read_record, write_record
+from .fema import read_fema_set
+from .files import MANIFEST, PROVENANCE, Record, read_manifest, read_record, write_record
 
 GROUND_DISPLACEMENT_AIM = 2.0
 """The peak ground displacement a matched record should stay within, as a multiple of EN 1998-1's
@@ -183,7 +184,7 @@ def generate_record_set(
         max_attempts=config.attempts,
         damping=target.damping,
     )
-    made = _matched_seeds(config, target, settings) if config.seeds else _synthesised(
+    made = _matched_seeds(config, target, settings) if config.seeds is not None else _synthesised(
         config, target, settings)  # fmt: skip
     records = [record for record, _ in made]
     check = np.geomspace(*config.band, config.check_periods)
@@ -231,39 +232,63 @@ def _synthesised(config, target, settings) -> list[tuple[Record, matching.Matche
 
 
 def _matched_seeds(config, target, settings) -> list[tuple[Record, matching.MatchedRecord]]:
-    """One record per seed at the seed's own time step (EN 1998-1 §3.2.3.1.3): matched, or scaled
-    without changing its shape (`ec8.scale_factors`)."""
-    seeds = [_read_seed(config, index) for index in range(len(config.seeds))]
-    factors = _scale_factors(config, target, seeds) if config.adjust != "match" else None
+    """One record per seed at the seed's own time step (EN 1998-1 §3.2.3.1.3): matched, scaled
+    without changing its shape (`ec8.scale_factors`), or as read (``adjust: none``)."""
+    seeds = _read_seeds(config)
+    factors = _scale_factors(config, target, seeds) if config.adjust.startswith("scale") else None
     made = []
-    for index, (entry, seed) in enumerate(zip(config.seeds, seeds, strict=True)):
-        metadata: dict[str, Any] = {"seed_file": Path(entry.path).name}
-        if factors is None:
+    for index, seed in enumerate(seeds):
+        metadata = dict(seed.metadata)
+        if config.adjust == "match":
             periods = matching.compute_matching_periods(config.band, config.check_periods,
                                                         seed.time_step)  # fmt: skip
             matched = matching.match_seed(
                 periods, target.evaluate(periods, extrapolate=True), target.surface_pga,
                 seed.acceleration, seed.time_step, settings, config.band)  # fmt: skip
         else:
-            metadata["scale_factor"] = float(factors[index])
-            matched = matching.MatchedRecord(factors[index] * seed.acceleration, seed.time_step,
+            factor = 1.0 if factors is None else float(factors[index])
+            metadata["scale_factor"] = factor * metadata.get("scale_factor", 1.0)
+            matched = matching.MatchedRecord(factor * seed.acceleration, seed.time_step,
                                              0, 0, float("nan"))  # fmt: skip
-        name = entry.id or re.sub(r"[^A-Za-z0-9_.+-]", "_", Path(entry.path).stem)
-        made.append((Record(name, seed.time_step, matched.acceleration, "generate-records",
+        made.append((Record(seed.name, seed.time_step, matched.acceleration, "generate-records",
                             metadata), matched))  # fmt: skip
     return made
 
 
-def _read_seed(config: RecordSetConfig, index: int) -> Record:
-    """Seed ``index``, refused if its time step is too coarse for the band."""
-    assert config.seeds is not None
-    entry = config.seeds[index]
-    seed = read_record(entry.path, units=entry.units, time_step=entry.time_step)
-    if config.band[0] < 5.0 * seed.time_step - 1e-12:
-        raise InputError(entry.path, [(f"seeds.{index}.path", f"time step {seed.time_step:g} s "
-                                       f"is too coarse for the band from {config.band[0]:g} s: "
-                                       "at least 5 steps per period are needed")])  # fmt: skip
-    return seed
+def _read_seeds(config: RecordSetConfig) -> list[Record]:
+    """The seeds as read, named as the set will name them, with their provenance as metadata;
+    to be matched, each must resolve the band (at least 5 time steps in its shortest period).
+
+    Raises
+    ------
+    InputError
+        A seed cannot be read, or is too coarse for the band.
+    """
+    if isinstance(config.seeds, FemaSet):
+        fema = config.seeds
+        seeds = [
+            Record(r.name, r.time_step, r.acceleration, r.source,
+                   {key: r.metadata[key] for key in PROVENANCE if key in r.metadata})
+            for r in read_fema_set(fema.name, tuple(fema.components), fema.normalize,
+                                   None if fema.records is None else tuple(fema.records))
+        ]  # fmt: skip
+        where = [f"seeds: {seed.name}" for seed in seeds]
+    else:
+        assert config.seeds is not None
+        seeds = [
+            Record(entry.id or re.sub(r"[^A-Za-z0-9_.+-]", "_", Path(entry.path).stem),
+                   record.time_step, record.acceleration, record.source,
+                   {"seed_file": Path(entry.path).name})
+            for entry in config.seeds
+            for record in [read_record(entry.path, units=entry.units, time_step=entry.time_step)]
+        ]  # fmt: skip
+        where = [f"seeds.{index}.path" for index in range(len(seeds))]
+    for seed, field in zip(seeds, where, strict=True):
+        if config.adjust == "match" and config.band[0] < 5.0 * seed.time_step - 1e-12:
+            raise InputError(seed.source, [(field, f"time step {seed.time_step:g} s is too "
+                                            f"coarse for the band from {config.band[0]:g} s: at "
+                                            "least 5 steps per period are needed")])  # fmt: skip
+    return seeds
 
 
 def _scale_factors(config, target, seeds: list[Record]) -> np.ndarray:
@@ -323,9 +348,10 @@ def _summarise(records, matches, check, target, config):
 def _record_header(
     config: RecordSetConfig, target: TargetDefinition, index: int, record: Record
 ) -> dict:
+    pga = target.surface_pga if config.adjust == "match" else record.peak_acceleration
     return {
-        "pga": target.surface_pga,
-        "pga_g": target.surface_pga / config.gravity,
+        "pga": pga,
+        "pga_g": pga / config.gravity,
         **({"seed": config.seed} if config.seeds is None else record.metadata),
         "record_index": index,
         "target": f"{config.target.code} type {target.spectrum_type} ground {target.ground_type}"
@@ -347,7 +373,7 @@ def _build_manifest(config, config_name, target, records, summaries, compliance)
             "scipy": scipy.__version__,
         },
         "config_name": config_name,
-        "config": config.model_dump(mode="json"),
+        "config": config.model_dump(mode="json", by_alias=True),
         "target": {
             "code": config.target.code,
             "spectrum_type": target.spectrum_type,

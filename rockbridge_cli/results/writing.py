@@ -26,6 +26,7 @@ from ..core.quantities import (
     SIGNIFICANT_RATE,
     STANDARD_GRAVITY,
 )
+from ..records.files import PROVENANCE
 from .layout import (
     COMPRESSION,
     COUNT_COLUMNS,
@@ -347,10 +348,13 @@ def _describe_record(group: h5py.Group, item: StudyRecord) -> h5py.Group:
                 "standard_gravity": STANDARD_GRAVITY,  # what a file's g was converted with
             }
         )
+        provenance = {key: record.metadata[key] for key in PROVENANCE if key in record.metadata}
+        node.attrs.update(provenance)
         _describe_attrs(
             node,
             {"time_step": "s", "n_samples": "-", "duration": "s", "pga": "m/s2",
-             "file_units": "-", "standard_gravity": "m/s2"},
+             "file_units": "-", "standard_gravity": "m/s2",
+             **{key: PROVENANCE[key] for key in provenance}},
         )  # fmt: skip
     return node
 
