@@ -66,7 +66,7 @@ def test_sa_stripes_hit_the_spectral_level(tmp_path):
         ("{measure: pga_g, levels: [0.3], period: 1.0}", "give period with measure sa_g"),
         ("{measure: pga_g, levels: [0.3, 0.3]}", "a level is listed twice"),
         ("{measure: pga_g, levels: []}", "intensity.levels"),
-        ("{measure: pgv, levels: [0.3]}", "intensity.measure"),
+        ("{measure: pgv_g, levels: [0.3]}", "intensity.measure"),
     ],
 )
 def test_bad_intensity_sections(tmp_path, section, message):

@@ -61,8 +61,10 @@ def test_plain_h5py_reads_it(done):
         assert json.loads(record.attrs["units"]) == {
             "time_step": "s", "n_samples": "-", "duration": "s", "pga": "m/s2",
             "file_units": "-", "standard_gravity": "m/s2",
+            "pga_g": "g", "pgv": "m/s", "pgd": "m", "arias": "m/s", "cav": "m/s",
         }  # fmt: skip
         assert record.attrs["file_units"] == "m/s2" and record.attrs["standard_gravity"] == 9.80665
+        assert record.attrs["pga_g"] == pytest.approx(RECORDS["R1"][0] / 9.80665, rel=1e-9)
 
         # Table 1 of the paper, h̄ = 2: m_deck = ρ·A·L_tot = 2500·6·136 kg; m_pier,2 = 21.97·10⁴ kg,
         # γ = 3.095, q = 0.7858·10⁻³ m/kN (docs/model.md §10)

@@ -1,3 +1,4 @@
 """What is computed from a results file, never by running an analysis: the limit states an
-analysis reached (`limit_states`), the rule of incremental dynamic analysis (`ida`) and the
-lognormal fragility fits (`fragility`)."""
+analysis reached (`limit_states`), the rule of incremental dynamic analysis (`ida`), the lognormal
+fragility fits (`fragility`), IDA capacities in another intensity measure (`measures`) and which
+measure predicts them best (`efficiency`)."""

@@ -22,7 +22,7 @@ import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import h5py
 import numpy as np
@@ -32,10 +32,14 @@ from scipy.special import log_ndtr, ndtr
 from ..config.intensity import scaled_id
 from ..core.quantities import LIMIT_STATES
 from ..errors import InputError
+from ..motions.intensity import MEASURES
 from ..results.reading import open_results, peak_columns
 from . import limit_states
 from .ida import Lattice, Walk, walk
 from .limit_states import Verdict
+
+if TYPE_CHECKING:
+    from .measures import Conversion
 
 BOOTSTRAP = 100
 """Resamplings of the records for the interval of the median."""
@@ -124,7 +128,7 @@ def fit_lognormal(levels: np.ndarray, reached: np.ndarray, tried: np.ndarray):
 
 
 def fit_capacities(
-    capacities: np.ndarray, start: float, top: float
+    capacities: np.ndarray, start: float | np.ndarray, top: float | np.ndarray
 ) -> tuple[float, float | None] | None:
     """Lognormal fragility of IDA capacities, by maximum likelihood with censoring.
 
@@ -134,7 +138,8 @@ def fit_capacities(
         Per record: the capacity; 0 where the state is reached at ``start`` already (capacity at
         most ``start``), +inf where it is not reached up to ``top`` (capacity above ``top``).
     start, top
-        The first and the last scan level.
+        The first and the last scan level: one for every record, or per record (capacities
+        converted to another measure, `assessment.measures`).
 
     Returns
     -------
@@ -144,59 +149,96 @@ def fit_capacities(
     """
     capacities = np.asarray(capacities, dtype=float)
     known = np.log(capacities[np.isfinite(capacities) & (capacities > 0.0)])
-    below, above = int(np.sum(capacities == 0.0)), int(np.sum(np.isinf(capacities)))
+    below, above = capacities == 0.0, np.isinf(capacities)
     if known.size == 0:
         return None
-    if below == 0 and above == 0 or known.size == capacities.size:
+    if not below.any() and not above.any() or known.size == capacities.size:
         beta = float(np.std(known))
         return math.exp(float(np.mean(known))), beta if beta > 0.0 else None
-    low, high = math.log(start), math.log(top)
+    starts = np.broadcast_to(start, capacities.shape)
+    tops = np.broadcast_to(top, capacities.shape)
+    lows, highs = _censored(starts[below]), _censored(tops[above])  # (ln bound, records) pairs
 
     def negative_log_likelihood(parameters: np.ndarray) -> float:
         mean, beta = parameters[0], math.exp(parameters[1])
         value = -0.5 * np.sum(((known - mean) / beta) ** 2) - known.size * math.log(beta)
-        value += below * log_ndtr((low - mean) / beta) + above * log_ndtr((mean - high) / beta)
+        value += sum(n * log_ndtr((low - mean) / beta) for low, n in lows) + sum(
+            n * log_ndtr((mean - high) / beta) for high, n in highs
+        )
         return -float(value)
 
     spread = float(np.std(known)) if known.size > 1 else 0.3
     start_point = np.array([float(np.mean(known)), math.log(max(spread, 0.05))])
+    low, high = math.log(float(starts.min())), math.log(float(tops.max()))
     bounds = [(low - 5.0, high + 5.0), (math.log(1e-3), math.log(5.0))]
     fit = minimize(negative_log_likelihood, start_point, method="L-BFGS-B", bounds=bounds,
                    options={"ftol": 1e-12, "gtol": 1e-8})  # fmt: skip
     return math.exp(fit.x[0]), math.exp(fit.x[1])
 
 
-def fragilities(path: str | Path, bootstrap: int = BOOTSTRAP, seed: int = 0) -> list[Fragility]:
+def _censored(bounds: np.ndarray) -> list[tuple[float, int]]:
+    """Each censoring bound once, as its logarithm, with the number of records censored there."""
+    values, counts = np.unique(bounds, return_counts=True)
+    return [(math.log(float(v)), int(n)) for v, n in zip(values, counts, strict=True)]
+
+
+def fragilities(
+    path: str | Path,
+    bootstrap: int = BOOTSTRAP,
+    seed: int = 0,
+    measure: str | None = None,
+    period: float | None = None,
+    period_range: tuple[float, float] | None = None,
+) -> list[Fragility]:
     """Every bridge's fragility for every limit state, from a results file with an intensity
     section (stripes or IDA). Analyses that could not run are left out.
+
+    Parameters
+    ----------
+    measure, period, period_range
+        Fit in another intensity measure than the study's (`motions.intensity.MEASURES`; Sa's
+        period [s], AvgSa's range [s]): an IDA's capacities converted record by record
+        (`assessment.measures`), without running anything.
 
     Raises
     ------
     InputError
-        The file's study has no intensity section (nothing to fit).
+        The file's study has no intensity section (nothing to fit), or another measure is asked
+        of stripes or cannot be computed from the file.
     """
     with open_results(path) as file:
         intensity = json.loads(file.attrs.get("intensity", "null"))
         columns = peak_columns(file)
-    if intensity is None:
-        raise InputError(path, [("", "the study has no intensity section: nothing to fit")])
-    return fragilities_of(columns, intensity, bootstrap, seed)
+        if intensity is None:
+            raise InputError(path, [("", "the study has no intensity section: nothing to fit")])
+        conversion = None
+        if measure is not None and measure != intensity["measure"]:
+            from .measures import Conversion
+
+            conversion = Conversion.of(file, path, measure, period, period_range)
+    return fragilities_of(columns, intensity, bootstrap, seed, conversion)
 
 
 def fragilities_of(
-    columns: dict[str, np.ndarray], intensity: dict, bootstrap: int = BOOTSTRAP, seed: int = 0
+    columns: dict[str, np.ndarray],
+    intensity: dict,
+    bootstrap: int = BOOTSTRAP,
+    seed: int = 0,
+    conversion: Conversion | None = None,
 ) -> list[Fragility]:
-    """`fragilities` of a peak table's columns and the study's intensity section."""
+    """`fragilities` of a peak table's columns and the study's intensity section, in the study's
+    measure or converted to another (an IDA's)."""
     ok = columns["status"] != "error"
     columns = {name: values[ok] for name, values in columns.items()}
     rng = np.random.default_rng(seed)
-    fit = _ida_fragility if intensity.get("ida") else _stripe_fragility
-    return [
-        item
-        for bridge in dict.fromkeys(columns["bridge"])
-        for item in fit(bridge, {name: values[columns["bridge"] == bridge]
-                                 for name, values in columns.items()}, intensity, rng, bootstrap)
-    ]  # fmt: skip
+    found = []
+    for bridge in dict.fromkeys(columns["bridge"]):
+        mine = {name: values[columns["bridge"] == bridge] for name, values in columns.items()}
+        if intensity.get("ida"):
+            found += _ida_fragility(bridge, mine, intensity, rng, bootstrap, conversion)
+        else:
+            found += _stripe_fragility(bridge, mine, intensity, rng, bootstrap)
+    return found
 
 
 def _stripe_fragility(bridge, mine, intensity, rng, bootstrap) -> list[Fragility]:
@@ -222,7 +264,7 @@ def _stripe_fragility(bridge, mine, intensity, rng, bootstrap) -> list[Fragility
     return found
 
 
-def _ida_fragility(bridge, mine, intensity, rng, bootstrap) -> list[Fragility]:
+def _ida_fragility(bridge, mine, intensity, rng, bootstrap, conversion) -> list[Fragility]:
     lattice = Lattice.of(intensity["ida"])
     states = tuple(intensity["ida"]["limit_states"])
     verdicts = {
@@ -241,29 +283,41 @@ def _ida_fragility(bridge, mine, intensity, rng, bootstrap) -> list[Fragility]:
         steps = walk(lattice, intensity["ida"]["tolerance"], states, reaches)
         if not steps.wanted:  # a curve an interrupted run or a failed analysis left unfinished
             walks[base] = steps  # has no capacities yet
+
+    def value(base: str, level: float) -> float:
+        """A level of the study's measure in the measure fitted."""
+        return level if conversion is None else conversion.value(bridge, base, level)
+
     top = lattice.level(lattice.count - 1)
+    bounds = np.array([[value(base, lattice.start), value(base, top)] for base in walks])
     found = []
     for state in states:
         indices = {base: steps.capacities[state] for base, steps in walks.items()}
         capacities = {
-            base: None if n is None else lattice.level(n) for base, (_, n) in indices.items()
+            base: None if n is None else value(base, lattice.level(n))
+            for base, (_, n) in indices.items()
         }
         coded = np.array([
-            np.inf if n is None else 0.0 if below < 0 else lattice.level(n)
-            for below, n in indices.values()
-        ])  # fmt: skip
-        fit = fit_capacities(coded, lattice.start, top)
-        interval = _interval(fit, coded, rng, bootstrap,
-                             lambda c: fit_capacities(c, lattice.start, top))  # fmt: skip
+            np.inf if n is None else 0.0 if below < 0 else capacities[base]
+            for base, (below, n) in indices.items()
+        ]).reshape(-1, 1)  # fmt: skip
+        data = np.hstack([coded, bounds.reshape(-1, 2)])  # a record's capacity with its bounds
+        fit = _fit_capacities(data)
+        interval = _interval(fit, data, rng, bootstrap, _fit_capacities)
         reached = np.array([c for c in capacities.values() if c is not None])
         levels = sorted(set(reached.tolist()))
         fractions = [float(np.sum(reached <= level)) / len(coded) for level in levels]
         median, beta = fit or (None, None)
         found.append(Fragility(
-            bridge, state, intensity["measure"], median, beta, interval, levels,
-            fractions, capacities,
+            bridge, state, intensity["measure"] if conversion is None else conversion.measure,
+            median, beta, interval, levels, fractions, capacities,
         ))  # fmt: skip
     return found
+
+
+def _fit_capacities(data: np.ndarray) -> tuple[float, float | None] | None:
+    """`fit_capacities` of rows (capacity, start, top)."""
+    return fit_capacities(data[:, 0], data[:, 1], data[:, 2])
 
 
 def _interval(fit, data: np.ndarray, rng, bootstrap: int, refit) -> tuple[float, float] | None:
@@ -313,11 +367,11 @@ def store(file: h5py.File) -> None:
     columns: dict[str, tuple[str, list[Any]]] = {
         "bridge": ("-", [item.bridge for item in found]),
         "limit_state": ("-", [item.limit_state for item in found]),
-        "median": (MEASURE_UNITS[intensity["measure"]], [_number(item.median) for item in found]),
+        "median": (MEASURES[intensity["measure"]].unit, [_number(item.median) for item in found]),
         "beta": ("-", [_number(item.beta) for item in found]),
-        "median_05": (MEASURE_UNITS[intensity["measure"]],
+        "median_05": (MEASURES[intensity["measure"]].unit,
                       [_number(item.median_90 and item.median_90[0]) for item in found]),
-        "median_95": (MEASURE_UNITS[intensity["measure"]],
+        "median_95": (MEASURES[intensity["measure"]].unit,
                       [_number(item.median_90 and item.median_90[1]) for item in found]),
     }  # fmt: skip
     for name, (unit, values) in columns.items():
@@ -332,15 +386,11 @@ def store(file: h5py.File) -> None:
         dtype=float,
     ).reshape(len(found), len(records))
     dataset = group.create_dataset("capacities", data=capacities)
-    dataset.attrs["units"] = MEASURE_UNITS[intensity["measure"]]
+    dataset.attrs["units"] = MEASURES[intensity["measure"]].unit
     dataset.attrs["description"] = (
         "rows as the other columns, columns as the records attribute: the lowest level at which "
         "the record reaches the state (NaN: not within the levels run)"
     )
-
-
-MEASURE_UNITS = {"pga_g": "g", "sa_g": "g", "scale": "-"}
-"""Units of the intensity measures (g: standard gravity)."""
 
 
 def _number(value: float | None) -> float:

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import click
 
+from ..motions.intensity import MEASURES
 from . import main, plot
 from .output import echo_json, export_csv, figure_option, table_text
 
@@ -19,15 +20,42 @@ from .output import echo_json, export_csv, figure_option, table_text
     help="Write the rows as CSV to FILE, or - for the standard output: one column per record "
     "with its capacity (empty: not reached).",
 )  # fmt: skip
-def fragility(results: Path, as_json: bool, csv_file: str | None) -> None:
+@click.option(
+    "--measure", type=click.Choice(list(MEASURES)), default=None,
+    help="Fit an IDA's capacities converted to this intensity measure (default the study's).",
+)  # fmt: skip
+@click.option("--period", type=click.FloatRange(min=0.0, min_open=True), default=None,
+              help="Period of sa_g [s] (with --compare-measures: 1 s).")  # fmt: skip
+@click.option(
+    "--period-range", type=(float, float), default=None,
+    help="Shortest and longest period of avgsa_g [s] (with --compare-measures: 0.2 3).",
+)  # fmt: skip
+@click.option(
+    "--compare-measures", is_flag=True,
+    help="Tabulate, per bridge and limit state, each measure's β (efficiency) and the trend of "
+    "the log-capacities with magnitude and distance (sufficiency), from an IDA.",
+)  # fmt: skip
+def fragility(
+    results: Path,
+    as_json: bool,
+    csv_file: str | None,
+    measure: str | None,
+    period: float | None,
+    period_range: tuple[float, float] | None,
+    compare_measures: bool,
+) -> None:
     """Fit a lognormal fragility per bridge and limit state to RESULTS, the file of a study with
     an intensity section: from stripes by maximum likelihood (Baker 2015), from an IDA the
     log-mean and log-standard deviation of the capacities (censored where a record reaches the
     state at the first level or never); 90 % interval of the median by a bootstrap over the
-    records. The run stores the same in RESULTS (/fragility)."""
+    records. The run stores the same in RESULTS (/fragility). An IDA's capacities convert exactly
+    to any other intensity measure (--measure): nothing is run again."""
     from ..assessment.fragility import fragilities
 
-    found = fragilities(results)
+    if compare_measures:
+        _compare(results, period or 1.0, period_range or (0.2, 3.0), as_json, csv_file)
+        return
+    found = fragilities(results, measure=measure, period=period, period_range=period_range)
     if csv_file is not None:
         export_csv(csv_file, _columns(found), results)
         return
@@ -44,6 +72,58 @@ def fragility(results: Path, as_json: bool, csv_file: str | None) -> None:
                      f"{reaching}/{len(item.capacities)}"])  # fmt: skip
     click.echo(f"measure: {found[0].measure if found else '-'}")
     click.echo(table_text(headers, rows))
+
+
+def _compare(
+    results: Path,
+    period: float,
+    period_range: tuple[float, float],
+    as_json: bool,
+    csv_file: str | None,
+) -> None:
+    """Print (or export) the efficiency and sufficiency of each measure."""
+    import dataclasses
+
+    import numpy as np
+
+    from ..assessment.efficiency import compare
+
+    rows = compare(results, period=period, period_range=period_range)
+    data = [dataclasses.asdict(row) for row in rows]
+    if csv_file is not None:
+        columns = {key: np.array([np.nan if r[key] is None else r[key] for r in data])
+                   for key in data[0]} if data else {}  # fmt: skip
+        export_csv(csv_file, columns, results)
+        return
+    if as_json:
+        echo_json(data)
+        return
+    click.echo(
+        f"β of the capacities in each measure (Sa at {period:g} s, AvgSa over "
+        f"{period_range[0]:g}–{period_range[1]:g} s): a smaller β fixes the median with fewer "
+        "records (its standard error is β/√n); Arias intensity scales as the square of a record's "
+        "factor, so compare half its β"
+    )
+    measures = list(dict.fromkeys(r["measure"] for r in data))
+    cases = list(dict.fromkeys((r["bridge"], r["limit_state"]) for r in data))
+    beta = {(r["bridge"], r["limit_state"], r["measure"]): r["beta"] for r in data}
+    table = [[*case, *(beta[case + (m,)] for m in measures)] for case in cases]
+    click.echo(table_text(
+        ["bridge", "limit state", *measures],
+        [row for row in table if any(value is not None for value in row[2:])],
+    ))  # fmt: skip
+    trends = [r for r in data if r["magnitude_slope"] is not None]
+    if trends:
+        click.echo(
+            "Sufficiency: slope of the log-capacity residuals against magnitude and against "
+            "ln R_rup [km], with p-values (p < 0.05: the measure is not sufficient)"
+        )
+        keys = ["bridge", "limit_state", "measure", "magnitude_slope", "magnitude_p",
+                "distance_slope", "distance_p"]  # fmt: skip
+        click.echo(table_text(
+            ["bridge", "limit state", "measure", "M slope", "p", "ln R slope", "p"],
+            [[r[k] for k in keys] for r in trends],
+        ))  # fmt: skip
 
 
 def _columns(found: list) -> dict:

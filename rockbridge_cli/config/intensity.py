@@ -6,10 +6,10 @@ from __future__ import annotations
 
 from typing import Literal
 
-import numpy as np
 from pydantic import Field, PositiveFloat, field_validator, model_validator
 
-from ..core.quantities import LIMIT_STATES, STANDARD_GRAVITY, check_limit_state
+from ..core.quantities import LIMIT_STATES, check_limit_state
+from ..motions.intensity import MEASURES, measure_value
 from ..records.files import Record
 from .loading import StrictModel
 
@@ -54,23 +54,35 @@ class Intensity(StrictModel):
     """Every record scaled to stated levels of an intensity measure (multiple-stripe analysis), or
     to the levels an incremental dynamic analysis finds (``ida``). Give one of the two.
 
-    ``pga_g``: the scaled record's peak [g]; ``sa_g``: its 5 %-damped (or ``damping``) pseudo-
-    spectral acceleration at ``period`` [g]; ``scale``: the factor itself [-]. g is standard
-    gravity, as for record files.
+    The measures (`motions.intensity.MEASURES`): ``pga_g`` the scaled record's peak [g]; ``pgv``,
+    ``pgd`` its peak ground velocity [m/s] and displacement [m]; ``sa_g`` its 5 %-damped (or
+    ``damping``) pseudo-spectral acceleration at ``period`` [g]; ``avgsa_g`` the geometric mean of
+    Sa over ``period_range`` [g]; ``arias`` its Arias intensity [m/s]; ``cav`` its cumulative
+    absolute velocity [m/s]; ``scale`` the factor itself [-]. g is standard gravity, as for
+    record files.
     """
 
-    measure: Literal["pga_g", "sa_g", "scale"] = Field(description="Intensity measure")
+    measure: Literal["pga_g", "pgv", "pgd", "sa_g", "avgsa_g", "arias", "cav", "scale"] = Field(
+        description="Intensity measure"
+    )
     levels: list[PositiveFloat] | None = Field(
         None, min_length=1, description="Levels of the measure (multiple stripes)"
     )
     ida: Ida | None = Field(None, description="Incremental dynamic analysis")
     period: PositiveFloat | None = Field(None, description="Period of sa_g [s]")
-    damping: float = Field(0.05, gt=0.0, lt=1.0, description="Damping ratio of sa_g [-]")
+    period_range: tuple[PositiveFloat, PositiveFloat] | None = Field(
+        None, description="Shortest and longest period of avgsa_g [s]"
+    )
+    damping: float = Field(0.05, gt=0.0, lt=1.0, description="Damping ratio of Sa [-]")
 
     @model_validator(mode="after")
     def _period_for_sa(self) -> Intensity:
         if (self.measure == "sa_g") != (self.period is not None):
             raise ValueError("give period with measure sa_g, and only then")
+        if (self.measure == "avgsa_g") != (self.period_range is not None):
+            raise ValueError("give period_range with measure avgsa_g, and only then")
+        if self.period_range is not None and not self.period_range[0] < self.period_range[1]:
+            raise ValueError("period_range: the shortest period first")
         if (self.levels is None) == (self.ida is None):
             raise ValueError("give exactly one of levels (stripes) and ida")
         if self.levels is not None and len(set(self.levels)) != len(self.levels):
@@ -78,24 +90,15 @@ class Intensity(StrictModel):
         return self
 
 
-LEVEL_UNITS = {"pga_g": "g", "sa_g": "g", "scale": "x"}
-"""What follows the level in a scaled record's id: AR01+0.6g, AR01+1.5x."""
-
-
 def intensity_of(record: Record, intensity: Intensity) -> float:
     """A record's intensity in the section's measure (1 for ``scale``)."""
-    if intensity.measure == "pga_g":
-        return record.peak_acceleration / STANDARD_GRAVITY
-    if intensity.measure == "sa_g":
-        from ..motions.spectra import compute_psa  # compiled: loaded only where a study needs it
-
-        assert intensity.period is not None
-        psa = compute_psa(record.acceleration, record.time_step, np.array([intensity.period]),
-                          intensity.damping)  # fmt: skip
-        return float(psa[0]) / STANDARD_GRAVITY
-    return 1.0
+    return measure_value(
+        intensity.measure, record.acceleration, record.time_step, intensity.period,
+        intensity.period_range, intensity.damping,
+    )  # fmt: skip
 
 
 def scaled_id(base: str, level: float, measure: str) -> str:
-    """The id of a record scaled to an intensity level: ``AR01+0.6g``, ``AR01+1.5x``."""
-    return f"{base}+{level:.10g}{LEVEL_UNITS[measure]}"
+    """The id of a record scaled to an intensity level: ``AR01+0.6g``, ``AR01+1.5x``,
+    ``FF01a+0.4mps``."""
+    return f"{base}+{level:.10g}{MEASURES[measure].suffix}"

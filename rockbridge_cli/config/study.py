@@ -419,12 +419,16 @@ def study_from_data(
         histories=config.output.kept(),
         output=target,
         warnings=warnings,
-        intensity=None
-        if config.intensity is None
-        else config.intensity.model_dump(
-            exclude={"ida"} if config.intensity.ida is None else set()
-        ),
+        intensity=None if config.intensity is None else _intensity_section(config.intensity),
     )
+
+
+def _intensity_section(intensity: Intensity) -> dict[str, Any]:
+    """The intensity section as the study states it, without the parts its measure and kind do
+    not use (so that a study's hash is the same as before they existed)."""
+    unused = {"ida"} if intensity.ida is None else set()
+    unused |= {"period_range"} if intensity.period_range is None else set()
+    return intensity.model_dump(exclude=unused)
 
 
 def _scaled(records: list[StudyRecord], intensity: Intensity) -> list[StudyRecord]:

@@ -11,9 +11,8 @@ from matplotlib.figure import Figure
 from scipy.stats import norm
 
 from ..assessment.fragility import Fragility, fragilities
+from ..motions.intensity import MEASURES
 from .common import PLAIN, check_format, panel_label, save, style
-
-MEASURE_LABELS = {"pga_g": "PGA [g]", "sa_g": "Sa(T) [g]", "scale": "scale factor [-]"}
 
 
 def plot_fragility(
@@ -62,7 +61,7 @@ def plot_fragility(
         axes.grid(True, color="0.9", linewidth=0.5)
         panel_label(axes, letter)
     for axes in grid[-1]:
-        axes.set_xlabel(MEASURE_LABELS.get(found[0].measure, found[0].measure) if found else "")
+        axes.set_xlabel(MEASURES[found[0].measure].label if found else "")
     for axes in grid[:, 0]:
         axes.set_ylabel("share of records reaching it [-]")
     handles, labels = grid[0, 0].get_legend_handles_labels()

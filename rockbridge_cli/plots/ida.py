@@ -13,9 +13,9 @@ from matplotlib.figure import Figure
 from ..assessment.fragility import fragilities_of
 from ..core.quantities import NO_FAILURE
 from ..errors import InputError
+from ..motions.intensity import MEASURES
 from ..results.reading import open_results, peak_columns, peak_units
 from .common import check_format, panel_label, save, style
-from .fragility import MEASURE_LABELS
 
 QUANTITY_SCALE = {"m": (1e3, "mm"), "rad": (1e3, "mrad")}
 """Units drawn in thousandths."""
@@ -84,7 +84,7 @@ def plot_ida(results: str | Path, output: str | Path, quantity: str = "u_deck_ma
         axes.set_xlabel(f"{quantity} [{unit}]")
         axes.grid(True, color="0.9", linewidth=0.5)
         panel_label(axes, letter)
-    panels[0].set_ylabel(MEASURE_LABELS.get(intensity["measure"], intensity["measure"]))
+    panels[0].set_ylabel(MEASURES[intensity["measure"]].label)
     labelled = {
         label: handle
         for axes in panels

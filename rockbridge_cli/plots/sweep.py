@@ -13,6 +13,7 @@ from matplotlib.figure import Figure
 from ..assessment.fragility import fragilities_of
 from ..core.quantities import check_limit_state
 from ..errors import InputError
+from ..motions.intensity import MEASURES
 from ..results.reading import open_results, peak_columns, peak_units, swept_values
 from .common import check_format, save, style
 from .ida import QUANTITY_SCALE
@@ -77,7 +78,7 @@ def plot_sweep(
             values = columns[quantity][columns["bridge"] == bridge]
             middle, low, high = (float(v) for v in np.percentile(values, [50.0, 16.0, 84.0]))
         lines.setdefault(key, []).append((swept[bridge][field], middle, low, high))
-    factor, unit = (1.0, "g" if intensity and intensity["measure"] != "scale" else "-")
+    factor, unit = (1.0, MEASURES[intensity["measure"]].unit if intensity else "-")
     if not capacity:
         factor, unit = QUANTITY_SCALE.get(units[quantity], (1.0, units[quantity]))
     figure = Figure(figsize=(6.5, 4.5), layout="constrained")

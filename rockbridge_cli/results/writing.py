@@ -26,6 +26,7 @@ from ..core.quantities import (
     SIGNIFICANT_RATE,
     STANDARD_GRAVITY,
 )
+from ..motions.intensity import MEASURES, record_measures
 from ..records.files import PROVENANCE
 from .layout import (
     COMPRESSION,
@@ -313,12 +314,18 @@ def _write_records(group: h5py.Group, study: Study) -> None:
     (a hard link too)."""
     described: dict[tuple[str, str], h5py.Group] = {}
     written: dict[str, h5py.Dataset] = {}
+    intensity = study.intensity or {}
+    spectral = (
+        intensity.get("period"),
+        intensity.get("period_range"),
+        intensity.get("damping", 0.05),
+    )
     for item in study.records:
         key = (item.source, item.digest)
         if key in described:  # h5py's low-level call: a third of ``group[id] = node``
             group.id.links.create_hard(item.id.encode(), described[key].id, b".")
             continue
-        node = described[key] = _describe_record(group, item)
+        node = described[key] = _describe_record(group, item, spectral)
         if item.digest in written:
             node["acceleration"] = written[item.digest]
         elif item.record is not None:
@@ -331,8 +338,12 @@ def _write_records(group: h5py.Group, study: Study) -> None:
             )
 
 
-def _describe_record(group: h5py.Group, item: StudyRecord) -> h5py.Group:
-    """The group of one record, with what it is and where it comes from as attributes."""
+def _describe_record(
+    group: h5py.Group, item: StudyRecord, spectral: tuple[float | None, tuple | None, float]
+) -> h5py.Group:
+    """The group of one record, with what it is, where it comes from and its intensity measures
+    (`motions.intensity.record_measures`; Sa and AvgSa at the study's ``spectral`` period,
+    period range and damping) as attributes."""
     node = group.create_group(item.id)
     node.attrs.update({"source": item.source, "sha256": item.digest, "error": item.error})
     record = item.record
@@ -349,12 +360,14 @@ def _describe_record(group: h5py.Group, item: StudyRecord) -> h5py.Group:
             }
         )
         provenance = {key: record.metadata[key] for key in PROVENANCE if key in record.metadata}
-        node.attrs.update(provenance)
+        measures = record_measures(record.acceleration, record.time_step, *spectral)
+        node.attrs.update({**provenance, **measures})
         _describe_attrs(
             node,
             {"time_step": "s", "n_samples": "-", "duration": "s", "pga": "m/s2",
              "file_units": "-", "standard_gravity": "m/s2",
-             **{key: PROVENANCE[key] for key in provenance}},
+             **{key: PROVENANCE[key] for key in provenance},
+             **{name: MEASURES[name].unit for name in measures}},
         )  # fmt: skip
     return node
 
