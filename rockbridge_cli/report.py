@@ -226,20 +226,47 @@ def _intensity_section(results: Path, intensity: dict, figure: Callable[..., str
     from .plots.ida import plot_ida
 
     found = fragilities(results)
+    design = intensity.get("design")
     rows = [[item.bridge, item.limit_state, _number(item.median), _number(item.beta),
              "-" if item.median_90 is None else f"{item.median_90[0]:.3g}–{item.median_90[1]:.3g}"]
+            + ([_number(None if item.median is None else item.median / design)] if design else [])
             for item in found]  # fmt: skip
     measure = intensity["measure"]
+    margin = (f"The design level is {design:g} ({measure}); the last column is each median's "
+              "margin over it.") if design else ""  # fmt: skip
     parts = [
         _section(f"IDA curves ({measure})", figure(plot_ida, results),
                  "Each record's peak against its intensity level; a cross ends a curve where "
                  "the bridge failed.") if _is_ida(intensity) else "",
         _section(f"Fragility ({measure})", figure(plot_fragility, results, found=found),
                  "Share of the records reaching each limit state, and the fitted lognormal."),
-        _table(["bridge", "limit state", "median", "β", "median, 5–95 %"], rows,
-               text_columns=(0, 1)),
+        f"<p>{margin}</p>" if margin else "",
+        _table(["bridge", "limit state", "median", "β", "median, 5–95 %"]
+               + (["median / design"] if design else []), rows, text_columns=(0, 1)),
+        _efficiency_section(results) if _is_ida(intensity) else "",
     ]  # fmt: skip
     return "\n".join(part for part in parts if part)
+
+
+def _efficiency_section(results: Path) -> str:
+    """β of the IDA's capacities in each intensity measure (`assessment.efficiency`)."""
+    from .assessment.efficiency import compare
+
+    rows = compare(results)
+    measures = list(dict.fromkeys(row.measure for row in rows))
+    beta = {(row.bridge, row.limit_state, row.measure): row.beta for row in rows}
+    cases = list(dict.fromkeys((row.bridge, row.limit_state) for row in rows))
+    table = [[*case, *(_number(beta[case + (m,)]) for m in measures)] for case in cases]
+    table = [row for row in table if any(cell != "-" for cell in row[2:])]
+    text = (
+        "β of the capacities converted to each measure (Sa at 1 s, AvgSa over 0.2–3 s): the "
+        "smaller β, the fewer records fix the median (its standard error is β/√n). Arias "
+        "intensity grows as the square of a record's factor: compare half its β. rockbridge "
+        "fragility RESULTS --compare-measures adds the trends with magnitude and distance."
+    )
+    return f"<h2>Which intensity measure</h2>\n<p>{_text(text)}</p>\n" + _table(
+        ["bridge", "limit state", *measures], table, text_columns=(0, 1)
+    )
 
 
 def _peak_table(columns: dict[str, np.ndarray], units: dict[str, str]) -> str:

@@ -219,6 +219,14 @@ def fragilities(
     return fragilities_of(columns, intensity, bootstrap, seed, conversion)
 
 
+def design_level(path: str | Path) -> tuple[str, float] | None:
+    """(measure, level) of the design level a study's intensity section states, None without."""
+    with open_results(path) as file:
+        intensity = json.loads(file.attrs.get("intensity", "null")) or {}
+    design = intensity.get("design")
+    return None if design is None else (intensity["measure"], float(design))
+
+
 def fragilities_of(
     columns: dict[str, np.ndarray],
     intensity: dict,

@@ -6,7 +6,15 @@ runtime failures exit with status 1; ``--debug`` shows the traceback instead.
 
 from __future__ import annotations
 
+import os
 import sys
+
+# One thread per process for the linear algebra and OpenMP libraries, set before numpy loads them:
+# rockbridge's parallelism is its worker processes, and on a shared machine (a cluster node, a CI
+# runner) BLAS threads that spin against other jobs made a two-parameter fit 10-30x slower
+# (issue 31). A value the user sets is kept.
+for _variable in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_variable, "1")
 
 import click
 

@@ -50,7 +50,7 @@ def fragility(
     state at the first level or never); 90 % interval of the median by a bootstrap over the
     records. The run stores the same in RESULTS (/fragility). An IDA's capacities convert exactly
     to any other intensity measure (--measure): nothing is run again."""
-    from ..assessment.fragility import fragilities
+    from ..assessment.fragility import design_level, fragilities
 
     if compare_measures:
         _compare(results, period or 1.0, period_range or (0.2, 3.0), as_json, csv_file)
@@ -62,7 +62,11 @@ def fragility(
     if as_json:
         echo_json([item.row() for item in found])
         return
+    design = design_level(results)
+    if design is not None and found and found[0].measure != design[0]:
+        design = None  # a level of the study's measure, not of the one fitted
     headers = ["bridge", "limit state", "median", "beta", "median 5–95 %", "records reaching"]
+    headers += ["median / design"] if design else []
     rows = []
     for item in found:
         reaching = sum(value is not None for value in item.capacities.values())
@@ -70,7 +74,10 @@ def fragility(
             f"{item.median_90[0]:.3g}–{item.median_90[1]:.3g}")  # fmt: skip
         rows.append([item.bridge, item.limit_state, item.median, item.beta, interval,
                      f"{reaching}/{len(item.capacities)}"])  # fmt: skip
-    click.echo(f"measure: {found[0].measure if found else '-'}")
+        if design:
+            rows[-1].append(None if item.median is None else item.median / design[1])
+    click.echo(f"measure: {found[0].measure if found else '-'}"
+               + (f"; design level {design[1]:g}" if design else ""))  # fmt: skip
     click.echo(table_text(headers, rows))
 
 

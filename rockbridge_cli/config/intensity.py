@@ -74,6 +74,11 @@ class Intensity(StrictModel):
         None, description="Shortest and longest period of avgsa_g [s]"
     )
     damping: float = Field(0.05, gt=0.0, lt=1.0, description="Damping ratio of Sa [-]")
+    design: PositiveFloat | None = Field(
+        None, description="The design level in the measure (a_g·S for pga_g): the fragility "
+        "tables give each median's ratio to it, the margin of the paper's 'about twice the "
+        "design earthquake' and, in spirit, FEMA P695's collapse margin ratio",
+    )  # fmt: skip
 
     @model_validator(mode="after")
     def _period_for_sa(self) -> Intensity:

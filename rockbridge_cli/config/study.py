@@ -427,7 +427,7 @@ def _intensity_section(intensity: Intensity) -> dict[str, Any]:
     """The intensity section as the study states it, without the parts its measure and kind do
     not use (so that a study's hash is the same as before they existed)."""
     unused = {"ida"} if intensity.ida is None else set()
-    unused |= {"period_range"} if intensity.period_range is None else set()
+    unused |= {key for key in ("period_range", "design") if getattr(intensity, key) is None}
     return intensity.model_dump(exclude=unused)
 
 
