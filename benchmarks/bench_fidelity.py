@@ -6,14 +6,23 @@ the median and total wall time of the integration (`Response.solve_time_s`, no s
 median number of steps, and the maximum relative error of each Fig. 9 peak against ``reference``.
 With ``--plot FILE`` it also draws the work-precision diagram.
 
-A second table puts each preset on extreme geometries (h̄ = 8, very slender and very stocky
-piers, a frame without abutments) under the same records at twice their intensity, where
-failures happen: the share of analyses whose failure verdict differs from ``reference``, the
-median and worst per-analysis error of the tall pier's peak rotation θ1 where the verdicts agree,
-and the error of its mean over the analyses (what design uses). ``--records DIR`` runs any
-record set, recorded motions included (none are bundled: their licences vary).
+A second table gives, per preset, what an ensemble of records asks: the time per analysis and
+per record sample, the worst and median error of an analysis's peaks, the error of the ensemble
+mean of each Fig. 9 quantity, and the share of failure verdicts that differ from ``reference``
+with the records at 1× and 2× the design PGA and within 1 % of each record's own capacity (the
+lowest factor at which ``reference`` fails, found by scan and bisection), where verdicts are most
+fragile.
 
-    python benchmarks/bench_fidelity.py [--records DIR] [--plot docs/work-precision.png]
+A third table puts each preset on extreme geometries (h̄ = 8, very slender and very stocky piers,
+a frame without abutments) under the same records at twice their intensity.
+
+Records: ``--records DIR`` reads any folder (a set `generate-records` wrote, or plain record
+files: PEER .AT2, rockbridge or two-column text; ``--units`` for files that do not state them);
+``--fema SET`` reads a FEMA P695 set (``pip install "rockbridge[fema]"``); ``--pga G`` scales
+every record to that peak first (the design a_g·S of the studied bridges is 0.69 g).
+
+    python benchmarks/bench_fidelity.py [--records DIR | --fema far-field] [--pga 0.69]
+        [--units g] [--plot docs/work-precision.png]
 """
 
 from __future__ import annotations
@@ -67,22 +76,47 @@ def synthetic_records(count: int = 10, duration: float = 30.0, dt: float = 0.01)
     return records
 
 
-def load_records(folder: Path | None):
-    if folder is None and (BUNDLED / "manifest.json").exists():
-        folder = BUNDLED
-    if folder is None:
-        return "synthetic", synthetic_records()
-    from rockbridge_cli.records.files import read_record_set
+def load_records(args) -> tuple[str, list[tuple[str, float, np.ndarray]]]:
+    """The records the options name, as (name, time step [s], acceleration [m/s²])."""
+    from rockbridge_cli.records.fema import read_fema_set
+    from rockbridge_cli.records.files import MANIFEST, read_record, read_record_set
 
-    return folder.name, [(r.name, r.time_step, r.acceleration) for r in read_record_set(folder)]
+    if args.fema:
+        name, records = f"FEMA P695 {args.fema}", read_fema_set(args.fema)
+    elif args.records is None and not (BUNDLED / MANIFEST).exists():
+        return "synthetic", synthetic_records()
+    else:
+        folder = args.records or BUNDLED
+        name = folder.name
+        if (folder / MANIFEST).exists():
+            records = read_record_set(folder)
+        else:
+            files = sorted(p for p in folder.iterdir() if p.suffix.lower() in RECORD_SUFFIXES)
+            records = [read_record(p, units=args.units, time_step=args.time_step) for p in files]
+    scale = [1.0 if args.pga is None else args.pga * G / r.peak_acceleration for r in records]
+    return name, [
+        (r.name, r.time_step, f * r.acceleration) for r, f in zip(records, scale, strict=True)
+    ]
+
+
+RECORD_SUFFIXES = (".txt", ".at2", ".csv", ".dat", ".acc")
+"""Files of a plain folder read as records."""
+
+G = 9.80665
+"""Standard gravity, the g of ``--pga`` [m/s²]."""
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--records", type=Path, help="record-set folder (default: bundled)")
+    parser.add_argument("--records", type=Path, help="a folder of records (default: bundled)")
+    parser.add_argument("--fema", choices=("far-field", "near-field-pulse", "near-field-no-pulse"),
+                        help="a FEMA P695 set instead")  # fmt: skip
+    parser.add_argument("--units", choices=("g", "m/s2", "cm/s2"), help="of files without")
+    parser.add_argument("--time-step", type=float, help="of one-column files [s]")
+    parser.add_argument("--pga", type=float, help="scale every record to this PGA first [g]")
     parser.add_argument("--plot", type=Path, help="write the work-precision diagram here")
     args = parser.parse_args()
-    set_name, records = load_records(args.records)
+    set_name, records = load_records(args)
     bridges = [load_bridge(path) for path in BRIDGES]
     analysed = [b.to_bridge() for b in bridges]
 
@@ -118,7 +152,92 @@ def main() -> None:
         print(line)
     if args.plot:
         plot(rows, args.plot)
+    ensemble(records, analysed, results)
     verdicts(records)
+
+
+ENSEMBLE_PRESETS = ("reference", "default", "fast", "paper")
+FIG9 = (*PEAKS, "dcr_backfill")
+"""The Fig. 9 quantities whose ensemble means the second table compares."""
+
+
+def ensemble(records, analysed, results) -> None:
+    """The second table: time, errors and failure verdicts per preset over the ensemble."""
+    reference = results["reference"]
+    samples = [acc.size for bridge in analysed for _, _, acc in records]
+    design = [0.69 * G / np.abs(acc).max() for bridge in analysed for _, _, acc in records]
+    near = [capacity(bridge, acc, dt) for bridge in analysed for _, dt, acc in records]
+    cases = {  # the factor of each bridge × record, and the margins around it
+        "1x": (design, (1.0,)), "2x": ([2.0 * f for f in design], (1.0,)),
+        "±1%": (near, (0.99, 1.01)),
+    }  # fmt: skip
+    expected = {
+        case: verdicts_at(analysed, records, "reference", *how) for case, how in cases.items()
+    }
+    print(f"\nensemble: {len(reference)} analyses; failure verdicts that differ from reference "
+          "at 1x and 2x the design PGA 0.69 g and at 0.99x and 1.01x each record's "
+          "capacity")  # fmt: skip
+    print(f"{'preset':<10}{'ms/analysis':>12}{'µs/sample':>10}{'worst err':>10}"
+          f"{'median err':>11}" + "".join(f"{'mean ' + q:>13}" for q in FIG9)
+          + "".join(f"{'differ ' + case:>12}" for case in cases))  # fmt: skip
+    for preset in ENSEMBLE_PRESETS:
+        responses = results[preset]
+        times = [r.solve_time_s for r in responses]
+        per_sample = statistics.median(t / n for t, n in zip(times, samples, strict=True))
+        worst = [
+            max(relative(r, ref, p) for p in PEAKS)
+            for r, ref in zip(responses, reference, strict=True)
+        ]
+        means = [abs(mean(responses, q) / mean(reference, q) - 1.0) for q in FIG9]
+        differ = []
+        for case, how in cases.items():
+            found = verdicts_at(analysed, records, preset, *how)
+            count = sum(a != b for a, b in zip(found, expected[case], strict=True))
+            differ.append(f"{count}/{len(found)}")
+        print(f"{preset:<10}{statistics.median(times) * 1e3:>12.2f}{per_sample * 1e6:>10.3f}"
+              f"{max(worst):>10.1e}{statistics.median(worst):>11.1e}"
+              + "".join(f"{m:>13.1e}" for m in means)
+              + "".join(f"{d:>12}" for d in differ))  # fmt: skip
+
+
+def relative(response, reference, peak: str) -> float:
+    """|peak − reference| / |reference| of one analysis (0 where the reference is 0)."""
+    ref = abs(reference.peaks[peak][0])
+    return abs(response.peaks[peak][0] - reference.peaks[peak][0]) / ref if ref > 1e-12 else 0.0
+
+
+def mean(responses, quantity: str) -> float:
+    """The ensemble mean of a Fig. 9 quantity."""
+    if quantity == "dcr_backfill":
+        return float(np.mean([r.dcr_backfill for r in responses]))
+    return float(np.mean([abs(r.peaks[quantity][0]) for r in responses]))
+
+
+def capacity(bridge, acc, dt, tolerance: float = 0.0025) -> float:
+    """The lowest factor of a record at which ``reference`` ends in a failure: scanned by 0.25
+    from 0.25, then bisected to ``tolerance`` (relative); NaN if none up to 10."""
+    fails = lambda factor: analyze(bridge, factor * acc, dt, "reference").failure_mode != "none"  # noqa: E731
+    low, high = 0.0, 0.25
+    while not fails(high):
+        low, high = high, high + 0.25
+        if high > 10.0:
+            return float("nan")
+    while high - low > tolerance * high:
+        middle = 0.5 * (low + high)
+        low, high = (low, middle) if fails(middle) else (middle, high)
+    return high
+
+
+def verdicts_at(analysed, records, preset, factors, margins) -> list[str]:
+    """The failure mode of each bridge × record scaled by its factor times each margin (records
+    without a factor, NaN, are left out)."""
+    pairs = [(bridge, dt, acc) for bridge in analysed for _, dt, acc in records]
+    return [
+        analyze(bridge, margin * factor * acc, dt, preset).failure_mode
+        for (bridge, dt, acc), factor in zip(pairs, factors, strict=True)
+        if np.isfinite(factor)
+        for margin in margins
+    ]
 
 
 EXTREMES = {  # name: (bridge config, changes to its YAML data)
