@@ -178,7 +178,7 @@ def ensemble(records, analysed, results) -> None:
           "at 1x and 2x the design PGA 0.69 g and at 0.99x and 1.01x each record's "
           "capacity")  # fmt: skip
     print(f"{'preset':<10}{'ms/analysis':>12}{'µs/sample':>10}{'worst err':>10}"
-          f"{'median err':>11}" + "".join(f"{'mean ' + q:>13}" for q in FIG9)
+          f"{'median err':>11}" + "".join(f"{'mean ' + q:>17}" for q in FIG9)
           + "".join(f"{'differ ' + case:>12}" for case in cases))  # fmt: skip
     for preset in ENSEMBLE_PRESETS:
         responses = results[preset]
@@ -196,7 +196,7 @@ def ensemble(records, analysed, results) -> None:
             differ.append(f"{count}/{len(found)}")
         print(f"{preset:<10}{statistics.median(times) * 1e3:>12.2f}{per_sample * 1e6:>10.3f}"
               f"{max(worst):>10.1e}{statistics.median(worst):>11.1e}"
-              + "".join(f"{m:>13.1e}" for m in means)
+              + "".join(f"{m:>17.1e}" for m in means)
               + "".join(f"{d:>12}" for d in differ))  # fmt: skip
 
 
