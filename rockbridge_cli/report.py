@@ -87,6 +87,7 @@ def write_report(results: str | Path, output: str | Path, record: str | None = N
         sources = {
             name: str(file["records"][name].attrs.get("source", "")) for name in file["records"]
         }
+        inputs = _records_table(file["records"])
         kept = bool(json.loads(attributes.get("histories", "[]")))
     intensity = json.loads(attributes.get("intensity", "null"))
     records = list(dict.fromkeys(columns["record"]))
@@ -101,6 +102,7 @@ def write_report(results: str | Path, output: str | Path, record: str | None = N
         f"{_text(attributes.get('rockbridge_version', '?'))} on "
         f"{_text(attributes.get('finished', attributes.get('created', '?')))}</p>",
         _provenance(attributes),
+        inputs,
         _summary(columns, bridges),
     ]
     with tempfile.TemporaryDirectory() as folder:
@@ -304,6 +306,46 @@ def _failures(columns: dict[str, np.ndarray]) -> str:
     ]  # fmt: skip
     headers = ["bridge", "record", "failure", "at [s]", "status", "message"]
     return f"<h2>Failures</h2>\n{_table(headers, rows, text_columns=(0, 1, 2, 4, 5))}"
+
+
+RECORD_COLUMNS = (
+    ("source", "source"), ("file units", "file_units"), ("dt [s]", "time_step"),
+    ("duration [s]", "duration"), ("PGA [g]", "pga_g"), ("PGV [m/s]", "pgv"),
+    ("earthquake", "earthquake"), ("year", "year"), ("M", "magnitude"), ("station", "station"),
+    ("R_rup [km]", "distance_rrup_km"),
+)  # fmt: skip
+"""The columns of the table of input records: heading, attribute of ``/records/<id>``."""
+
+
+def _records_table(group: Any) -> str:
+    """The records the study read, as read: where from, units, sampling, peaks and, for recorded
+    motions, their provenance (columns that no record has are left out; scaled copies of a
+    record, an intensity study's, are one row: their source's)."""
+    rows, seen = [], set()
+    for name in group:
+        attrs = group[name].attrs
+        source = str(attrs.get("source", ""))
+        if source in seen:
+            continue
+        seen.add(source)
+        scaled = "+" in name  # a stripe's scaled copy: its peaks are the level's, not the record's
+        rows.append({key: attrs.get(key) for _, key in RECORD_COLUMNS}
+                    | {"id": name.split("+")[0]}
+                    | ({"pga_g": None, "pgv": None} if scaled else {}))  # fmt: skip
+    shown = [(head, key) for head, key in RECORD_COLUMNS if any(r[key] is not None for r in rows)]
+    table = [
+        [row["id"], *(_number(v) if isinstance(v, float) else "-" if v is None else str(v)
+                      for v in (row[key] for _, key in shown))]
+        for row in rows[:MAX_ROWS]
+    ]  # fmt: skip
+    more = f'<p class="note">{len(rows) - MAX_ROWS} more records in the file.</p>' if (
+        len(rows) > MAX_ROWS) else ""  # fmt: skip
+    texts = (0, *(i + 1 for i, (_, key) in enumerate(shown) if key in TEXT_RECORD_KEYS))
+    return "<h2>Input records</h2>\n" + _table(["record", *(h for h, _ in shown)], table,
+                                                 text_columns=texts) + more  # fmt: skip
+
+
+TEXT_RECORD_KEYS = {"source", "file_units", "earthquake", "station"}
 
 
 def _record_sets(attributes: dict[str, Any], sources: dict[str, str]) -> str:

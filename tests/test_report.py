@@ -94,6 +94,22 @@ def test_the_page_states_what_was_run(study, page):
     assert read_config_hash(study.output) in source and f"rockbridge {version}" in source
 
 
+def test_the_input_records_are_listed_as_read(study, page):
+    """One row per record: its source, units and sampling as the study's files state them, its
+    PGA from the samples (tests/studies.py writes R1 at 5.0 m/s² and R2 at 4.0: 600 samples at
+    0.01 s, the last at 5.99 s)."""
+    _, parsed = page
+    assert "Input records" in parsed.headings
+    rows = next(t for t in parsed.tables if t[0][:2] == ["record", "source"])
+    header, body = rows[0], {row[0]: row for row in rows[1:]}
+    assert set(body) == {r.id for r in study.records}
+    for name, (pga, _) in {"R1": (5.0, 1.0), "R2": (4.0, 0.7)}.items():
+        row = body[name]
+        assert row[header.index("dt [s]")] == "0.01" and row[header.index("duration [s]")] == "5.99"
+        assert float(row[header.index("PGA [g]")]) == pytest.approx(pga / 9.80665, rel=2e-3)
+    assert "earthquake" not in header  # no provenance without recorded motions
+
+
 def test_the_peak_table_is_the_files(study, page):
     """Every analysis is a row, in the file's order, with u_deck in mm and the failure mode."""
     _, parsed = page
