@@ -1,7 +1,8 @@
 """One self-contained HTML page of a study's results (``rockbridge report``): what was run and
 with what (provenance), the demand/capacity summary, the paper's Figs. 9 and 10, the peak table
 with units, the failures with their messages, the record set's EN 1998-1 compliance and, for a
-study with an intensity section, the IDA and fragility curves.
+study with an intensity section, the IDA and fragility curves and, given a site's hazard curve,
+the annual frequency of each limit state there.
 
 Figures are PNG images embedded as data URIs and the style sheet is inline, so the one file can be
 mailed, archived or opened offline; the layout reflows to a phone's width and prints on A4.
@@ -15,7 +16,7 @@ import json
 import tempfile
 from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -23,6 +24,9 @@ from .core.quantities import NO_FAILURE, ROUND_OFF
 from .errors import InputError
 from .paths import writable
 from .results.reading import bridge_attributes, open_results, peak_columns, peak_units
+
+if TYPE_CHECKING:
+    from .assessment.hazard import HazardCurve
 
 TABLE_COLUMNS = (
     "bridge", "record", "u_deck_max", "v_deck_max", "theta_deck_max", "theta1_max", "theta2_max",
@@ -53,7 +57,10 @@ dt { font-weight: 600; } dd { margin: 0; overflow-wrap: anywhere; }
 """
 
 
-def write_report(results: str | Path, output: str | Path, record: str | None = None) -> Path:
+def write_report(
+    results: str | Path, output: str | Path, record: str | None = None,
+    hazard: HazardCurve | None = None, years: float = 50.0,
+) -> Path:  # fmt: skip
     """Write the HTML report of a results file.
 
     Parameters
@@ -65,6 +72,9 @@ def write_report(results: str | Path, output: str | Path, record: str | None = N
     record
         The record of the history figure (Fig. 10); default the study's first record. A study
         that kept no histories gets none.
+    hazard, years
+        A site's hazard curve (`assessment.hazard`): the page then gives each limit state's
+        annual frequency there and its probability in ``years`` (`assessment.risk`).
 
     Returns
     -------
@@ -74,7 +84,8 @@ def write_report(results: str | Path, output: str | Path, record: str | None = N
     Raises
     ------
     InputError
-        ``output`` is the results file itself, or ``record`` is not in the file.
+        ``output`` is the results file itself, ``record`` is not in the file, or a hazard curve
+        is given for a study without an intensity section or in another measure.
     """
     results, output = Path(results), Path(output)
     if output.resolve() == results.resolve():
@@ -93,6 +104,9 @@ def write_report(results: str | Path, output: str | Path, record: str | None = N
     records = list(dict.fromkeys(columns["record"]))
     if record is not None and record not in records:
         raise InputError(results, [("", f"no record {record}; the file has {', '.join(records)}")])
+    if hazard is not None and intensity is None:
+        reason = "the study has no intensity section: no fragility to integrate with the hazard"
+        raise InputError(results, [("", reason)])
     chosen = record or (records[0] if records and kept and not _is_ida(intensity) else None)
     title = _description(attributes) or Path(str(attributes.get("study_file", results))).stem
     parts = [
@@ -122,7 +136,7 @@ def write_report(results: str | Path, output: str | Path, record: str | None = N
                                   "Ground motion with each bridge's onset of rocking, then the "
                                   "responses; × marks a pounding on the backwall."))  # fmt: skip
         if intensity is not None:
-            parts.append(_intensity_section(results, intensity, figure))
+            parts.append(_intensity_section(results, intensity, figure, hazard, years))
     parts += [
         _peak_table(columns, units),
         _failures(columns),
@@ -222,7 +236,10 @@ def _summary(columns: dict[str, np.ndarray], bridges: dict[str, dict]) -> str:
     )
 
 
-def _intensity_section(results: Path, intensity: dict, figure: Callable[..., str]) -> str:
+def _intensity_section(
+    results: Path, intensity: dict, figure: Callable[..., str], hazard: HazardCurve | None,
+    years: float,
+) -> str:  # fmt: skip
     from .assessment.fragility import fragilities
     from .plots.fragility import plot_fragility
     from .plots.ida import plot_ida
@@ -246,6 +263,7 @@ def _intensity_section(results: Path, intensity: dict, figure: Callable[..., str
         _table(["bridge", "limit state", "median", "β", "median, 5–95 %"]
                + (["median / design"] if design else []), rows, text_columns=(0, 1)),
         _efficiency_section(results) if _is_ida(intensity) else "",
+        "" if hazard is None else _risk_section(found, intensity, hazard, years),
     ]  # fmt: skip
     return "\n".join(part for part in parts if part)
 
@@ -268,6 +286,24 @@ def _efficiency_section(results: Path) -> str:
     )
     return f"<h2>Which intensity measure</h2>\n<p>{_text(text)}</p>\n" + _table(
         ["bridge", "limit state", *measures], table, text_columns=(0, 1)
+    )
+
+
+def _risk_section(found: list, intensity: dict, hazard: HazardCurve, years: float) -> str:
+    """Each limit state's annual frequency at the site of the hazard curve, its return period and
+    its probability in ``years``."""
+    from .assessment.risk import risk_table, risks_of
+
+    headers, rows = risk_table(risks_of(found, intensity, hazard, years), years)
+    return (
+        f"<h2>Risk at the site of {_text(Path(hazard.source).name)}</h2>\n<p>Hazard curve: "
+        f"{_text(hazard.describe())}; beyond its range it goes on as the power laws of its end "
+        "segments. λ is the mean annual frequency of each limit state, ∫ P(LS | im) |dλ<sub>IM"
+        "</sub>(im)| (Cornell et al. 2002), the return period 1/λ and P the probability of at "
+        f"least one occurrence in {years:g} years, 1 − exp(−λ·{years:g}); the 5–95 % intervals "
+        "are those of the bootstrap over the records. &lt; marks an upper bound: no record "
+        "reaches the state up to the highest level run.</p>\n"
+        + _table(headers, rows, text_columns=(0, 1))
     )
 
 

@@ -60,6 +60,8 @@ class Fragility:
     levels : the intensity levels
     fractions : share of the records that reach the state at each level
     capacities : per record, the lowest level at which it reaches the state, or None
+    draws : (θ, β) of each bootstrap resampling of the records that fixes both (what
+        `assessment.risk` propagates); empty without a fit
     """
 
     bridge: str
@@ -71,6 +73,7 @@ class Fragility:
     levels: list[float]
     fractions: list[float]
     capacities: dict[str, float | None]
+    draws: tuple[tuple[float, float], ...] = ()
 
     def row(self) -> dict[str, object]:
         """As JSON-ready data."""
@@ -257,17 +260,15 @@ def _stripe_fragility(bridge, mine, intensity, rng, bootstrap) -> list[Fragility
         table = _reached(mine, limit_states.reached(state, mine), records, levels)
         counts = _counts(table)  # records × levels above, NaN where not analysed
         fit = fit_lognormal(levels, *counts)
-        interval = _interval(
-            fit, table, rng, bootstrap, lambda t: fit_lognormal(levels, *_counts(t))
-        )
+        draws = _bootstrap(fit, table, rng, bootstrap, lambda t: fit_lognormal(levels, *_counts(t)))
         reached_at = {
             record: next((float(x) for x, r in zip(levels, row, strict=True) if r == 1), None)
             for record, row in zip(records, table, strict=True)
         }
         median, beta = fit or (None, None)
         found.append(Fragility(
-            bridge, state, intensity["measure"], median, beta, interval,
-            levels.tolist(), (counts[0] / np.maximum(counts[1], 1)).tolist(), reached_at,
+            bridge, state, intensity["measure"], median, beta, _interval(draws),
+            levels.tolist(), (counts[0] / np.maximum(counts[1], 1)).tolist(), reached_at, draws,
         ))  # fmt: skip
     return found
 
@@ -311,14 +312,14 @@ def _ida_fragility(bridge, mine, intensity, rng, bootstrap, conversion) -> list[
         ]).reshape(-1, 1)  # fmt: skip
         data = np.hstack([coded, bounds.reshape(-1, 2)])  # a record's capacity with its bounds
         fit = _fit_capacities(data)
-        interval = _interval(fit, data, rng, bootstrap, _fit_capacities)
+        draws = _bootstrap(fit, data, rng, bootstrap, _fit_capacities)
         reached = np.array([c for c in capacities.values() if c is not None])
         levels = sorted(set(reached.tolist()))
         fractions = [float(np.sum(reached <= level)) / len(coded) for level in levels]
         median, beta = fit or (None, None)
         found.append(Fragility(
             bridge, state, intensity["measure"] if conversion is None else conversion.measure,
-            median, beta, interval, levels, fractions, capacities,
+            median, beta, _interval(draws), levels, fractions, capacities, draws,
         ))  # fmt: skip
     return found
 
@@ -328,16 +329,22 @@ def _fit_capacities(data: np.ndarray) -> tuple[float, float | None] | None:
     return fit_capacities(data[:, 0], data[:, 1], data[:, 2])
 
 
-def _interval(fit, data: np.ndarray, rng, bootstrap: int, refit) -> tuple[float, float] | None:
-    """5 % and 95 % percentiles of the median over ``bootstrap`` resamplings of the records (rows
-    of ``data``), None without a fit."""
+def _bootstrap(
+    fit, data: np.ndarray, rng, bootstrap: int, refit
+) -> tuple[tuple[float, float], ...]:
+    """(θ, β) of each of ``bootstrap`` resamplings of the records (rows of ``data``) whose refit
+    fixes both; empty without a fit."""
     if fit is None or fit[1] is None or not bootstrap:
-        return None
+        return ()
     draws = [refit(data[rng.integers(0, len(data), len(data))]) for _ in range(bootstrap)]
-    medians = [d[0] for d in draws if d is not None and d[1] is not None]
-    if not medians:
+    return tuple((d[0], d[1]) for d in draws if d is not None and d[1] is not None)
+
+
+def _interval(draws: tuple[tuple[float, float], ...]) -> tuple[float, float] | None:
+    """5 % and 95 % percentiles of the bootstrap's medians, None without draws."""
+    if not draws:
         return None
-    low, high = np.percentile(medians, [5.0, 95.0])
+    low, high = np.percentile([median for median, _ in draws], [5.0, 95.0])
     return float(low), float(high)
 
 

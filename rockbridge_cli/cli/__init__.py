@@ -73,7 +73,7 @@ def plot() -> None:
 
 def _register() -> None:
     # each module adds its commands
-    from . import analysis, bridge, fragility, parametric, records, report, study  # noqa: F401
+    from . import analysis, bridge, export, fragility, parametric, records, report, risk, study  # noqa: F401
 
 
 _register()

@@ -19,12 +19,25 @@ from . import main
     "--record", default=None,
     help="Record of the history figure (Fig. 10) [default: the study's first; none for an IDA].",
 )  # fmt: skip
-def report(results: Path, output: Path | None, record: str | None) -> None:
+@click.option(
+    "--hazard", type=click.Path(path_type=Path), default=None,
+    help="A site's hazard curve (as rockbridge risk reads it): add the risk table.",
+)  # fmt: skip
+@click.option(
+    "--years", type=float, default=50.0, show_default=True,
+    help="Exposure time of the risk table's probabilities [years].",
+)  # fmt: skip
+def report(
+    results: Path, output: Path | None, record: str | None, hazard: Path | None, years: float
+) -> None:
     """Write RESULTS as one HTML page to read, print or send: provenance, the demand/capacity
     summary, Figs. 9 and 10, the peak table with units, the failures, the record set's
-    compliance and, for a study with an intensity section, the IDA and fragility curves. The
-    figures are embedded: the page needs no network and no other file."""
+    compliance and, for a study with an intensity section, the IDA and fragility curves and,
+    with --hazard, the annual frequency of each limit state at that site. The figures are
+    embedded: the page needs no network and no other file."""
+    from ..assessment.hazard import read_hazard_curve
     from ..report import write_report
 
+    curve = None if hazard is None else read_hazard_curve(hazard)
     target = output or results.with_name(f"{results.stem}-report.html")
-    click.echo(f"Report: {write_report(results, target, record)}")
+    click.echo(f"Report: {write_report(results, target, record, curve, years)}")

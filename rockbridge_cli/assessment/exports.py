@@ -1,0 +1,228 @@
+"""A study's fragilities and demands in the formats of the tools engineers use next: an OpenQuake
+fragility model (portfolio damage and risk) and pelicun demand samples (losses).
+
+**OpenQuake** (NRML 0.5 ``fragilityModel``, the engine's manual, "Fragility Models"): one
+continuous ``logncdf`` fragility function per bridge with one ``params`` per limit state. Its
+``id``, the taxonomy an exposure model names, is the bridge's id in the characters the engine
+accepts (letters, digits, ``_ - :``; others become ``_``: ``studied-hbar1.00`` is
+``studied-hbar1_00``), at most 75 of them. NRML's ``mean`` and ``stddev`` are the mean and
+standard deviation of the intensity itself, not of its logarithm: for a median θ and a
+log-standard deviation β, mean = θ·exp(β²/2) and stddev = mean·√(exp(β²) − 1). ``minIML`` and
+``maxIML`` are the lowest and the highest level the study ran; the engine holds the probability
+constant outside them. Limit states are listed in rockbridge's order (`LIMIT_STATES`), which
+the engine takes as successive damage states; a limit state is left out where a bridge has no
+fit with a β (the returned list says which and why). The engine requires an ``assetCategory``
+and checks no value: ``lifelines``, the manual's example besides buildings.
+
+**pelicun** (its demand sample CSV): one file per bridge and stripe, an intensity level at which
+every record of the bridge was analysed (every level of a multiple-stripe study; the scan levels
+all records ran in an IDA). Columns are named ``event-type-location-direction``, the second
+row holds units, then one row per record. ``DEC`` is the deck's peak displacement, ``ABP`` the
+backfill's peak passive displacement (|u_deck| beyond the gap), ``FNR`` the peak rocking
+rotation of pier 1 (the tall pier) and 2 at its base, ``PGA`` or ``SA_<T>`` the stripe's
+intensity; ``COL`` is 1 where the analysis ended in a failure of the bridge (abutment or
+overturning: its demands are those at the failure; pelicun can count it as collapse through a
+``CollapseLimits`` entry or a collapse fragility on ``COL``) and ``ERROR`` 1 where the analysis
+did not run to its end (pelicun drops those rows).
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import xml.etree.ElementTree as ElementTree
+from pathlib import Path
+
+import numpy as np
+
+from ..config.intensity import scaled_id
+from ..core.quantities import NO_FAILURE
+from ..errors import InputError
+from ..motions.intensity import MEASURES
+from ..paths import writable
+from ..results.reading import open_results, peak_columns
+from .fragility import Fragility, fragilities
+from .hazard import OPENQUAKE_MEASURES, UNITS
+from .risk import levels_range
+
+NRML = "http://openquake.org/xmlns/nrml/0.5"
+"""The namespace of NRML 0.5, the format of OpenQuake engine ≥ 1.7."""
+
+PELICUN_DEMANDS = (
+    ("DEC-1-1", "u_deck_max", "m"), ("ABP-1-1", "backfill", "m"),
+    ("FNR-1-1", "theta1_max", "rad"), ("FNR-2-1", "theta2_max", "rad"),
+)  # fmt: skip
+"""pelicun's demand type-location-direction, the peak-table column and its unit (location: the
+deck and the abutments 1, pier 1 or 2; direction 1: along the bridge)."""
+
+
+def openquake_fragility_model(results: str | Path, output: str | Path) -> list[str]:
+    """Write the fragilities of a results file as an OpenQuake NRML fragility model.
+
+    Returns
+    -------
+    The limit states left out, each with the reason.
+
+    Raises
+    ------
+    InputError
+        No intensity section, a measure OpenQuake has no type for (``scale``), or no limit
+        state with a fit for every bridge.
+    """
+    target = writable(output)
+    with open_results(results) as file:
+        intensity = json.loads(file.attrs.get("intensity", "null"))
+    found = fragilities(results, bootstrap=0)
+    measure = intensity["measure"]
+    imt, unit = _openquake_type(results, measure, intensity.get("period"))
+    factor = UNITS[MEASURES[measure].unit][1] / UNITS[unit][1]
+    fitted, left_out = _fitted(found)
+    if not fitted:
+        raise InputError(results, [("", "no limit state has a fit for every bridge")])
+    lowest, highest = levels_range(intensity)
+    root = ElementTree.Element("nrml", xmlns=NRML)
+    model = ElementTree.SubElement(root, "fragilityModel", id=_model_id(results),
+                                   assetCategory="lifelines",
+                                   lossCategory="structural")  # fmt: skip
+    ElementTree.SubElement(model, "description").text = (
+        f"rockbridge: lognormal fragility of {len({item.bridge for item in found})} bridges on "
+        f"rocking piers in {imt} [{unit}] from {Path(results).name}"
+    )
+    ElementTree.SubElement(model, "limitStates").text = " ".join(fitted)
+    for bridge, taxonomy in _taxonomies(results, [item.bridge for item in found]).items():
+        function = ElementTree.SubElement(model, "fragilityFunction", id=taxonomy,
+                                          format="continuous", shape="logncdf")  # fmt: skip
+        ElementTree.SubElement(function, "imls", imt=imt, minIML=_tidy(lowest * factor),
+                               maxIML=_tidy(highest * factor))  # fmt: skip
+        for state, fits in fitted.items():
+            median, beta = fits[bridge]
+            mean, stddev = lognormal_moments(median * factor, beta)
+            ElementTree.SubElement(function, "params", ls=state, mean=repr(mean),
+                                   stddev=repr(stddev))  # fmt: skip
+    ElementTree.indent(root)
+    ElementTree.ElementTree(root).write(target, encoding="UTF-8", xml_declaration=True)
+    return left_out
+
+
+def lognormal_moments(median: float, beta: float) -> tuple[float, float]:
+    """Mean and standard deviation of a lognormal variable of median θ and log-standard deviation
+    β: θ·exp(β²/2) and mean·√(exp(β²) − 1) [θ's unit]."""
+    mean = median * float(np.exp(0.5 * beta * beta))
+    return mean, mean * float(np.sqrt(np.expm1(beta * beta)))
+
+
+def _fitted(found: list[Fragility]) -> tuple[dict[str, dict[str, tuple[float, float]]], list[str]]:
+    """Per limit state with a median and a β for every bridge, each bridge's (θ, β); and the
+    other limit states, each with the bridges that lack a fit."""
+    fitted, left_out = {}, []
+    for state in dict.fromkeys(item.limit_state for item in found):
+        mine = [item for item in found if item.limit_state == state]
+        fits = {i.bridge: (i.median, i.beta) for i in mine if i.median and i.beta is not None}
+        if len(fits) == len(mine):
+            fitted[state] = fits
+        else:
+            missing = ", ".join(item.bridge for item in mine if item.bridge not in fits)
+            left_out.append(f"{state} (no lognormal fit for {missing})")
+    return fitted, left_out
+
+
+def _openquake_type(results, measure: str, period: float | None) -> tuple[str, str]:
+    """OpenQuake's intensity measure type of a rockbridge measure, and the engine's unit."""
+    for imt, (name, unit) in OPENQUAKE_MEASURES.items():
+        if name == measure:
+            return (f"SA({float(period or 0.0)!r})" if imt == "SA" else imt), unit
+    reason = f"OpenQuake has no intensity measure type for {measure}"
+    raise InputError(results, [("intensity.measure", reason)])
+
+
+def _taxonomies(results, bridges: list[str]) -> dict[str, str]:
+    """Each bridge's taxonomy: its id in the characters OpenQuake accepts, ``[\\w:-]``, ≤ 75."""
+    taxonomies = {bridge: re.sub(r"[^\w:-]", "_", bridge) for bridge in bridges}
+    problems = [(bridge, "longer than the 75 characters of an OpenQuake taxonomy")
+                for bridge, taxonomy in taxonomies.items() if len(taxonomy) > 75]  # fmt: skip
+    if len(set(taxonomies.values())) < len(taxonomies):
+        problems.append(("", "two bridge ids differ only in characters OpenQuake refuses"))
+    if problems:
+        raise InputError(results, problems)
+    return taxonomies
+
+
+def _tidy(value: float) -> str:
+    """A level at 12 significant digits: 3.9, not 3.9000000000000004."""
+    return repr(float(f"{value:.12g}"))
+
+
+def _model_id(results: str | Path) -> str:
+    """The model's id: the results file's stem in the characters NRML allows (≤ 100)."""
+    return re.sub(r"[^A-Za-z0-9_-]", "_", Path(results).stem)[:100] or "rockbridge"
+
+
+def pelicun_demands(results: str | Path, folder: str | Path) -> list[Path]:
+    """Write the demand samples of a results file, one pelicun CSV per bridge and stripe, into
+    ``folder`` as ``<bridge>+<level>.csv`` (the level as in record ids, ``+0.6g``).
+
+    Returns
+    -------
+    The files written.
+
+    Raises
+    ------
+    InputError
+        The study has no intensity section (no stripes).
+    """
+    with open_results(results) as file:
+        intensity = json.loads(file.attrs.get("intensity", "null"))
+        columns = peak_columns(file)
+        capacities = {
+            name: float(node.attrs.get("model_u_ab", np.nan))
+            for name, node in file["bridges"].items()
+        }
+    if intensity is None:
+        raise InputError(results, [("", "the study has no intensity section: no stripes")])
+    folder = writable(folder, folder=True)
+    written = []
+    for bridge in dict.fromkeys(columns["bridge"]):
+        mine = {name: values[columns["bridge"] == bridge] for name, values in columns.items()}
+        mine["backfill"] = mine["dcr_backfill"] * capacities[bridge]
+        records = set(mine["base_record"])
+        for level in sorted(set(mine["intensity"].tolist())):
+            rows = mine["intensity"] == level
+            if set(mine["base_record"][rows]) != records:
+                continue  # an IDA level that not every record ran
+            path = folder / f"{scaled_id(bridge, level, intensity['measure'])}.csv"
+            _write_demands(path, {name: values[rows] for name, values in mine.items()},
+                           intensity, level)  # fmt: skip
+            written.append(path)
+    return written
+
+
+def _write_demands(path: Path, rows: dict[str, np.ndarray], intensity: dict, level: float) -> None:
+    """One pelicun demand sample: a header, a units row and one row per record."""
+    header, units, values = [""], ["Units"], []
+    for name, column, unit in PELICUN_DEMANDS:
+        header.append(f"1-{name}")
+        units.append(unit)
+        values.append(rows[column])
+    measure = {"pga_g": "PGA", "sa_g": f"SA_{intensity.get('period') or 0:.2f}"}.get(
+        intensity["measure"]
+    )
+    if measure is not None:
+        header.append(f"1-{measure}-0-1")
+        units.append("g")
+        values.append(np.full(rows["bridge"].size, float(_tidy(level))))
+    header += ["1-COL-0-1", "1-ERROR-0-1"]
+    units += ["unitless", "unitless"]
+    values.append(((rows["failure_mode"] != NO_FAILURE) & (rows["status"] == "ok")).astype(int))
+    values.append((rows["status"] != "ok").astype(int))
+    lines = [",".join(header), ",".join(units)]
+    for index, row in enumerate(zip(*values, strict=True)):
+        cells = [str(index)] + [_cell(value) for value in row]
+        lines.append(",".join(cells))
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+
+
+def _cell(value) -> str:
+    """A CSV cell: integers as they are, floats at full precision, NaN empty."""
+    if isinstance(value, (int, np.integer)):
+        return str(int(value))
+    return repr(float(value)) if np.isfinite(value) else ""
