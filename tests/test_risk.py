@@ -231,3 +231,15 @@ def test_a_report_without_fragilities_refuses_a_hazard_curve(tmp_path):
     run_study(study, workers=1)
     with pytest.raises(InputError, match="no intensity section"):
         write_report(study.output, tmp_path / "r.html", hazard=read_hazard_curve(EXAMPLE))
+
+
+def test_a_spectral_acceleration_matches_only_at_its_period(tmp_path):
+    curve = tmp_path / "sa.csv"
+    curve.write_text("SA(1.0) [g], annual_rate [1/year]\n0.1, 0.1\n1.0, 0.001\n")
+    at_one = {"measure": "sa_g", "period": 1.0, "levels": [0.2, 0.4]}
+    found = [Fragility("b", "gap_closure", "sa_g", 0.3, 0.2, None, [], [], {"R1": 0.3})]
+    (item,) = risks_of(found, at_one, read_hazard_curve(curve))
+    assert item.rate == pytest.approx(float(cornell(1e-3, 2.0, 0.3, 0.2)), rel=1e-12)
+    with pytest.raises(InputError, match=r"the curve is of sa_g\(1 s\), the fragilities of "
+                       r"sa_g\(0.5 s\)"):  # fmt: skip
+        risks_of(found, {**at_one, "period": 0.5}, read_hazard_curve(curve))

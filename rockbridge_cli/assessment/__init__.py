@@ -1,4 +1,6 @@
 """What is computed from a results file, never by running an analysis: the limit states an
 analysis reached (`limit_states`), the rule of incremental dynamic analysis (`ida`), the lognormal
 fragility fits (`fragility`), IDA capacities in another intensity measure (`measures`) and which
-measure predicts them best (`efficiency`)."""
+measure predicts them best (`efficiency`), a site's hazard curve (`hazard`) and the annual
+frequency of each limit state there (`risk`), and the exports to OpenQuake and pelicun
+(`exports`)."""
