@@ -27,6 +27,7 @@ from ..core.quantities import (
     STANDARD_GRAVITY,
 )
 from ..motions.intensity import MEASURES, record_measures
+from ..motions.pulse_identification import pulse_provenance
 from ..records.files import PROVENANCE
 from .layout import (
     COMPRESSION,
@@ -341,7 +342,9 @@ def _write_records(group: h5py.Group, study: Study) -> None:
 def _describe_record(
     group: h5py.Group, item: StudyRecord, spectral: tuple[float | None, tuple | None, float]
 ) -> h5py.Group:
-    """The group of one record, with what it is, where it comes from and its intensity measures
+    """The group of one record, with what it is, where it comes from, its velocity pulse
+    (`motions.pulse_identification.pulse_provenance`, of the record as read: a pulse's period
+    does not change with an IDA's scale) and its intensity measures
     (`motions.intensity.record_measures`; Sa and AvgSa at the study's ``spectral`` period,
     period range and damping) as attributes."""
     node = group.create_group(item.id)
@@ -360,6 +363,7 @@ def _describe_record(
             }
         )
         provenance = {key: record.metadata[key] for key in PROVENANCE if key in record.metadata}
+        provenance |= pulse_provenance(record.acceleration, record.time_step)
         measures = record_measures(record.acceleration, record.time_step, *spectral)
         node.attrs.update({**provenance, **measures})
         _describe_attrs(
