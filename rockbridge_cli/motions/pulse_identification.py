@@ -19,8 +19,9 @@ The method, step by step (`identify_pulse`):
    Baker 2007, with Shahi & Baker's window).
 4. The residual's peak velocity and energy ∫v² dt over the record's give the PGV ratio and the
    energy ratio (Shahi & Baker sum the squares of the discrete wavelet transform's
-   coefficients: the same energy by Parseval's theorem, but for the ends); their principal component PC = 0.63·(PGV ratio) + 0.777·(energy ratio) and the
-   record's PGV [cm/s] give the pulse indicator
+   coefficients: the same energy by Parseval's theorem, but for the ends); their principal
+   component PC = 0.63·(PGV ratio) + 0.777·(energy ratio) and the record's PGV [cm/s] give the
+   pulse indicator
    PI = 9.384·(0.76 − PC − 0.0616·PGV)·(PC + 6.914·10⁻⁴·PGV − 1.072) − 6.179,
    positive for a pulse (Shahi & Baker 2014, their support-vector classifier).
 5. A pulse is *late* when the record has 17 % of its energy before the pulse has 5 % of its own
@@ -157,19 +158,21 @@ def identify_pulse(acceleration: np.ndarray, time_step: float) -> PulseIdentific
     if a.ndim != 2 or a.shape[0] not in (1, 2) or a.shape[1] < 2:
         raise ValueError("give one component, shape (n,), or two, shape (2, n)")
     velocities = np.array([integrate_motion(row, time_step)[0] for row in a])
+    unit = float(np.max(np.abs(velocities)))  # the search runs on velocities of peak 1
+    if not (math.isfinite(unit) and unit > 0.0):  # at rest, or beyond floating point
+        rest = np.zeros(a.shape[1])
+        return PulseIdentification(False, math.nan, math.nan, math.nan, math.nan, unit,
+                                   math.nan, False, 0.0, rest, rest)  # fmt: skip
+    velocities /= unit
     scales = search_scales(time_step)
     coefficients = wavelet_transform(velocities, scales)
     strength = np.sum(coefficients**2, axis=0)
-    if not np.any(strength):
-        rest = np.zeros(a.shape[1])
-        return PulseIdentification(False, math.nan, math.nan, math.nan, math.nan, 0.0,
-                                   math.nan, False, 0.0, rest, rest)  # fmt: skip
     found: list[PulseIdentification] = []
     while len(found) < CANDIDATES and np.any(strength):
         row, column = (int(i) for i in np.unravel_index(np.argmax(strength), strength.shape))
         angle = _orientation(coefficients[:, row, column])
         direction = np.array([math.cos(angle), math.sin(angle)])[: velocities.shape[0]]
-        found.append(_extract(direction @ velocities, time_step, scales, row, column, angle))
+        found.append(_extract(direction @ velocities, unit, time_step, scales, row, column, angle))
         if found[-1].is_pulse:
             return found[-1]
         half = math.ceil(SEARCH_WIDTH * scales[row])
@@ -280,6 +283,7 @@ def wavelet_transform(signals: np.ndarray, scales: np.ndarray) -> np.ndarray:
 
 def _extract(
     velocity: np.ndarray,
+    unit: float,
     time_step: float,
     scales: np.ndarray,
     row: int,
@@ -287,7 +291,7 @@ def _extract(
     angle: float,
 ) -> PulseIdentification:
     """Steps 3 to 5 of the method for the candidate at ``scales[row]`` and sample ``column``, in
-    the orientation ``angle`` [rad]."""
+    the orientation ``angle`` [rad], on a velocity in units of ``unit`` [m/s]."""
     scale, column = _refine(velocity, scales, row, column)
     atom = wavelet_atom(scale)
     middle = atom.size // 2
@@ -307,14 +311,15 @@ def _extract(
     peak = float(np.max(np.abs(velocity)))
     pgv_ratio = float(np.max(np.abs(residual))) / peak
     energy_ratio = float(np.sum(residual**2) / np.sum(velocity**2))
-    indicator = _pulse_indicator(pgv_ratio, energy_ratio, peak)
+    indicator = _pulse_indicator(pgv_ratio, energy_ratio, unit * peak)
     record_energy = np.cumsum(velocity**2) / np.sum(velocity**2)
     pulse_energy = np.cumsum(pulse**2) / np.sum(pulse**2)
     arrival = max(0, int(np.searchsorted(pulse_energy, LATE_PULSE_ENERGY, side="right")) - 1)
     late = bool(record_energy[arrival] >= LATE_RECORD_ENERGY)
     return PulseIdentification(
         indicator > 0.0 and not late, pseudo_period(scale, time_step), indicator, pgv_ratio,
-        energy_ratio, peak, arrival * time_step, late, math.degrees(angle), velocity, pulse,
+        energy_ratio, unit * peak, arrival * time_step, late, math.degrees(angle),
+        unit * velocity, unit * pulse,
     )  # fmt: skip
 
 
