@@ -348,9 +348,12 @@ RECORD_COLUMNS = (
     ("source", "source"), ("file units", "file_units"), ("dt [s]", "time_step"),
     ("duration [s]", "duration"), ("PGA [g]", "pga_g"), ("PGV [m/s]", "pgv"),
     ("earthquake", "earthquake"), ("year", "year"), ("M", "magnitude"), ("station", "station"),
-    ("R_rup [km]", "distance_rrup_km"),
+    ("R_rup [km]", "distance_rrup_km"), ("T_p [s]", "pulse_period_s"),
+    ("pulse PI", "pulse_indicator"),
 )  # fmt: skip
-"""The columns of the table of input records: heading, attribute of ``/records/<id>``."""
+"""The columns of the table of input records: heading, attribute of ``/records/<id>``. T_p is
+the period of the record's velocity pulse, "-" without one, and PI Shahi & Baker's indicator
+(> 0 for a pulse; `motions.pulse_identification`)."""
 
 
 def _records_table(group: Any) -> str:
@@ -370,8 +373,7 @@ def _records_table(group: Any) -> str:
                     | ({"pga_g": None, "pgv": None} if scaled else {}))  # fmt: skip
     shown = [(head, key) for head, key in RECORD_COLUMNS if any(r[key] is not None for r in rows)]
     table = [
-        [row["id"], *(_number(v) if isinstance(v, float) else "-" if v is None else str(v)
-                      for v in (row[key] for _, key in shown))]
+        [row["id"], *(_record_cell(row[key]) for _, key in shown)]
         for row in rows[:MAX_ROWS]
     ]  # fmt: skip
     more = f'<p class="note">{len(rows) - MAX_ROWS} more records in the file.</p>' if (
@@ -382,6 +384,13 @@ def _records_table(group: Any) -> str:
 
 
 TEXT_RECORD_KEYS = {"source", "file_units", "earthquake", "station"}
+
+
+def _record_cell(value: Any) -> str:
+    """An attribute of a record as a cell: numbers to 3 digits, "-" where absent or NaN."""
+    if isinstance(value, float):
+        return _number(value) if np.isfinite(value) else "-"
+    return "-" if value is None else str(value)
 
 
 def _record_sets(attributes: dict[str, Any], sources: dict[str, str]) -> str:

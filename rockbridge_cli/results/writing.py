@@ -315,6 +315,7 @@ def _write_records(group: h5py.Group, study: Study) -> None:
     (a hard link too)."""
     described: dict[tuple[str, str], h5py.Group] = {}
     written: dict[str, h5py.Dataset] = {}
+    pulses: dict[tuple[str, str], dict[str, float]] = {}  # by record as read: once per record
     intensity = study.intensity or {}
     spectral = (
         intensity.get("period"),
@@ -326,7 +327,12 @@ def _write_records(group: h5py.Group, study: Study) -> None:
         if key in described:  # h5py's low-level call: a third of ``group[id] = node``
             group.id.links.create_hard(item.id.encode(), described[key].id, b".")
             continue
-        node = described[key] = _describe_record(group, item, spectral)
+        base = (item.source, item.base or item.id)
+        if base not in pulses and item.record is not None:
+            record = item.record
+            pulses[base] = pulse_provenance(record.acceleration / (item.scale or 1.0),
+                                            record.time_step)  # fmt: skip
+        node = described[key] = _describe_record(group, item, spectral, pulses.get(base, {}))
         if item.digest in written:
             node["acceleration"] = written[item.digest]
         elif item.record is not None:
@@ -340,11 +346,14 @@ def _write_records(group: h5py.Group, study: Study) -> None:
 
 
 def _describe_record(
-    group: h5py.Group, item: StudyRecord, spectral: tuple[float | None, tuple | None, float]
+    group: h5py.Group,
+    item: StudyRecord,
+    spectral: tuple[float | None, tuple | None, float],
+    pulse: dict[str, float],
 ) -> h5py.Group:
-    """The group of one record, with what it is, where it comes from, its velocity pulse
-    (`motions.pulse_identification.pulse_provenance`, of the record as read: a pulse's period
-    does not change with an IDA's scale) and its intensity measures
+    """The group of one record, with what it is, where it comes from, its velocity ``pulse``
+    (`motions.pulse_identification.pulse_provenance` of the record as read, before an intensity
+    section scales it) and its intensity measures
     (`motions.intensity.record_measures`; Sa and AvgSa at the study's ``spectral`` period,
     period range and damping) as attributes."""
     node = group.create_group(item.id)
@@ -363,7 +372,7 @@ def _describe_record(
             }
         )
         provenance = {key: record.metadata[key] for key in PROVENANCE if key in record.metadata}
-        provenance |= pulse_provenance(record.acceleration, record.time_step)
+        provenance |= pulse
         measures = record_measures(record.acceleration, record.time_step, *spectral)
         node.attrs.update({**provenance, **measures})
         _describe_attrs(
