@@ -60,10 +60,10 @@ def test_plain_h5py_reads_it(done):
         assert record.attrs["pga"] == pytest.approx(RECORDS["R1"][0], rel=1e-9)
         assert json.loads(record.attrs["units"]) == {
             "time_step": "s", "n_samples": "-", "duration": "s", "pga": "m/s2",
-            "file_units": "-", "standard_gravity": "m/s2", "pulse_period_s": "s",
-            "pulse_indicator": "-", "pga_g": "g", "pgv": "m/s", "pgd": "m", "arias": "m/s",
-            "cav": "m/s",
+            "file_units": "-", "standard_gravity": "m/s2", "pga_g": "g", "pgv": "m/s",
+            "pgd": "m", "arias": "m/s", "cav": "m/s",
         }  # fmt: skip
+        assert "pulse_period_s" not in record.attrs  # synthetic: no pulse is looked for
         assert record.attrs["file_units"] == "m/s2" and record.attrs["standard_gravity"] == 9.80665
         assert record.attrs["pga_g"] == pytest.approx(RECORDS["R1"][0] / 9.80665, rel=1e-9)
 
