@@ -20,6 +20,7 @@ import click
 
 from .. import __version__
 from ..errors import InputError
+from ..interrupts import exit_status, stoppable, stopped_by
 
 
 class _Group(click.Group):
@@ -27,7 +28,8 @@ class _Group(click.Group):
 
     def invoke(self, ctx: click.Context):
         try:
-            return super().invoke(ctx)
+            with stoppable():  # SIGTERM and SIGHUP stop a command as Ctrl-C does
+                return super().invoke(ctx)
         except InputError as exc:
             if ctx.obj and ctx.obj.get("debug"):
                 raise
@@ -38,9 +40,9 @@ class _Group(click.Group):
         except BrokenPipeError:  # the reader (head, less) went away: nothing left to say
             sys.stderr.close()
             ctx.exit(0)
-        except KeyboardInterrupt:
-            click.echo("interrupted", err=True)
-            ctx.exit(130)
+        except KeyboardInterrupt as stop:
+            click.echo(stopped_by(stop), err=True)
+            ctx.exit(exit_status(stop))
         except OSError as exc:  # the system refused a file: its message names the file
             if ctx.obj and ctx.obj.get("debug"):
                 raise

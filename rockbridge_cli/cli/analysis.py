@@ -8,6 +8,7 @@ from pathlib import Path
 import click
 
 from ..core.fidelity import PRESETS
+from ..interrupts import held
 from . import main
 from .output import echo_json, echo_table, shown
 
@@ -65,9 +66,10 @@ def analyze(
     for warning in warnings + [f"{record}: {w}" for w in record_warnings(motion)]:
         click.echo(f"warning: {warning}", err=True)
     if output is None:
-        response = run_analysis(
-            config.to_bridge(), motion.acceleration, motion.time_step, fidelity, tail=tail
-        )
+        with held():  # Ctrl-C stops the command once the compiled integrator has returned
+            response = run_analysis(
+                config.to_bridge(), motion.acceleration, motion.time_step, fidelity, tail=tail
+            )
         summary = response.peak_row()
     else:  # the same analysis, through the study runner, so that the file has run's layout
         from ..config.study import single_analysis

@@ -21,11 +21,6 @@ _DISPLAY = (
 )
 """Peak columns shown in tables: column, header with the display unit, scale from SI."""
 
-EXIT_INTERRUPTED = 130
-"""Exit status after Ctrl-C (128 + SIGINT, the shell's convention)."""
-EXIT_TERMINATED = 143
-"""Exit status after SIGTERM (128 + SIGTERM)."""
-
 
 @main.command()
 @click.argument("study", type=click.Path(path_type=Path))
@@ -122,7 +117,8 @@ def run(
     """
     from ..config.study import load_study
     from ..cpus import usable_cpus
-    from ..study.run import Terminated, run_study
+    from ..interrupts import exit_status, stopped_by
+    from ..study.run import run_study
     from ..study.shards import shard_label
     from .progress import ProgressDisplay
 
@@ -157,15 +153,14 @@ def run(
             resolved, workers, resume, overwrite, progress=display, assembly=display.assembling,
             shard=part, scheduler=scheduler,
         )  # fmt: skip
-    except KeyboardInterrupt as exc:
+    except KeyboardInterrupt as stop:
         display.close()
-        stopped = "terminated (SIGTERM)" if isinstance(exc, Terminated) else "interrupted"
         click.echo(
-            f"{stopped}: the analyses finished so far are in {resolved.output}; "
+            f"{stopped_by(stop)}: the analyses finished so far are in {resolved.output}; "
             "run the same command again to resume",
             err=True,
         )
-        ctx.exit(EXIT_TERMINATED if isinstance(exc, Terminated) else EXIT_INTERRUPTED)
+        ctx.exit(exit_status(stop))
     display.close()
     counts = report.statuses
     click.echo(f"results: {report.output}")

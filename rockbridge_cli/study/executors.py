@@ -29,6 +29,7 @@ from pathlib import Path
 from typing import Any, NamedTuple
 
 from ..errors import InputError
+from ..interrupts import held
 from ..results.packing import Packed
 from .grid import Cell, Grid
 from .journal import Journal
@@ -134,7 +135,8 @@ def _collector(function: Callable, args: tuple, futures: list[Any]) -> Callable[
                 return futures[0].result()
             except (CancelledError, BrokenProcessPool):
                 pass
-        return function(*args)
+        with held():  # compiled kernels, in this process
+            return function(*args)
 
     return collect
 
@@ -143,7 +145,9 @@ def _collector(function: Callable, args: tuple, futures: list[Any]) -> Callable[
 def local_workers(grid: Grid, journal: Journal, workers: int) -> Iterator[Workers]:
     """Worker processes on this machine, started when cells first come.
 
-    With one worker everything runs in this process. With more, this process only sends
+    With one worker everything runs in this process, a batch at a time; a stopping signal stops
+    the run once the batch is journalled (`interrupts.held`), as it stops a pool once the batches
+    in flight are. With more, this process only sends
     batches and receives outcomes: each worker loads the compiled kernels itself (from numba's
     disk cache, ~0.3 s, in parallel) and journals its own batches, which keeps the parent's
     share of the work small. The pool has ``workers`` processes, or as many as the first cells
@@ -164,8 +168,10 @@ def local_workers(grid: Grid, journal: Journal, workers: int) -> Iterator[Worker
     def run(cells: Sequence[Cell]) -> Iterator[list[Outcome]]:
         nonlocal pool, count
         if workers <= 1 or (pool is None and len(cells) <= 1):
-            yield from (pace.record(_journalled(journal, run_cells(grid, batch)))
-                        for batch in _batches(cells, 1, pace))  # fmt: skip
+            for batch in _batches(cells, 1, pace):
+                with held():  # a signal stops the run after the batch, as a worker's would
+                    outcomes = _journalled(journal, run_cells(grid, batch))
+                yield pace.record(outcomes)
             return
         if pool is None:
             count = min(workers, len(cells))

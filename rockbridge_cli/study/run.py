@@ -1,8 +1,8 @@
 """Run a study: every cell an independent analysis, in parallel, journalled, resumable.
 
 The parent process journals what the workers send back (`journal.Journal`, SQLite) and, when
-the run ends — completed, interrupted by Ctrl-C or SIGTERM, or stopped by an exception — writes
-the results file in one streaming pass from the earlier results file and the journal, into a
+the run ends — completed, interrupted by Ctrl-C, SIGTERM or SIGHUP, or stopped by an exception —
+writes the results file in one streaming pass from the earlier results file and the journal, into a
 temporary file that is then renamed over the output. A run killed outright (SIGKILL) loses only
 the analyses in flight: the next run finds the journal and the earlier file, skips what they
 hold and writes the same file an uninterrupted run would have written. One run at a time may
@@ -15,8 +15,6 @@ import dataclasses
 import heapq
 import math
 import os
-import signal
-import threading
 import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -33,6 +31,7 @@ from ..core.quantities import NO_FAILURE
 from ..core.summary import summarize_all
 from ..cpus import usable_cpus
 from ..errors import InputError
+from ..interrupts import stoppable
 from ..paths import replace_atomically, writable
 from ..results.packing import AnalysisResult, Packed
 from ..results.reading import (
@@ -64,11 +63,6 @@ Assembly = Callable[[int, int], None]
 ORPHAN_WAIT_S = 10.0
 """How long a run waits for the lock of a run that has died to be released by its dying worker
 processes [s]."""
-
-
-class Terminated(KeyboardInterrupt):
-    """The run was asked to stop by SIGTERM (``docker stop``, Kubernetes, SLURM); handled like
-    Ctrl-C: the finished analyses are saved."""
 
 
 @dataclass(frozen=True)
@@ -149,8 +143,8 @@ def run_study(
         The output cannot be written, another run is writing it, or it holds results of another
         study (without ``overwrite``).
     KeyboardInterrupt
-        After the results file has been written from the analyses finished so far; `Terminated`
-        if SIGTERM stopped the run.
+        After the results file has been written from the analyses finished so far;
+        `interrupts.Terminated` if SIGTERM or SIGHUP stopped the run.
     """
     started = time.perf_counter()
     workers = workers or usable_cpus()
@@ -160,7 +154,7 @@ def run_study(
     cells = grid.cells if shard is None else grid.shard(*shard)
     plan = Plan(study, grid, cells) if _is_ida(study) else None
     scope = grid.config_hash if shard is None else f"{grid.config_hash} shard {shard[0]}/{shard[1]}"
-    with _exclusive(output), _sigterm_interrupts():
+    with _exclusive(output), stoppable():
         for stale in output.parent.glob(f".{output.name}.*.tmp"):  # a killed run's
             stale.unlink()
         if overwrite:
@@ -390,23 +384,6 @@ def _alive(pid: str) -> bool:
     except (ValueError, OSError):  # not a number, or another user's process
         return True
     return True
-
-
-@contextmanager
-def _sigterm_interrupts() -> Iterator[None]:
-    """Turn SIGTERM into `Terminated` while the run lasts (in the main thread only)."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-
-    def stop(signum, frame):
-        raise Terminated
-
-    previous = signal.signal(signal.SIGTERM, stop)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGTERM, previous)
 
 
 def _timestamp() -> str:
