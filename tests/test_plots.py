@@ -8,12 +8,15 @@ import re
 import matplotlib
 import numpy as np
 import pytest
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
 from studies import BRIDGES, SLENDER_BLOCK, STUDIED, write_study
 
 from rockbridge_cli.config.bridge import load_bridge
 from rockbridge_cli.config.study import load_study
 from rockbridge_cli.core.geometry import ratios
 from rockbridge_cli.errors import InputError
+from rockbridge_cli.paths import written_by_rockbridge
 from rockbridge_cli.plots import parametric
 from rockbridge_cli.plots.history import plot_history
 from rockbridge_cli.plots.peaks import plot_peaks
@@ -121,6 +124,16 @@ def test_parametric_figures(tmp_path, suffix):
         draw = getattr(parametric, f"plot_{name}")
         path = draw(BRIDGES / "fig8-hbar1.5.yaml", tmp_path / f"{name}{suffix}")
         assert path.read_bytes().startswith(MAGIC[suffix]), name
+        assert written_by_rockbridge(path), name  # so that the next figure may replace it
+    foreign = tmp_path / f"foreign{suffix}"  # the same format, from another program
+    figure = Figure()
+    FigureCanvasAgg(figure)
+    figure.savefig(foreign)
+    before = foreign.read_bytes()
+    assert not written_by_rockbridge(foreign)
+    with pytest.raises(InputError, match="is not a figure rockbridge wrote: not replaced"):
+        parametric.plot_onset(BRIDGES / "fig8-hbar1.5.yaml", foreign)
+    assert foreign.read_bytes() == before
 
 
 def test_parametric_needs_two_piers(tmp_path):

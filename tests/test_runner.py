@@ -262,13 +262,15 @@ def test_a_journal_of_an_older_rockbridge_is_refused(tmp_path):
 
 
 def test_a_damaged_output_is_refused(tmp_path):
+    """A file at the output that is not a results file (here not even HDF5) is refused, with
+    --overwrite too: only results are ever replaced (issue 32)."""
     study = load_study(write_study(tmp_path))
     study.output.parent.mkdir(parents=True)
     study.output.write_bytes(b"not HDF5 at all" * 100)
-    with pytest.raises(InputError, match="not a readable HDF5 file.*--overwrite"):
-        run_study(study, workers=1)
+    for overwrite in (False, True):
+        with pytest.raises(InputError, match="is not a rockbridge results file: not replaced"):
+            run_study(study, workers=1, overwrite=overwrite)
     assert study.output.read_bytes() == b"not HDF5 at all" * 100
-    assert run_study(study, workers=1, overwrite=True).ran == 4
 
 
 def test_an_output_that_cannot_be_written_is_refused_before_any_work(tmp_path, monkeypatch):

@@ -48,8 +48,8 @@ _DISPLAY = (
 @click.option(
     "--overwrite",
     is_flag=True,
-    help="Start afresh: delete the results file (of any study, or damaged) and its journal, "
-    "and recompute everything.",
+    help="Start afresh: delete the results file (of any study) and its journal, and recompute "
+    "everything. Only a results file is ever replaced, never another file at OUTPUT.",
 )
 @click.option(
     "--no-resume",
@@ -237,7 +237,7 @@ def _shard(shard: str | None, count: int | None) -> tuple[int, int] | None:
 @main.command()
 @click.argument("output", type=click.Path(dir_okay=False, path_type=Path))
 @click.argument("parts", nargs=-1, required=True, type=click.Path(path_type=Path))
-@click.option("--overwrite", is_flag=True, help="Replace OUTPUT if it exists.")
+@click.option("--overwrite", is_flag=True, help="Replace OUTPUT if it holds results.")
 @click.pass_context
 def merge(ctx: click.Context, output: Path, parts: tuple[Path, ...], overwrite: bool) -> None:
     """Merge the results files of a study's shards (PARTS, from 'run --shard') into OUTPUT: the

@@ -32,9 +32,10 @@ from ..core.summary import summarize_all
 from ..cpus import usable_cpus
 from ..errors import InputError
 from ..interrupts import stoppable
-from ..paths import replace_atomically, writable
+from ..paths import checked_output, replace_atomically
 from ..results.packing import AnalysisResult, Packed
 from ..results.reading import (
+    is_results_file,
     open_results,
     peak_columns,
     stored_results,
@@ -125,7 +126,9 @@ def run_study(
     overwrite
         Start afresh: delete the results file and its journal, whatever study they belong to or
         if they cannot be read, and recompute everything. Without it, a results file or journal
-        of another study, or one that cannot be read, is refused and left untouched.
+        of another study, or one that cannot be read, is refused and left untouched. A file at
+        the output that is not a results file (the study, an input, a device) is refused
+        either way (`paths.checked_output`).
     progress
         Called after each analysis (`Progress`).
     assembly
@@ -140,8 +143,8 @@ def run_study(
     Raises
     ------
     InputError
-        The output cannot be written, another run is writing it, or it holds results of another
-        study (without ``overwrite``).
+        The output cannot be written, is not a results file, another run is writing it, or it
+        holds results of another study (without ``overwrite``).
     KeyboardInterrupt
         After the results file has been written from the analyses finished so far;
         `interrupts.Terminated` if SIGTERM or SIGHUP stopped the run.
@@ -149,7 +152,7 @@ def run_study(
     started = time.perf_counter()
     workers = workers or usable_cpus()
     created = _timestamp()
-    output = writable(study.output)
+    output = checked_output(study.output, ours=is_results_file, what="a rockbridge results file")
     grid = Grid.of(study)
     cells = grid.cells if shard is None else grid.shard(*shard)
     plan = Plan(study, grid, cells) if _is_ida(study) else None
