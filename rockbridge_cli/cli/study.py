@@ -126,10 +126,7 @@ def run(
     resolved = load_study(study, preset=fidelity, output=output)
     changed = {k: v for k, v in (("tail", tail), ("recheck", recheck)) if v is not None}
     if changed:
-        resolved = dataclasses.replace(
-            resolved, knobs={**resolved.knobs, **changed},
-            overrides={**resolved.overrides, **changed},
-        )  # fmt: skip
+        resolved = _with_knobs(resolved, changed)
     for warning in resolved.warnings:
         click.echo(f"warning: {warning}", err=True)
     if part is not None and output is None:
@@ -216,6 +213,22 @@ def peaks(results: Path, csv_file: str | None, as_json: bool) -> None:
              ("dcr_backfill", "backfill d/c", 1), ("status", "status", 1)]  # fmt: skip
     table = zip(*(_scaled(columns[name], scale) for name, _, scale in shown), strict=True)
     click.echo(table_text([header for _, header, _ in shown], list(table)))
+
+
+def _with_knobs(study, changed: dict):
+    """The study with the knobs of its command-line options (``--tail``, ``--recheck``), once
+    they are checked (`core.fidelity.knobs`, `core.fidelity.check_work`)."""
+    from ..core.fidelity import check_work, knobs
+
+    overrides = {**study.overrides, **changed}
+    try:
+        settled = knobs(study.preset, **overrides)
+        for item in study.records:
+            if item.record is not None:
+                check_work(settled, item.record.acceleration.size, item.record.time_step)
+    except ValueError as exc:
+        raise click.BadParameter(str(exc), param_hint="--tail") from None
+    return dataclasses.replace(study, knobs=settled, overrides=overrides)
 
 
 def _shard(shard: str | None, count: int | None) -> tuple[int, int] | None:

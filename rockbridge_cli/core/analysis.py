@@ -153,7 +153,8 @@ def analyze(
     TypeError
         ``bridge`` is not a `bridge.Bridge` (a bare `Model` does not say which way it faces).
     ValueError
-        An empty, non-finite or too short record, or a non-positive time step.
+        An empty, non-finite or too short record, a non-positive time step, a knob out of its
+        range (`fidelity.LIMITS`), or an analysis too long for them (`fidelity.check_work`).
     """
     if not isinstance(bridge, Bridge):
         raise TypeError(
@@ -169,8 +170,7 @@ def analyze(
     if not (time_step > 0.0 and np.isfinite(time_step)):
         raise ValueError(f"the time step must be positive, got {time_step}")
     knobs = fidelity.knobs(preset, **overrides)
-    if not (knobs["tail"] >= 0.0 and math.isfinite(knobs["tail"])):
-        raise ValueError(f"the tail must be a finite time ≥ 0 s, got {knobs['tail']}")
+    fidelity.check_work(knobs, acc.size, time_step)
     acc = np.concatenate([acc, np.zeros(int(round(knobs["tail"] / time_step)))])
     kin = _kinematics(model, knobs["kinematics"])
     sign = bridge.sign

@@ -46,6 +46,9 @@ MAX_RECORD_BYTES = 256 * 2**20
 #: Name of the file that describes a generated record set.
 MANIFEST = "manifest.json"
 
+MAX_MANIFEST_BYTES = 16 * 2**20
+"""Largest manifest read (a set of tens of thousands of records) [bytes]."""
+
 #: Tolerance on the spacing of a time column, relative to the time step [-].
 TIME_STEP_TOLERANCE = 1e-3
 
@@ -503,17 +506,14 @@ def read_manifest(folder: str | Path) -> dict[str, Any]:
     Raises
     ------
     InputError
-        The manifest is missing, not JSON, or lacks its list of records.
+        The manifest is missing, not a regular file of at most `MAX_MANIFEST_BYTES`, not JSON,
+        or lacks its list of records.
     """
     path = Path(folder) / MANIFEST
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError(
-            path, [("", "file not found: is this a folder written by generate-records?")]
-        ) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(path, [("", f"cannot read the file ({exc})")]) from None
+    if not path.exists():
+        reason = "file not found: is this a folder written by generate-records?"
+        raise InputError(path, [("", reason)])
+    text = read_input_text(path, MAX_MANIFEST_BYTES, "a record set's manifest")
     try:
         manifest = json.loads(text)
     except json.JSONDecodeError as exc:
