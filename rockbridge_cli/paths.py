@@ -47,7 +47,7 @@ def read_input_text(path: str | Path, limit: int, what: str) -> str:
     """The text of an input file, read only if it is a regular file of at most ``limit`` bytes.
 
     A device (``/dev/urandom``), a pipe or a huge file would otherwise hang the command or
-    exhaust the memory.
+    exhaust the memory. A UTF-8 byte-order mark at the start (as Excel writes) is dropped.
 
     Raises
     ------
@@ -69,7 +69,7 @@ def read_input_text(path: str | Path, limit: int, what: str) -> str:
         size = f"{info.st_size / 2**20:.0f} MiB"
         raise InputError(path, [("", f"is {size}, more than {what} can be ({limit // 2**20} MiB)")])
     try:
-        return path.read_text(encoding="utf-8")
+        return path.read_text(encoding="utf-8-sig")  # a byte-order mark (Excel's) is dropped
     except (OSError, UnicodeDecodeError) as exc:
         raise InputError(path, [("", f"cannot read the file as text ({exc})")]) from None
 

@@ -44,7 +44,7 @@ from . import loading
 from .bridge import BridgeConfig, load_bridge
 from .intensity import Intensity, intensity_of, scaled_id
 from .loading import ID_PATTERN, StrictModel, resolve_path
-from .plausibility import bridge_warnings, record_warnings
+from .plausibility import bridge_warnings, record_warnings, scale_warning
 from .records import FemaSource, RecordFile
 from .sweep import Sweep, field_value, variant_id, varied
 
@@ -403,6 +403,7 @@ def study_from_data(
     _check_size(len(bridges), len(records), config.intensity, path)
     if config.intensity is not None and config.intensity.levels is not None:
         records = _scaled(records, config.intensity)
+        warnings += tuple(w for r in records if r.record for w in scale_warning(r.id, r.scale))
     problems = _check_ids("bridges", [b.id for b in bridges])
     problems += _check_ids("records", [r.id for r in records])
     problems += [("records", "holds no records to analyse")] if not records else []

@@ -201,6 +201,10 @@ def _parse_at2(path: Path, lines: list[str]):
     """PEER NGA AT2: returns values, header, time step [s] and units (or None)."""
     if len(lines) < 4:
         raise InputError(path, [(f"line {len(lines)}", "an AT2 file needs four header lines")])
+    kind = re.search(r"\b(VELOCITY|DISPLACEMENT)\b", lines[2], re.IGNORECASE)
+    if kind is not None:
+        reason = f"the header says {kind.group(1).upper()}: an AT2 file holds accelerations"
+        raise InputError(path, [("line 3", reason)])
     points, step = _parse_at2_counts(path, lines[3])
     units = _at2_units(lines[2])
     values: list[float] = []
