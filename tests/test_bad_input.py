@@ -245,3 +245,70 @@ def test_a_record_scaled_by_an_implausible_factor_is_warned_about(tmp_path):
         "R2+100g: scaled by 245 to reach its level (more than 100 or less than 0.01): is the "
         "level, the measure or its period right?",
     ]
+
+
+# --- issue 32: raw exceptions that are now named refusals --------------------------------------
+
+
+def test_an_all_zero_record_fails_only_its_analyses_in_an_intensity_study(tmp_path):
+    """No factor scales a record without motion to a level: a ZeroDivisionError before."""
+    from studies import write_study
+
+    from rockbridge_cli.config.study import load_study
+
+    (tmp_path / "zero.txt").write_text("# units: g\n# time_step: 0.01\n0\n0\n0\n")
+    for section in ("levels: [0.5]", "ida: {start: 0.1, step: 0.1, max: 1.0}"):
+        path = write_study(tmp_path, extra=f"intensity: {{measure: pga_g, {section}}}\n")
+        path.write_text(path.read_text().replace("    - path: R2.txt", "    - path: zero.txt"))
+        record = load_study(path).records[-1]
+        assert record.record is None and "its pga_g is 0: it cannot be scaled" in record.error
+
+
+def test_values_beyond_the_floating_point_range_are_refused(tmp_path):
+    path = tmp_path / "huge.txt"
+    path.write_text("# units: g\n# time_step: 0.01\n0\n1e308\n0\n")  # 9.8e308 m/s² is inf
+    with pytest.raises(InputError, match="beyond the floating-point range once in m/s²"):
+        read_record(path)
+
+
+def test_analyze_refuses_what_it_cannot_run(tmp_path):
+    """A 1e300 s time step ("negative dimensions") and --tail nan were raw exceptions, exit 1."""
+    (tmp_path / "b.yaml").write_text(BRIDGE)
+    (tmp_path / "slow.txt").write_text("# units: g\n# time_step: 1e300\n0\n0.3\n0\n")
+    refused(invoke("analyze", tmp_path / "b.yaml", tmp_path / "slow.txt"), "slow.txt",
+            "history samples, more than 2e+06")  # fmt: skip
+    (tmp_path / "r.txt").write_text("# units: g\n# time_step: 0.01\n0\n0.3\n0\n")
+    for tail in ("nan", "inf"):
+        result = invoke("analyze", tmp_path / "b.yaml", tmp_path / "r.txt", "--tail", tail)
+        assert (
+            result.exit_code == 2
+            and "--tail" in result.output
+            and "Traceback" not in (result.output)
+        )
+
+
+@pytest.mark.parametrize("address", ["foo", "tcp://127.0.0.1:notaport"])
+def test_a_malformed_scheduler_address_is_refused(tmp_path, monkeypatch, address):
+    from studies import write_study
+
+    monkeypatch.chdir(tmp_path)
+    refused(invoke("run", write_study(tmp_path), "--scheduler", address),
+            f"{address}: cannot reach the Dask scheduler")  # fmt: skip
+
+
+def test_a_full_disk_while_writing_the_results_names_the_file(tmp_path, monkeypatch):
+    """h5py reports a full disk as a RuntimeError (errno = 28), which reached the user raw,
+    without the hint that the journal keeps the analyses."""
+    from studies import write_study
+
+    from rockbridge_cli.results.writing import ResultsWriter
+
+    def full(self, *args, **kwargs):
+        raise RuntimeError("Can't write data (file write failed: errno = 28, No space left)")
+
+    monkeypatch.setattr(ResultsWriter, "add", full)
+    monkeypatch.chdir(tmp_path)
+    result = invoke("run", write_study(tmp_path), "--workers", "1")
+    assert result.exit_code == 1 and "Traceback" not in result.output
+    assert "results/study.h5: cannot write the results file (Can't write data" in result.output
+    assert "the finished analyses stay in the journal: rerun to resume" in result.output

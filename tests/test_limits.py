@@ -19,6 +19,11 @@ from rockbridge_cli.core.analysis import analyze
 from rockbridge_cli.core.fidelity import PRESETS, check_work, knobs
 
 
+@pytest.fixture(autouse=True)
+def _in_tmp(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # default outputs (results/<stem>.h5) land in tmp_path
+
+
 def invoke(*args):
     return CliRunner().invoke(main, [str(a) for a in args])
 

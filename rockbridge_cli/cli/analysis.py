@@ -8,6 +8,7 @@ from pathlib import Path
 import click
 
 from ..core.fidelity import PRESETS
+from ..errors import InputError
 from ..interrupts import held
 from . import main
 from .output import echo_json, echo_table, shown
@@ -62,6 +63,7 @@ def analyze(
 
     config = load_bridge(bridge)
     motion = read_record(record, units=units, time_step=time_step)
+    _check_work(record, motion, fidelity, tail)
     warnings = [f"{bridge}: {w}" for w in bridge_warnings(config)]
     for warning in warnings + [f"{record}: {w}" for w in record_warnings(motion)]:
         click.echo(f"warning: {warning}", err=True)
@@ -90,6 +92,21 @@ def analyze(
         reason = summary.get("message") or summary["status"]
         click.echo(f"error: the integrator stopped early ({reason}); no peak is known", err=True)
         ctx.exit(1)
+
+
+def _check_work(path: Path, motion, fidelity: str, tail: float) -> None:
+    """Refuse a tail out of range, or an analysis of the record that could not end
+    (`core.fidelity.check_work`)."""
+    from ..core.fidelity import check_work, knobs
+
+    try:
+        values = knobs(fidelity, tail=tail)
+    except ValueError as exc:
+        raise click.BadParameter(str(exc), param_hint="--tail") from None
+    try:
+        check_work(values, motion.acceleration.size, motion.time_step)
+    except ValueError as exc:
+        raise InputError(path, [("", str(exc))]) from None
 
 
 def _rows(bridge: str, record: str, s: dict) -> list[tuple[str, str]]:

@@ -401,6 +401,8 @@ def study_from_data(
         overrides["output_step"] = config.output.output_step
     settled = _settled_knobs(config.fidelity.preset, overrides, records, path)
     _check_size(len(bridges), len(records), config.intensity, path)
+    if config.intensity is not None:
+        records = [_scalable(item, config.intensity) for item in records]
     if config.intensity is not None and config.intensity.levels is not None:
         records = _scaled(records, config.intensity)
         warnings += tuple(w for r in records if r.record for w in scale_warning(r.id, r.scale))
@@ -467,6 +469,15 @@ def _settled_knobs(
         more = f" (and {len(problems) - 1} more records)" if len(problems) > 1 else ""
         raise InputError(study, [(problems[0][0], problems[0][1] + more)])
     return settled
+
+
+def _scalable(item: StudyRecord, intensity: Intensity) -> StudyRecord:
+    """The record, or, if its intensity is zero (no motion at all), the record that cannot run
+    (`StudyRecord.error`): no factor scales it to a level."""
+    if item.record is None or intensity_of(item.record, intensity) > 0.0:
+        return item
+    reason = f"{item.source}: its {intensity.measure} is 0: it cannot be scaled to a level"
+    return dataclasses.replace(item, record=None, error=reason)
 
 
 def _scaled(records: list[StudyRecord], intensity: Intensity) -> list[StudyRecord]:

@@ -164,7 +164,12 @@ def read_record(
     resolved_step = _resolve_time_step(path, step, time_step)
     scale = UNIT_SCALES[resolved_units]
     metadata = {**header, "format": file_format, "file_units": resolved_units}
-    return Record(name, resolved_step, values * scale, str(path), metadata)
+    with np.errstate(over="ignore"):
+        acceleration = values * scale
+    if not np.all(np.isfinite(acceleration)):
+        reason = f"a value is beyond the floating-point range once in m/s² (from {resolved_units})"
+        raise InputError(path, [("", reason)])
+    return Record(name, resolved_step, acceleration, str(path), metadata)
 
 
 def read_stated_units(path: str | Path) -> str | None:

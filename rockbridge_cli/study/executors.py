@@ -293,7 +293,7 @@ def dask_workers(grid: Grid, journal: Journal, scheduler: str) -> Iterator[Worke
         raise InputError(scheduler, [("", reason)]) from None
     try:
         client = Client(scheduler, timeout="10s")
-    except (OSError, TimeoutError) as exc:
+    except (OSError, TimeoutError, ValueError, TypeError) as exc:  # unreachable, or no address
         raise InputError(scheduler, [("", f"cannot reach the Dask scheduler ({exc})")]) from None
     shared = None
     resends = 0

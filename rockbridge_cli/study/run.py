@@ -259,8 +259,8 @@ def _write(
 
                 store(file)
         replace_atomically(temporary, output)
-    except OSError as exc:  # a full disk, a removed folder: say which file, keep the journal
-        reason = exc.strerror or str(exc)
+    except (OSError, RuntimeError) as exc:  # a full disk (h5py: RuntimeError), a removed folder
+        reason = getattr(exc, "strerror", None) or str(exc)
         raise OSError(f"{output}: cannot write the results file ({reason}); the finished "
                       "analyses stay in the journal: rerun to resume") from None  # fmt: skip
     finally:
