@@ -256,3 +256,38 @@ def test_a_sigkill_keeps_what_the_workers_journalled(tmp_path, study):
     report = run_study(load_study(path), workers=1)
     assert report.resumed == journalled and report.ran == 4 - journalled
     assert contents(tmp_path / "out.h5") == expected
+
+
+def test_a_stop_while_the_results_are_written_names_the_journal(tmp_path, monkeypatch):
+    """A second Ctrl-C while the results file is written leaves the analyses in the journal
+    only: the message said they were in the results file (issue 32)."""
+    from click.testing import CliRunner
+
+    from rockbridge_cli.cli import main
+    from rockbridge_cli.results.writing import ResultsWriter
+
+    def interrupted(self, *args, **kwargs):
+        raise KeyboardInterrupt
+
+    path = write_study(tmp_path, extra=f"output: {{path: {tmp_path / 'out.h5'}}}\n")
+    monkeypatch.setattr(ResultsWriter, "add", interrupted)
+    result = CliRunner().invoke(main, ["run", str(path), "--workers", "1"])
+    assert result.exit_code == 130
+    assert (f"interrupted: the analyses finished so far are in {tmp_path / 'out.h5.journal.db'}; "
+            "run the same command again to resume") in result.output  # fmt: skip
+    assert not (tmp_path / "out.h5").exists()
+
+
+def test_after_the_command_ctrl_c_is_left_to_the_system(monkeypatch):
+    """A Ctrl-C while the interpreter tears down printed "Exception ignored … KeyboardInterrupt"
+    and exited 0: once the command has ended, SIGINT has its default action (the process ends
+    at once, quietly, status 130)."""
+    import rockbridge_cli.cli as cli
+
+    monkeypatch.setattr(cli, "main", lambda: None)
+    previous = signal.getsignal(signal.SIGINT)
+    try:
+        cli.entry()
+        assert signal.getsignal(signal.SIGINT) == signal.SIG_DFL
+    finally:
+        signal.signal(signal.SIGINT, previous)

@@ -7,7 +7,9 @@ runtime failures exit with status 1; ``--debug`` shows the traceback instead.
 from __future__ import annotations
 
 import os
+import signal
 import sys
+import threading
 
 # One thread per process for the linear algebra and OpenMP libraries, set before numpy loads them:
 # rockbridge's parallelism is its worker processes, and on a shared machine (a cluster node, a CI
@@ -73,6 +75,17 @@ def plot() -> None:
     plots."""
 
 
+def entry() -> None:
+    """The ``rockbridge`` console script: `main`, after which Ctrl-C is left to the system, so
+    that one pressed while the interpreter tears down ends it quietly (Python printed
+    "Exception ignored … KeyboardInterrupt" and exited 0)."""
+    try:
+        main()
+    finally:
+        if threading.current_thread() is threading.main_thread():
+            signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _register() -> None:
     # each module adds its commands
     from . import analysis, bridge, export, fragility, parametric, records, report, risk, study  # noqa: F401
@@ -81,4 +94,4 @@ def _register() -> None:
 _register()
 
 if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())
+    entry()

@@ -118,6 +118,7 @@ def run(
     from ..config.study import load_study
     from ..cpus import usable_cpus
     from ..interrupts import exit_status, stopped_by
+    from ..study.journal import journal_path
     from ..study.run import run_study
     from ..study.shards import shard_label
     from .progress import ProgressDisplay
@@ -152,11 +153,10 @@ def run(
         )  # fmt: skip
     except KeyboardInterrupt as stop:
         display.close()
-        click.echo(
-            f"{stopped_by(stop)}: the analyses finished so far are in {resolved.output}; "
-            "run the same command again to resume",
-            err=True,
-        )
+        journal = journal_path(resolved.output)  # removed once the results file holds its own
+        kept = journal if journal.exists() else resolved.output
+        click.echo(f"{stopped_by(stop)}: the analyses finished so far are in {kept}; run the "
+                   "same command again to resume", err=True)  # fmt: skip
         ctx.exit(exit_status(stop))
     display.close()
     counts = report.statuses
