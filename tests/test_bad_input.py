@@ -312,3 +312,21 @@ def test_a_full_disk_while_writing_the_results_names_the_file(tmp_path, monkeypa
     assert result.exit_code == 1 and "Traceback" not in result.output
     assert "results/study.h5: cannot write the results file (Can't write data" in result.output
     assert "the finished analyses stay in the journal: rerun to resume" in result.output
+
+
+def test_a_file_named_as_a_record_keeps_its_content_out_of_messages(tmp_path):
+    """A config may name any readable file as a record: its first line was copied into the
+    message, the results' message column and the report ('root:x:0:0:…' is not a number)."""
+    secret = tmp_path / "passwd"
+    secret.write_text("toor:x:0:0:toor:/toor:/bin/bash\ndaemon:x:1:1::/usr/sbin:/bin/false\n")
+    for units in ("g", None):
+        with pytest.raises(InputError) as refusal:
+            read_record(secret, units=units, time_step=0.01)
+        assert "toor" not in str(refusal.value) and "line 1: value 1 is not a number" in str(
+            refusal.value
+        )
+    at2 = tmp_path / "r.AT2"
+    at2.write_text("PEER\ntoor:x:0:0\nUNITS OF G\ntoor:x:0:0:secret\n0.1\n")
+    with pytest.raises(InputError) as refusal:
+        read_record(at2)
+    assert "toor" not in str(refusal.value) and "line 4" in str(refusal.value)

@@ -223,3 +223,22 @@ def test_peaks_figure_of_many_bridges_keeps_its_legend_short(tmp_path):
     assert any(t.startswith("13 bridges, one marker style each") for t in texts)
     assert "limit lines left out: 13 gaps" in texts
     assert not any(t.startswith(STUDIED[1]) for t in texts)  # no bridge named one by one
+
+
+def test_a_name_with_tex_math_is_drawn_as_written(tmp_path):
+    """A bridge named ``$\\undefinedmacro{x$`` broke `plot peaks`, `plot history` and `report`
+    (Matplotlib read it as mathematics): names are drawn literally (issue 32)."""
+    name = r"cost $5 \undefinedmacro{x$ bridge"
+    hostile = tmp_path / "hostile.yaml"
+    hostile.write_text((BRIDGES / f"{STUDIED[0]}.yaml").read_text().replace(
+        "name: symmetric (h̄ = 1)", f"name: '{name}'"))  # fmt: skip
+    path = write_study(tmp_path, bridges=(), records=("R1",), bridge_files=(hostile,),
+                       extra="output: {path: out.h5}\n")  # fmt: skip
+    study = load_study(path)
+    run_study(study, workers=1)
+    with matplotlib.rc_context({"svg.fonttype": "none"}):
+        peaks = plot_peaks(study.output, tmp_path / "peaks.svg")
+        history = plot_history(study.output, "R1", tmp_path / "history.svg")
+        onset = parametric.plot_q(hostile, tmp_path / "q.svg")
+    for path in (peaks, history, onset):
+        assert name in svg_text(path)

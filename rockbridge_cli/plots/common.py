@@ -64,12 +64,18 @@ def style(index: int, filled: bool = True) -> dict:
     }
 
 
+def plain(text: str) -> str:
+    """A user's text (a bridge's name, a record's) as Matplotlib shows it literally: a ``$``
+    would start mathematics, which a stray one breaks (the figure fails to draw)."""
+    return text.replace("$", r"\$")
+
+
 def series_labels(bridges: dict[str, dict]) -> dict[str, str]:
-    """Each bridge's legend label: its name, or its id where names repeat (a sweep's variants
-    share their base bridge's name)."""
+    """Each bridge's legend label: its name (as `plain` text), or its id where names repeat (a
+    sweep's variants share their base bridge's name)."""
     names = [attributes["name"] for attributes in bridges.values()]
     return {
-        bridge: attributes["name"] if names.count(attributes["name"]) == 1 else bridge
+        bridge: plain(attributes["name"]) if names.count(attributes["name"]) == 1 else bridge
         for bridge, attributes in bridges.items()
     }
 

@@ -239,18 +239,14 @@ def _parse_at2_counts(path: Path, line: str) -> tuple[int, float]:
     if points is None or step is None:  # the older layout: "5590  0.0050  NPTS, DT"
         old = re.match(r"\s*(\d+)\s+([0-9.Ee+-]+)\s+NPTS\s*,\s*DT", line, re.IGNORECASE)
         if old is None:
-            raise InputError(
-                path, [("line 4", f"expected 'NPTS= ..., DT= ...', got {line.strip()!r}")]
-            )
+            raise InputError(path, [("line 4", "expected 'NPTS= ..., DT= ...'")])
         numbers = old.groups()
     else:
         numbers = (points.group(1), step.group(1))
     try:
         count, dt = int(numbers[0]), float(numbers[1])
     except ValueError:
-        raise InputError(
-            path, [("line 4", f"cannot read NPTS and DT from {line.strip()!r}")]
-        ) from None
+        raise InputError(path, [("line 4", "cannot read NPTS and DT")]) from None
     if count < 2:
         raise InputError(path, [("line 4", f"NPTS = {count}: a record needs at least two points")])
     if not (math.isfinite(dt) and dt > 0.0):
@@ -342,19 +338,22 @@ def _read_header_time_step(path: Path, header: dict[str, Any]) -> float | None:
         return None
     step = header.pop("time_step")
     if not isinstance(step, (int, float)) or not (math.isfinite(step) and step > 0.0):
-        raise InputError(path, [("header", f"time_step {step!r} is not a positive number")])
+        raise InputError(path, [("header", "time_step is not a positive number")])
     return float(step)
 
 
 def _parse_numbers(path: Path, number: int, tokens: list[str]) -> list[float]:
+    """The numbers of one line; a message names the line and the value's place in it, never the
+    text (a config may name any readable file as a record: its content stays out of messages,
+    results and reports)."""
     values = []
-    for token in tokens:
+    for place, token in enumerate(tokens, start=1):
         try:
             value = float(token)
         except ValueError:
-            raise InputError(path, [(f"line {number}", f"{token!r} is not a number")]) from None
+            raise InputError(path, [(f"line {number}", f"value {place} is not a number")]) from None
         if not math.isfinite(value):
-            raise InputError(path, [(f"line {number}", f"{token!r} is not a finite number")])
+            raise InputError(path, [(f"line {number}", f"value {place} is not a finite number")])
         values.append(value)
     return values
 
@@ -431,7 +430,8 @@ def _resolve_units(path: Path, in_file: str | None, given: str | None) -> str:
 def _canonical_units(path: Path, text: str, whose: str) -> str:
     name = UNIT_NAMES.get(text.strip().lower().replace(" ", ""))
     if name is None:
-        reason = f"{whose} units {text!r} are unknown: use g, m/s2 or cm/s2"
+        stated = f" {text!r}" if whose == "the given" else ""  # the file's text stays out
+        reason = f"{whose} units{stated} are unknown: use g, m/s2 or cm/s2"
         raise InputError(path, [("units", reason)])
     return name
 
