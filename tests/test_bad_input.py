@@ -330,3 +330,35 @@ def test_a_file_named_as_a_record_keeps_its_content_out_of_messages(tmp_path):
     with pytest.raises(InputError) as refusal:
         read_record(at2)
     assert "toor" not in str(refusal.value) and "line 4" in str(refusal.value)
+
+
+def test_the_python_api_checks_its_arguments(tmp_path):
+    """Wrong types gave generic errors (issue 32): ``run_study("study.yaml")`` an
+    AttributeError, ``read_record(p, units=9.81)`` one on ``strip``, ``merge_results(out,
+    "a.h5")`` iterated the characters, complex accelerations lost their imaginary part."""
+    from studies import write_study
+
+    from rockbridge_cli.config.study import load_study
+    from rockbridge_cli.core.analysis import analyze
+    from rockbridge_cli.study.merge import merge_results
+    from rockbridge_cli.study.run import run_study
+
+    path = write_study(tmp_path, extra=f"output: {{path: {tmp_path / 'out.h5'}}}\n")
+    with pytest.raises(TypeError, match="run_study takes a Study"):
+        run_study(path)
+    for workers in (0, -1, 1.5, True):
+        with pytest.raises(ValueError, match="workers is a count"):
+            run_study(load_study(path), workers=workers)
+    with pytest.raises(ValueError, match="shard is"):
+        run_study(load_study(path), shard=(3, 2))
+    with pytest.raises(TypeError, match="units is a name"):
+        read_record(tmp_path / "R1.txt", units=9.81)
+    with pytest.raises(TypeError, match="time_step is a number"):
+        read_record(tmp_path / "R1.txt", time_step="0.01")
+    with pytest.raises(TypeError, match="parts is a list"):
+        merge_results(tmp_path / "m.h5", str(tmp_path / "a.h5"))
+    (tmp_path / "b.yaml").write_text(BRIDGE)
+    bridge = load_bridge(tmp_path / "b.yaml").to_bridge()
+    with pytest.raises(TypeError, match="real accelerations"):
+        analyze(bridge, np.array([0.0, 1.0j, 0.0]), 0.01)
+    assert not (tmp_path / "out.h5").exists()

@@ -151,7 +151,8 @@ def analyze(
     Raises
     ------
     TypeError
-        ``bridge`` is not a `bridge.Bridge` (a bare `Model` does not say which way it faces).
+        ``bridge`` is not a `bridge.Bridge` (a bare `Model` does not say which way it faces), or
+        the accelerations or the time step are not real numbers.
     ValueError
         An empty, non-finite or too short record, a non-positive time step, a knob out of its
         range (`fidelity.LIMITS`), or an analysis too long for them (`fidelity.check_work`).
@@ -162,6 +163,8 @@ def analyze(
             f"{type(bridge).__name__}: a bare model does not say whether it is mirrored"
         )
     model = bridge.model
+    if np.iscomplexobj(acceleration) or not isinstance(time_step, (int, float, np.number)):
+        raise TypeError("analyze takes real accelerations [m/s²] and a real time step [s]")
     acc = np.ascontiguousarray(acceleration, dtype=float)
     if acc.ndim != 1 or acc.size < 2:
         raise ValueError("the ground motion needs at least two samples")

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import json
 import math
+import numbers
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -150,7 +151,15 @@ def read_record(
     InputError
         The file is missing, unreadable or malformed, or its units or time step are unknown or
         contradict the arguments; the message names the line.
+    TypeError
+        ``units`` is not a name, or ``time_step`` not a number.
     """
+    if units is not None and not isinstance(units, str):
+        raise TypeError(f"units is a name (g, m/s2 or cm/s2), not {units!r}")
+    if time_step is not None and (
+        isinstance(time_step, bool) or not isinstance(time_step, numbers.Real)
+    ):
+        raise TypeError(f"time_step is a number of seconds, not {time_step!r}")
     path = Path(path)
     lines = _read_lines(path)
     if path.suffix.lower() == ".at2":

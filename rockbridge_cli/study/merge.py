@@ -72,7 +72,11 @@ def merge_results(output: Path, parts: list[Path], overwrite: bool = False) -> M
         No parts, a part that is not a results file, parts of different studies or rockbridge
         versions, an output that is one of the parts, an existing output without
         ``overwrite``, or one that is not a results file (never replaced).
+    TypeError
+        ``parts`` is one path, not a list of them.
     """
+    if isinstance(parts, (str, os.PathLike)):
+        raise TypeError("parts is a list of results files, not one path")
     if not parts:
         raise InputError("merge", [("", "give the results files to merge")])
     output = Path(output)

@@ -145,10 +145,14 @@ def run_study(
     InputError
         The output cannot be written, is not a results file, another run is writing it, or it
         holds results of another study (without ``overwrite``).
+    TypeError, ValueError
+        ``study`` is not a `config.study.Study` (a path: load it with ``load_study``), or
+        ``workers`` or ``shard`` is not a count, or not a shard.
     KeyboardInterrupt
         After the results file has been written from the analyses finished so far;
         `interrupts.Terminated` if SIGTERM or SIGHUP stopped the run.
     """
+    _check_arguments(study, workers, shard)
     started = time.perf_counter()
     workers = workers or usable_cpus()
     created = _timestamp()
@@ -217,6 +221,23 @@ def run_study(
         statuses=statuses,
         failures=failures,
     )
+
+
+def _check_arguments(study: Study, workers: int | None, shard: tuple[int, int] | None) -> None:
+    """Raise TypeError or ValueError for arguments `run_study` cannot take."""
+    from ..config.study import Study
+
+    if not isinstance(study, Study):
+        raise TypeError(f"run_study takes a Study (config.study.load_study(path)), not "
+                        f"{type(study).__name__}")  # fmt: skip
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)
+                                or workers < 1):  # fmt: skip
+        raise ValueError(f"workers is a count of processes, at least 1, not {workers!r}")
+    if shard is not None and not (
+        isinstance(shard, tuple) and len(shard) == 2 and all(type(n) is int for n in shard)
+        and 0 <= shard[0] < shard[1]
+    ):  # fmt: skip
+        raise ValueError(f"shard is (index, count) with 0 ≤ index < count, not {shard!r}")
 
 
 def _rounds(
