@@ -265,3 +265,13 @@ def test_no_command_writes_over_a_file_it_did_not_write(tmp_path):
     for _ in range(2):
         assert invoke("peaks", results, "--csv", "p.csv").exit_code == 0
     assert invoke("run", study, "-o", other, "--overwrite", "--workers", "1").exit_code == 0
+
+
+def test_an_output_whose_dots_climb_above_the_root_is_written(tmp_path):
+    """``/../../x.h5`` is ``/x.h5`` on POSIX; SQLite could not open the journal beside it (issue
+    32, a valid input refused)."""
+    study = write_study(tmp_path)
+    climbing = "/../.." + str(tmp_path / "out.h5")
+    result = invoke("run", study, "-o", climbing, "--workers", "1")
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / "out.h5").is_file() and not list(tmp_path.glob("out.h5.journal*"))

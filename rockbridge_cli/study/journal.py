@@ -11,6 +11,7 @@ another study are never mixed in; it is removed once the results file holds its 
 
 from __future__ import annotations
 
+import os
 import sqlite3
 from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
@@ -100,7 +101,9 @@ class Journal:
             self.connection.executescript(_SCHEMA)
             stored = self.connection.execute("SELECT config_hash FROM study").fetchone()
             (version,) = self.connection.execute("PRAGMA user_version").fetchone()
-        except sqlite3.DatabaseError as exc:
+        except sqlite3.OperationalError as exc:  # cannot open, read or lock it: not damage
+            raise InputError(self.path, [("", f"cannot open the journal ({exc})")]) from None
+        except sqlite3.DatabaseError as exc:  # malformed, or not a database
             raise InputError(self.path, [("", damaged.format(exc))]) from None
         if stored is None:
             self.connection.execute(f"PRAGMA user_version={SCHEMA_VERSION}")
@@ -180,7 +183,9 @@ class Journal:
 
 
 def journal_path(output: Path) -> Path:
-    """Where the journal of a results file lives."""
+    """Where the journal of a results file lives (its path made absolute, without ``..``: SQLite
+    cannot open a path whose ``..`` climbs above ``/``)."""
+    output = Path(os.path.abspath(output))
     return output.with_name(f"{output.name}.journal.db")
 
 
