@@ -94,8 +94,8 @@ def maker_metadata(suffix: str) -> dict[str, str]:
 
 
 def written_by_rockbridge(path: str | Path) -> bool:
-    """Whether a file is a figure (PNG, PDF, SVG) or a page (HTML) that rockbridge wrote: its
-    maker's mark (`MARK`) where its format keeps it."""
+    """Whether a file is a figure (PNG, PDF, SVG), a page (HTML) or an OpenQuake fragility model
+    (NRML) that rockbridge wrote: its maker's mark (`MARK`) where its format keeps it."""
     mark = MARK.encode()
     with open(path, "rb") as file:
         head = file.read(MARKED_HEAD)
@@ -109,6 +109,7 @@ def written_by_rockbridge(path: str | Path) -> bool:
             (b"\x89PNG", b"tEXtSoftware\x00" + mark),
             (b"<svg", b"<dc:title>" + mark),
             (b"<html", b'<meta name="generator" content="' + mark),
+            (b"<nrml", b"<description>" + mark),  # an OpenQuake fragility model
         )
     )
 
