@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import stat
+from collections.abc import Callable
 from pathlib import Path
 
 from .errors import InputError
@@ -42,15 +43,11 @@ def writable(path: str | Path, folder: bool = False) -> Path:
     return path
 
 
-HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
-"""The first bytes of every HDF5 file."""
-
-
 def read_input_text(path: str | Path, limit: int, what: str) -> str:
     """The text of an input file, read only if it is a regular file of at most ``limit`` bytes.
 
     A device (``/dev/urandom``), a pipe or a huge file would otherwise hang the command or
-    exhaust the memory.
+    exhaust the memory. A UTF-8 byte-order mark at the start (as Excel writes) is dropped.
 
     Raises
     ------
@@ -72,30 +69,96 @@ def read_input_text(path: str | Path, limit: int, what: str) -> str:
         size = f"{info.st_size / 2**20:.0f} MiB"
         raise InputError(path, [("", f"is {size}, more than {what} can be ({limit // 2**20} MiB)")])
     try:
-        return path.read_text(encoding="utf-8")
+        return path.read_text(encoding="utf-8-sig")  # a byte-order mark (Excel's) is dropped
     except (OSError, UnicodeDecodeError) as exc:
         raise InputError(path, [("", f"cannot read the file as text ({exc})")]) from None
 
 
-def not_an_input(path: str | Path, *inputs: str | Path) -> Path:
-    """The output path, once it is checked not to be one of the inputs a command is reading.
+MARK = "rockbridge"
+"""How a file rockbridge writes names its maker: a figure's PNG ``Software`` or PDF and SVG
+``Creator``, a page's ``<meta name="generator">`` (`maker_metadata`, `written_by_rockbridge`)."""
+
+MARKED_HEAD = 8192
+"""Bytes at the start of a PNG, SVG or HTML file that hold its maker's mark [bytes]."""
+
+MARKED_TAIL = 262144
+"""Bytes at the end of a PDF file that hold its information dictionary [bytes]."""
+
+
+def maker_metadata(suffix: str) -> dict[str, str]:
+    """The metadata that marks a figure of that format (``.png``, ``.pdf``, ``.svg``) as
+    rockbridge's, for Matplotlib's ``savefig``."""
+    from . import __version__
+
+    return {("Software" if suffix.lower() == ".png" else "Creator"): f"{MARK} {__version__}"}
+
+
+def written_by_rockbridge(path: str | Path) -> bool:
+    """Whether a file is a figure (PNG, PDF, SVG), a page (HTML) or an OpenQuake fragility model
+    (NRML) that rockbridge wrote: its maker's mark (`MARK`) where its format keeps it."""
+    mark = MARK.encode()
+    with open(path, "rb") as file:
+        head = file.read(MARKED_HEAD)
+        if head.startswith(b"%PDF-"):
+            file.seek(0, os.SEEK_END)
+            file.seek(max(0, file.tell() - MARKED_TAIL))
+            return b"/Creator (" + mark in file.read()
+    return any(
+        signature in head and marked in head
+        for signature, marked in (
+            (b"\x89PNG", b"tEXtSoftware\x00" + mark),
+            (b"<svg", b"<dc:title>" + mark),
+            (b"<html", b'<meta name="generator" content="' + mark),
+            (b"<nrml", b"<description>" + mark),  # an OpenQuake fragility model
+        )
+    )
+
+
+def checked_output(
+    path: str | Path,
+    *inputs: str | Path,
+    ours: Callable[[Path], bool] = written_by_rockbridge,
+    what: str = "a file rockbridge wrote",
+) -> Path:
+    """The output path, once it is checked that writing it destroys nothing: its folder accepts a
+    new file, and nothing is there yet, or a regular file that rockbridge wrote (``ours``) and
+    that the command does not read (``inputs``). Whatever else is there is left alone, whatever
+    the command's options.
+
+    Parameters
+    ----------
+    ours
+        Whether an existing regular file is one rockbridge wrote, and may be replaced.
+    what
+        What ``ours`` recognises, for the message (``a results file``).
 
     Raises
     ------
     InputError
-        ``path`` is (a link to) one of ``inputs``, or an HDF5 file (results of another study):
-        writing it would destroy what is being read, or a study's results.
+        A folder, a device, a pipe or a socket; one of ``inputs``; a file that ``ours`` does not
+        recognise; or a folder that cannot be written.
     """
     path = Path(path)
+    try:
+        info = path.stat()
+    except OSError:  # nothing there (or a folder on the way is a file): the folder decides
+        return writable(path)
+    if stat.S_ISDIR(info.st_mode):
+        raise InputError(path, [("", "is a folder: give a file name")])
+    if not stat.S_ISREG(info.st_mode):
+        reason = "is not a regular file (a device, a pipe?): not written; choose another output"
+        raise InputError(path, [("", reason)])
     for source in inputs:
-        if path.exists() and Path(source).exists() and path.samefile(source):
+        if Path(source).exists() and path.samefile(source):
             raise InputError(path, [("", "is the file being read: choose another output")])
-    if path.is_file():
-        with open(path, "rb") as file:
-            if file.read(len(HDF5_SIGNATURE)) == HDF5_SIGNATURE:
-                reason = "is an HDF5 file (results?): not replaced; choose another output"
-                raise InputError(path, [("", reason)])
-    return path
+    try:
+        recognised = ours(path)
+    except OSError as exc:
+        raise InputError(path, [("", f"cannot be checked ({exc.strerror})")]) from None
+    if not recognised:
+        reason = f"exists and is not {what}: not replaced; choose another output"
+        raise InputError(path, [("", reason)])
+    return writable(path)
 
 
 def replace_atomically(temporary: Path, target: Path) -> None:

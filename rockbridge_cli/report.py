@@ -13,6 +13,7 @@ from __future__ import annotations
 import base64
 import html
 import json
+import os
 import tempfile
 from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
@@ -20,9 +21,10 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from . import __version__
 from .core.quantities import NO_FAILURE, ROUND_OFF
 from .errors import InputError
-from .paths import writable
+from .paths import MARK, checked_output, replace_atomically
 from .results.reading import bridge_attributes, open_results, peak_columns, peak_units
 
 if TYPE_CHECKING:
@@ -84,13 +86,14 @@ def write_report(
     Raises
     ------
     InputError
-        ``output`` is the results file itself, ``record`` is not in the file, or a hazard curve
-        is given for a study without an intensity section or in another measure.
+        ``output`` is the results file itself or a file that is not a report rockbridge wrote
+        (`paths.checked_output`), ``record`` is not in the file, or a hazard curve is given for
+        a study without an intensity section or in another measure.
     """
     results, output = Path(results), Path(output)
     if output.resolve() == results.resolve():
         raise InputError(output, [("", "the report would overwrite the results file it reads")])
-    output = writable(output)
+    output = checked_output(output, what="a report rockbridge wrote")
     with open_results(results) as file:
         attributes = {key: _plain(value) for key, value in file.attrs.items()}
         columns, bridges = peak_columns(file), bridge_attributes(file)
@@ -145,12 +148,18 @@ def write_report(
     ]
     page = (
         '<!DOCTYPE html>\n<html lang="en">\n<head>\n<meta charset="utf-8">\n'
+        f'<meta name="generator" content="{MARK} {__version__}">\n'
         '<meta name="viewport" content="width=device-width, initial-scale=1">\n'
         f"<title>{_text(title)}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n"
         + "\n".join(part for part in parts if part)
         + "\n</body>\n</html>\n"
     )
-    output.write_text(page, encoding="utf-8")
+    temporary = output.with_name(f".{output.name}.{os.getpid()}.tmp")
+    try:
+        temporary.write_text(page, encoding="utf-8")
+        replace_atomically(temporary, output)
+    finally:
+        temporary.unlink(missing_ok=True)
     return output
 
 

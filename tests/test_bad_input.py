@@ -12,7 +12,10 @@ import pytest
 from click.testing import CliRunner
 
 from rockbridge_cli.cli import main
+from rockbridge_cli.config.bridge import load_bridge
+from rockbridge_cli.config.loading import read_yaml
 from rockbridge_cli.config.plausibility import record_warnings
+from rockbridge_cli.errors import InputError
 from rockbridge_cli.records.files import read_record
 
 BRIDGE = """\
@@ -110,8 +113,15 @@ def test_an_at2_without_units_still_asks_for_them(tmp_path):
         (("gap: 0.12", "gap: 200.0"), "abutments.gap: 200 m is not an expansion joint"),
         (("stiffness: 132.0e6", "stiffness: 132000.0"), "abutments.stiffness: 132000 N/m"),
         (("heights: [26.0, 20.8]", "heights: [26.0, 3.6]"), "piers.heights.1: a pier 1.38"),
+        # issue 32: values that were silently accepted
+        (("spans:", "gravity: 98.1\nspans:"), "gravity: 98.1 m/s² is outside 9.76–9.84 m/s²"),
+        (("spans:", "density: 25\nspans:"), "density: 25 kg/m³ is outside 1000–8000 kg/m³"),
+        (("area: 6.0", "mass: 1000.0"), "deck.mass: 1000 kg is outside 10000–1e+09 kg"),
+        (("ultimate_displacement: 0.10", "ultimate_displacement: 1000"),
+         "abutments.ultimate_displacement: 1000 m is not a backfill's"),
+        (("central: 60.0", "central: 1.0e5"), "spans.central: 100000 m is outside 0–2000 m"),
     ],
-)
+)  # fmt: skip
 def test_implausible_bridge_values_are_warnings_not_errors(tmp_path, change, warning):
     """Units typed wrong (mm as m, kN as N) still validate: the command warns and goes on."""
     path = tmp_path / "b.yaml"
@@ -127,12 +137,15 @@ def test_implausible_bridge_values_are_warnings_not_errors(tmp_path, change, war
     [
         ("0.0 350.0 -200.0 0.0", "m/s2", "peak 35.69 g is not an earthquake's"),  # cm/s² as m/s²
         ("0.0 0.003 -0.002 0.0", "m/s2", "peak 0.0003059 g is not an earthquake's"),  # g as m/s²
+        ("0.0 3.0 -2.0 0.0", "m/s2 10", "time step 10 s is not a ground motion's"),  # ms as s
+        ("0.0 3.0 -2.0 0.0", "m/s2 5e-5", "time step 5e-05 s is not a ground motion's"),
     ],
 )
 def test_implausible_records_are_warned_about_once(tmp_path, values, unit, warning):
     record = tmp_path / "r.txt"
-    record.write_text(f"# units: {unit}\n" + "".join(
-        f"{0.01 * i:.2f} {v}\n" for i, v in enumerate(values.split())))  # fmt: skip
+    unit, step = (*unit.split(), "0.01")[:2]
+    record.write_text(f"# units: {unit}\n# time_step: {step}\n" + "".join(
+        f"{v}\n" for v in values.split()))  # fmt: skip
     study = tmp_path / "s.yaml"
     (tmp_path / "b.yaml").write_text(BRIDGE)
     study.write_text(
@@ -154,3 +167,198 @@ def test_a_time_column_that_does_not_start_at_zero_is_noticed(tmp_path):
         "the time column starts at 5 s: the record is read as starting at t = 0"
     ]
     assert record_warnings(record)[0].startswith("the time column starts at 5 s")
+
+
+# --- issue 32: YAML 1.2 numbers, merge keys, records that were read wrong or refused -----------
+
+
+@pytest.mark.parametrize(
+    ("change", "expected"),
+    [
+        (("density: 2500.0", "density: 02500"), 2500.0),  # YAML 1.1: octal, 1344
+        (("density: 2500.0", "density: 0o4704"), 2500.0),  # 4·512 + 7·64 + 4 = 2500
+        (("density: 2500.0", "density: 0x9C4"), 2500.0),  # 9·256 + 12·16 + 4 = 2500
+        (("density: 2500.0", "density: 2_500"), 2500.0),
+    ],
+)
+def test_yaml_integers_are_yaml_1_2(tmp_path, change, expected):
+    path = tmp_path / "b.yaml"
+    path.write_text((BRIDGE + "density: 2500.0\n").replace(*change))
+    assert load_bridge(path).density == expected
+
+
+def test_sexagesimal_is_text_not_sixty(tmp_path):
+    """YAML 1.1 read ``central: 1:00`` as 60 (base 60)."""
+    path = tmp_path / "b.yaml"
+    path.write_text(BRIDGE.replace("central: 60.0", "central: 1:00"))
+    refused(invoke("describe", path), "spans.central", "'1:00'")
+
+
+def test_merge_keys_are_accepted_and_sets_refused(tmp_path):
+    path = tmp_path / "b.yaml"
+    path.write_text("defaults: &ab {gap: 0.12, stiffness: 132.0e6, damping: 48.0e6, "
+                    "ultimate_displacement: 0.10}\n" + BRIDGE.replace("abutments: {gap: 0.12,",
+                    "abutments: {<<: *ab, gap: 0.15,"))  # fmt: skip
+    data = read_yaml(path)
+    assert data["abutments"] == {"gap": 0.15, "stiffness": 132.0e6, "damping": 48.0e6,
+                                 "ultimate_displacement": 0.10}  # fmt: skip
+    path.write_text(BRIDGE + "description: !!set {a, b}\n")
+    refused(invoke("describe", path), "line 5", "!!set is not supported")
+    path.write_text(BRIDGE + "? [1, 2]\n: 3\n")  # a TypeError before
+    refused(invoke("describe", path), "line 5", "a key must be a plain value")
+
+
+@pytest.mark.parametrize("kind", ["VELOCITY", "DISPLACEMENT"])
+def test_an_at2_of_velocities_or_displacements_is_refused(tmp_path, kind):
+    """Read as accelerations when ``--units`` was given (PEER's .VT2 and .DT2 renamed)."""
+    path = tmp_path / "r.AT2"
+    header = f"PEER NGA STRONG MOTION DATABASE RECORD\nSOME EVENT\n{kind} TIME SERIES IN CM\n"
+    path.write_text(header + "NPTS=    4, DT=   .0100 SEC\n  0.0  10.0  -20.0  0.0\n")
+    with pytest.raises(InputError, match=f"line 3: the header says {kind}"):
+        read_record(path, units="cm/s2")
+
+
+def test_a_byte_order_mark_is_accepted(tmp_path):
+    """Excel writes UTF-8 with a byte-order mark: the first header line was not a comment."""
+    record = tmp_path / "r.txt"
+    record.write_bytes("# units: g\n0.00 0.1\n0.01 0.2\n".encode("utf-8-sig"))
+    assert read_record(record).acceleration[1] == pytest.approx(0.2 * 9.80665)
+    bridge = tmp_path / "b.yaml"
+    bridge.write_bytes(BRIDGE.encode("utf-8-sig"))
+    assert load_bridge(bridge).piers.width == 2.6
+
+
+def test_a_record_scaled_by_an_implausible_factor_is_warned_about(tmp_path):
+    """Plausibility was checked on the files, not on their scaled copies (Sa at T = 1e6 s scaled
+    a record by 7.5e7, status ok). R1 peaks at 5.0 m/s² (tests/studies.py): 100 g is
+    100 · 9.80665 / 5.0 = 196.1 times it."""
+    from studies import write_study
+
+    from rockbridge_cli.config.study import load_study
+
+    study = load_study(
+        write_study(tmp_path, extra="intensity: {measure: pga_g, levels: [0.5, 100]}\n")
+    )
+    assert [w for w in study.warnings if "scaled by" in w] == [
+        "R1+100g: scaled by 196 to reach its level (more than 100 or less than 0.01): is the "
+        "level, the measure or its period right?",
+        "R2+100g: scaled by 245 to reach its level (more than 100 or less than 0.01): is the "
+        "level, the measure or its period right?",
+    ]
+
+
+# --- issue 32: raw exceptions that are now named refusals --------------------------------------
+
+
+def test_an_all_zero_record_fails_only_its_analyses_in_an_intensity_study(tmp_path):
+    """No factor scales a record without motion to a level: a ZeroDivisionError before."""
+    from studies import write_study
+
+    from rockbridge_cli.config.study import load_study
+
+    (tmp_path / "zero.txt").write_text("# units: g\n# time_step: 0.01\n0\n0\n0\n")
+    for section in ("levels: [0.5]", "ida: {start: 0.1, step: 0.1, max: 1.0}"):
+        path = write_study(tmp_path, extra=f"intensity: {{measure: pga_g, {section}}}\n")
+        path.write_text(path.read_text().replace("    - path: R2.txt", "    - path: zero.txt"))
+        record = load_study(path).records[-1]
+        assert record.record is None and "its pga_g is 0: it cannot be scaled" in record.error
+
+
+def test_values_beyond_the_floating_point_range_are_refused(tmp_path):
+    path = tmp_path / "huge.txt"
+    path.write_text("# units: g\n# time_step: 0.01\n0\n1e308\n0\n")  # 9.8e308 m/s² is inf
+    with pytest.raises(InputError, match="beyond the floating-point range once in m/s²"):
+        read_record(path)
+
+
+def test_analyze_refuses_what_it_cannot_run(tmp_path):
+    """A 1e300 s time step ("negative dimensions") and --tail nan were raw exceptions, exit 1."""
+    (tmp_path / "b.yaml").write_text(BRIDGE)
+    (tmp_path / "slow.txt").write_text("# units: g\n# time_step: 1e300\n0\n0.3\n0\n")
+    refused(invoke("analyze", tmp_path / "b.yaml", tmp_path / "slow.txt"), "slow.txt",
+            "history samples, more than 2e+06")  # fmt: skip
+    (tmp_path / "r.txt").write_text("# units: g\n# time_step: 0.01\n0\n0.3\n0\n")
+    for tail in ("nan", "inf"):
+        result = invoke("analyze", tmp_path / "b.yaml", tmp_path / "r.txt", "--tail", tail)
+        assert (
+            result.exit_code == 2
+            and "--tail" in result.output
+            and "Traceback" not in (result.output)
+        )
+
+
+@pytest.mark.parametrize("address", ["foo", "tcp://127.0.0.1:notaport"])
+def test_a_malformed_scheduler_address_is_refused(tmp_path, monkeypatch, address):
+    from studies import write_study
+
+    monkeypatch.chdir(tmp_path)
+    refused(invoke("run", write_study(tmp_path), "--scheduler", address),
+            f"{address}: cannot reach the Dask scheduler")  # fmt: skip
+
+
+def test_a_full_disk_while_writing_the_results_names_the_file(tmp_path, monkeypatch):
+    """h5py reports a full disk as a RuntimeError (errno = 28), which reached the user raw,
+    without the hint that the journal keeps the analyses."""
+    from studies import write_study
+
+    from rockbridge_cli.results.writing import ResultsWriter
+
+    def full(self, *args, **kwargs):
+        raise RuntimeError("Can't write data (file write failed: errno = 28, No space left)")
+
+    monkeypatch.setattr(ResultsWriter, "add", full)
+    monkeypatch.chdir(tmp_path)
+    result = invoke("run", write_study(tmp_path), "--workers", "1")
+    assert result.exit_code == 1 and "Traceback" not in result.output
+    assert "results/study.h5: cannot write the results file (Can't write data" in result.output
+    assert "the finished analyses stay in the journal: rerun to resume" in result.output
+
+
+def test_a_file_named_as_a_record_keeps_its_content_out_of_messages(tmp_path):
+    """A config may name any readable file as a record: its first line was copied into the
+    message, the results' message column and the report ('root:x:0:0:…' is not a number)."""
+    secret = tmp_path / "passwd"
+    secret.write_text("toor:x:0:0:toor:/toor:/bin/bash\ndaemon:x:1:1::/usr/sbin:/bin/false\n")
+    for units in ("g", None):
+        with pytest.raises(InputError) as refusal:
+            read_record(secret, units=units, time_step=0.01)
+        assert "toor" not in str(refusal.value) and "line 1: value 1 is not a number" in str(
+            refusal.value
+        )
+    at2 = tmp_path / "r.AT2"
+    at2.write_text("PEER\ntoor:x:0:0\nUNITS OF G\ntoor:x:0:0:secret\n0.1\n")
+    with pytest.raises(InputError) as refusal:
+        read_record(at2)
+    assert "toor" not in str(refusal.value) and "line 4" in str(refusal.value)
+
+
+def test_the_python_api_checks_its_arguments(tmp_path):
+    """Wrong types gave generic errors (issue 32): ``run_study("study.yaml")`` an
+    AttributeError, ``read_record(p, units=9.81)`` one on ``strip``, ``merge_results(out,
+    "a.h5")`` iterated the characters, complex accelerations lost their imaginary part."""
+    from studies import write_study
+
+    from rockbridge_cli.config.study import load_study
+    from rockbridge_cli.core.analysis import analyze
+    from rockbridge_cli.study.merge import merge_results
+    from rockbridge_cli.study.run import run_study
+
+    path = write_study(tmp_path, extra=f"output: {{path: {tmp_path / 'out.h5'}}}\n")
+    with pytest.raises(TypeError, match="run_study takes a Study"):
+        run_study(path)
+    for workers in (0, -1, 1.5, True):
+        with pytest.raises(ValueError, match="workers is a count"):
+            run_study(load_study(path), workers=workers)
+    with pytest.raises(ValueError, match="shard is"):
+        run_study(load_study(path), shard=(3, 2))
+    with pytest.raises(TypeError, match="units is a name"):
+        read_record(tmp_path / "R1.txt", units=9.81)
+    with pytest.raises(TypeError, match="time_step is a number"):
+        read_record(tmp_path / "R1.txt", time_step="0.01")
+    with pytest.raises(TypeError, match="parts is a list"):
+        merge_results(tmp_path / "m.h5", str(tmp_path / "a.h5"))
+    (tmp_path / "b.yaml").write_text(BRIDGE)
+    bridge = load_bridge(tmp_path / "b.yaml").to_bridge()
+    with pytest.raises(TypeError, match="real accelerations"):
+        analyze(bridge, np.array([0.0, 1.0j, 0.0]), 0.01)
+    assert not (tmp_path / "out.h5").exists()

@@ -110,6 +110,38 @@ def free_port() -> int:
         return probe.getsockname()[1]
 
 
+LOOPBACK = {"0100007F", "00000000000000000000000001000000"}
+"""127.0.0.1 and ::1 as Linux's /proc/net/tcp and tcp6 write them."""
+
+
+def listening(roots: set[int]) -> set[str]:
+    """The local addresses (as /proc/net/tcp writes them) on which the processes ``roots`` and
+    their descendants listen (Linux)."""
+    parents = {}
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            parents[int(stat.parent.name)] = int(stat.read_text().rsplit(")", 1)[1].split()[1])
+        except (OSError, ValueError, IndexError):  # gone meanwhile
+            continue
+    family = set(roots)
+    while grown := {pid for pid, parent in parents.items() if parent in family} - family:
+        family |= grown
+    sockets = set()
+    for pid in family:
+        try:
+            links = [os.readlink(fd) for fd in Path(f"/proc/{pid}/fd").iterdir()]
+        except OSError:
+            continue
+        sockets |= {link[8:-1] for link in links if link.startswith("socket:[")}
+    found = set()
+    for table in ("/proc/net/tcp", "/proc/net/tcp6"):
+        for line in Path(table).read_text().splitlines()[1:]:
+            fields = line.split()
+            if fields[3] == "0A" and fields[9] in sockets:  # 0A: LISTEN
+                found.add(fields[1].rsplit(":", 1)[0])
+    return found
+
+
 @pytest.mark.slow
 def test_the_dask_command_lines(study, tmp_path):
     pytest.importorskip("distributed", reason='the "dask" extra is not installed')
@@ -117,19 +149,23 @@ def test_the_dask_command_lines(study, tmp_path):
     address = f"tcp://127.0.0.1:{free_port()}"
     host, port = address.removeprefix("tcp://").split(":")
     dask = str(BIN / "dask")
+    loopback = ["--dashboard-address", "127.0.0.1:0"]
     processes = [
-        subprocess.Popen([dask, "scheduler", "--host", host, "--port", port, "--no-dashboard"],
+        subprocess.Popen([dask, "scheduler", "--host", host, "--port", port, *loopback],
                          cwd=tmp_path, env=environment(), stdout=subprocess.DEVNULL,
                          stderr=subprocess.DEVNULL),
     ]  # fmt: skip
     try:
         time.sleep(2)
         processes.append(
-            subprocess.Popen([dask, "worker", address, "--nworkers", "2", "--nthreads", "1",
-                              "--no-dashboard"], cwd=tmp_path, env=environment(),
+            subprocess.Popen([dask, "worker", address, "--host", host, *loopback, "--nworkers",
+                              "2", "--nthreads", "1"], cwd=tmp_path, env=environment(),
                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         )  # fmt: skip
         rockbridge(["run", str(path), "--scheduler", address, "-o", "dask.h5"], tmp_path)
+        if Path("/proc/net/tcp").exists():  # every port of the recipe is on loopback (issue 32)
+            found = listening({process.pid for process in processes})
+            assert found and found <= LOOPBACK, found
     finally:
         for process in reversed(processes):
             process.terminate()

@@ -71,7 +71,7 @@ def test_output_file_with_a_tail_is_the_tailed_analysis(tmp_path):
 @pytest.mark.parametrize(
     ("text", "reason"),
     [
-        ("0.0 0.0\n0.01 nan\n0.02 0.0\n", "nan"),
+        ("0.0 0.0\n0.01 nan\n0.02 0.0\n", "line 2: value 2 is not a finite number"),
         ("0.0 0.0\n0.01 0.1\n0.03 0.0\n", "step"),
         ("0.0 0.0\n0.01\n0.02 0.0\n", "line 2"),
         ("", "empty"),

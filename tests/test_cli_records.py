@@ -223,7 +223,7 @@ def test_plot_files_of_a_set_and_plain_files(tmp_path):
     ("args", "words"),
     [
         ((DATA / "two_columns.txt",), ["two_columns.txt", "--units"]),
-        ((DATA / "non_numeric.txt", "--units", "g"), ["line 3", "'abc' is not a number"]),
+        ((DATA / "non_numeric.txt", "--units", "g"), ["line 3", "value 2 is not a number"]),
         ((DATA / "one_column.txt", "--units", "g"), ["--time-step"]),
         ((DATA / "truncated.AT2",), ["truncated: NPTS = 7"]),
         ((DATA / "sample.AT2", "-o", "figure.jpg"), ["unknown figure format"]),

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import io
 import json
+import os
 
 import pandas as pd
 import pytest
@@ -13,6 +14,7 @@ from studies import REPO, STUDIED, write_study
 from rockbridge_cli.cli import main
 from rockbridge_cli.cli.progress import ProgressDisplay
 from rockbridge_cli.core.analysis import analyze
+from rockbridge_cli.paths import checked_output
 from rockbridge_cli.results import read_peaks
 from rockbridge_cli.study.work import Finished
 
@@ -104,7 +106,7 @@ def test_bad_inputs(tmp_path):
     damaged = tmp_path / "damaged.h5"
     damaged.write_bytes(b"garbage" * 50)
     assert_user_error(invoke("peaks", damaged), "not a readable HDF5 file")
-    assert_user_error(invoke("run", study, "-o", damaged), "not a readable HDF5", "--overwrite")
+    assert_user_error(invoke("run", study, "-o", damaged), "not a rockbridge results file")
     assert damaged.read_bytes() == b"garbage" * 50  # nothing earlier lost
     assert_user_error(invoke("plot", "peaks", tmp_path / "none.h5"), "file not found")
 
@@ -211,5 +213,65 @@ def test_peaks_never_write_over_the_results_they_read(tmp_path):
     assert_user_error(invoke("peaks", output, "--csv", tmp_path / "link.h5"), "being read")
     other = tmp_path / "other.h5"  # another study's results: a CSV never replaces them
     other.write_bytes(before)
-    assert_user_error(invoke("peaks", output, "--csv", other), "is an HDF5 file")
+    assert_user_error(invoke("peaks", output, "--csv", other), "is not a table of these columns")
     assert output.read_bytes() == before == other.read_bytes()
+
+
+def test_no_command_writes_over_a_file_it_did_not_write(tmp_path):
+    """`report -o OTHER.h5`, a figure onto results named *.png, `run s.yaml -o s.yaml
+    --overwrite` (the study, a bridge, a record it reads), `-o` onto a device: one line, exit 2,
+    nothing changed, and no invitation to --overwrite where it could not help (issue 32). What
+    rockbridge wrote is replaced: results (with --overwrite), figures, reports, tables."""
+    study = write_study(tmp_path)
+    assert invoke("run", study, "--workers", "1").exit_code == 0
+    results = tmp_path / "results" / "study.h5"
+    other = tmp_path / "other.h5"
+    other.write_bytes(results.read_bytes())
+    disguised = tmp_path / "results.png"  # a results file under a figure's name
+    disguised.write_bytes(results.read_bytes())
+    bridge = tmp_path / "bridge.yaml"
+    bridge.write_text((REPO / "configs" / "bridges" / f"{STUDIED[0]}.yaml").read_text())
+    mine = study.read_text().replace(f"  - {(REPO / 'configs' / 'bridges' / STUDIED[0]).as_posix()}"
+                                     ".yaml", f"  - {bridge.as_posix()}")  # fmt: skip
+    study.write_text(mine)
+    kept = {
+        path: path.read_bytes() for path in (other, disguised, study, bridge, tmp_path / "R1.txt")
+    }
+    not_ours = "not replaced; choose another output"
+    for args in (
+        ("report", results, "-o", other),
+        ("plot", "peaks", results, "-o", disguised),
+        ("plot", "history", results, "--record", "R1", "-o", disguised),
+        ("peaks", results, "--csv", study),
+        ("merge", study, results, "--overwrite"),
+    ):
+        assert_user_error(invoke(*args), not_ours)
+    for target in (study, bridge, tmp_path / "R1.txt"):
+        for flag in ((), ("--overwrite",)):
+            refusal = invoke("run", study, "-o", target, "--workers", "1", *flag)
+            assert_user_error(refusal, f"{target}: exists and is not a rockbridge results file")
+            assert "--overwrite" not in refusal.output
+    fifo = tmp_path / "fifo.png"  # not a regular file, as a device is not
+    os.mkfifo(fifo)
+    for args in (("run", study, "-o", fifo, "--overwrite"), ("report", results, "-o", fifo),
+                 ("peaks", results, "--csv", fifo), ("plot", "peaks", results, "-o", fifo),
+                 ("report", results, "-o", "/dev/null")):  # fmt: skip
+        assert_user_error(invoke(*args), "is not a regular file (a device, a pipe?)")
+    assert {path: path.read_bytes() for path in kept} == kept
+    page, figure = tmp_path / "page.html", tmp_path / "figure.pdf"
+    assert invoke("report", results, "-o", page).exit_code == 0
+    assert invoke("plot", "peaks", results, "-o", figure).exit_code == 0
+    assert checked_output(page) == page and checked_output(figure) == figure  # replaceable
+    for _ in range(2):
+        assert invoke("peaks", results, "--csv", "p.csv").exit_code == 0
+    assert invoke("run", study, "-o", other, "--overwrite", "--workers", "1").exit_code == 0
+
+
+def test_an_output_whose_dots_climb_above_the_root_is_written(tmp_path):
+    """``/../../x.h5`` is ``/x.h5`` on POSIX; SQLite could not open the journal beside it (issue
+    32, a valid input refused)."""
+    study = write_study(tmp_path)
+    climbing = "/../.." + str(tmp_path / "out.h5")
+    result = invoke("run", study, "-o", climbing, "--workers", "1")
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / "out.h5").is_file() and not list(tmp_path.glob("out.h5.journal*"))

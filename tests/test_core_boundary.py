@@ -140,7 +140,7 @@ def test_the_package_imports_in_one_direction():
 
 
 LAYERS = (
-    ("core", "errors", "cpus"),
+    ("core", "errors", "cpus", "interrupts"),
     ("motions", "paths"),
     ("records", "warmup"),
     ("config",),

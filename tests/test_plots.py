@@ -8,12 +8,15 @@ import re
 import matplotlib
 import numpy as np
 import pytest
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
 from studies import BRIDGES, SLENDER_BLOCK, STUDIED, write_study
 
 from rockbridge_cli.config.bridge import load_bridge
 from rockbridge_cli.config.study import load_study
 from rockbridge_cli.core.geometry import ratios
 from rockbridge_cli.errors import InputError
+from rockbridge_cli.paths import written_by_rockbridge
 from rockbridge_cli.plots import parametric
 from rockbridge_cli.plots.history import plot_history
 from rockbridge_cli.plots.peaks import plot_peaks
@@ -121,6 +124,16 @@ def test_parametric_figures(tmp_path, suffix):
         draw = getattr(parametric, f"plot_{name}")
         path = draw(BRIDGES / "fig8-hbar1.5.yaml", tmp_path / f"{name}{suffix}")
         assert path.read_bytes().startswith(MAGIC[suffix]), name
+        assert written_by_rockbridge(path), name  # so that the next figure may replace it
+    foreign = tmp_path / f"foreign{suffix}"  # the same format, from another program
+    figure = Figure()
+    FigureCanvasAgg(figure)
+    figure.savefig(foreign)
+    before = foreign.read_bytes()
+    assert not written_by_rockbridge(foreign)
+    with pytest.raises(InputError, match="is not a figure rockbridge wrote: not replaced"):
+        parametric.plot_onset(BRIDGES / "fig8-hbar1.5.yaml", foreign)
+    assert foreign.read_bytes() == before
 
 
 def test_parametric_needs_two_piers(tmp_path):
@@ -210,3 +223,22 @@ def test_peaks_figure_of_many_bridges_keeps_its_legend_short(tmp_path):
     assert any(t.startswith("13 bridges, one marker style each") for t in texts)
     assert "limit lines left out: 13 gaps" in texts
     assert not any(t.startswith(STUDIED[1]) for t in texts)  # no bridge named one by one
+
+
+def test_a_name_with_tex_math_is_drawn_as_written(tmp_path):
+    """A bridge named ``$\\undefinedmacro{x$`` broke `plot peaks`, `plot history` and `report`
+    (Matplotlib read it as mathematics): names are drawn literally (issue 32)."""
+    name = r"cost $5 \undefinedmacro{x$ bridge"
+    hostile = tmp_path / "hostile.yaml"
+    hostile.write_text((BRIDGES / f"{STUDIED[0]}.yaml").read_text().replace(
+        "name: symmetric (h̄ = 1)", f"name: '{name}'"))  # fmt: skip
+    path = write_study(tmp_path, bridges=(), records=("R1",), bridge_files=(hostile,),
+                       extra="output: {path: out.h5}\n")  # fmt: skip
+    study = load_study(path)
+    run_study(study, workers=1)
+    with matplotlib.rc_context({"svg.fonttype": "none"}):
+        peaks = plot_peaks(study.output, tmp_path / "peaks.svg")
+        history = plot_history(study.output, "R1", tmp_path / "history.svg")
+        onset = parametric.plot_q(hostile, tmp_path / "q.svg")
+    for path in (peaks, history, onset):
+        assert name in svg_text(path)

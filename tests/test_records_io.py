@@ -112,7 +112,7 @@ BAD_FILES = [
     ("single_sample.txt", {"units": "g"}, "line 1", "only one sample"),
     ("ragged.txt", {"units": "g"}, "line 3", "1 columns where line 1 has 2"),
     ("three_columns.txt", {"units": "g"}, "line 1", "1 or 2 columns"),
-    ("non_numeric.txt", {"units": "g"}, "line 3", "'abc' is not a number"),
+    ("non_numeric.txt", {"units": "g"}, "line 3", "value 2 is not a number"),
     ("nan.txt", {"units": "g"}, "line 2", "not a finite number"),
     ("inf.txt", {"units": "g"}, "line 3", "not a finite number"),
     ("non_uniform.txt", {"units": "g"}, "line 3", "must be uniform"),

@@ -264,3 +264,52 @@ def test_packed_result_round_trips():
     failed = AnalysisResult.failed("b", "r", "a\0b").pack()
     assert failed.values["message"] == "a\ufffdb"
     assert failed.event_rows.size == 0 and not failed.chunks
+
+
+# --- checksums (issue 32) ----------------------------------------------------------------------
+
+
+def test_fletcher32_is_hdf5s(tmp_path):
+    """The checksum a worker appends to each history chunk is the one HDF5's own fletcher32
+    filter appends (read back raw with h5py), for chunks of odd and even lengths, all-zero and
+    all-0xFF data (the two representations of a sum ≡ 0 mod 65535)."""
+    from rockbridge_cli.results.packing import fletcher32
+
+    rng = np.random.default_rng(7)
+    arrays = [rng.integers(0, 256, n, dtype=np.uint8) for n in (1, 2, 3, 721, 1440, 5001)]
+    arrays += [np.zeros(100, np.uint8), np.full(5000, 255, np.uint8)]
+    with h5py.File(tmp_path / "f.h5", "w") as file:
+        for number, values in enumerate(arrays):
+            dataset = file.create_dataset(str(number), data=values, chunks=values.shape,
+                                          fletcher32=True)  # fmt: skip
+            raw = dataset.id.read_direct_chunk((0,))[1]
+            assert raw[:-4] == values.tobytes()
+            assert fletcher32(raw[:-4]) == int.from_bytes(raw[-4:], "little"), values.size
+
+
+def test_a_flipped_byte_is_reported_not_read(done, tmp_path):
+    """A flipped bit in /peaks changed a printed peak silently (no checksum): every numeric
+    dataset now has HDF5's fletcher32 filter, which HDF5 verifies on every read."""
+    from click.testing import CliRunner
+
+    from rockbridge_cli.cli import main
+
+    _, path = done
+    with h5py.File(path, "r") as file:
+        assert all(file[f"peaks/{name}"].fletcher32 for name in ("u_deck_max", "n_impacts"))
+        assert file["events/time"].fletcher32 and file["records/R1/acceleration"].fletcher32
+        history = file[f"analyses/{STUDIED[0]}/R1/histories/theta1"]
+        assert history.fletcher32
+        offsets = {"peaks": file["peaks/u_deck_max"].id.get_chunk_info(0).byte_offset,
+                   "history": history.id.get_chunk_info(0).byte_offset}  # fmt: skip
+    for where, offset in offsets.items():
+        damaged = tmp_path / f"{where}.h5"
+        data = bytearray(path.read_bytes())
+        data[offset + 3] ^= 0x10
+        damaged.write_bytes(bytes(data))
+        if where == "peaks":
+            result = CliRunner().invoke(main, ["peaks", str(damaged)])
+            assert result.exit_code == 2 and "damaged" in result.output, result.output
+        else:
+            with pytest.raises(InputError, match="damaged"):
+                read_history(damaged, STUDIED[0], "R1")

@@ -17,7 +17,7 @@ import time
 from pathlib import Path
 
 import pytest
-from studies import contents, write_study
+from studies import BRIDGES, contents, write_study
 
 from rockbridge_cli.config.study import load_study
 from rockbridge_cli.errors import InputError
@@ -45,14 +45,39 @@ analysis.analyze = slow  # what a worker calls
 main(sys.argv[2:], prog_name="rockbridge")
 """
 
+LONG_KERNEL = """
+import os, sys, time
+from rockbridge_cli.cli import main
+from rockbridge_cli.core import analysis
 
-def start_run(tmp_path: Path, study: Path, workers: int) -> tuple[subprocess.Popen, Path]:
-    """``rockbridge run`` in a child process, slowed down; returns it and its file of pids.
+started = sys.argv[1]
+integrate = analysis.integrate
+
+def long(*args):
+    with open(started, "a") as file:
+        file.write(f"{os.getpid()}\\n")
+    finish = time.perf_counter() + 0.3
+    while True:  # the compiled integrator again and again: a signal arrives while it runs
+        result = integrate(*args)
+        if time.perf_counter() > finish:
+            return result
+
+analysis.integrate = long
+main(sys.argv[2:], prog_name="rockbridge")
+"""
+
+
+def start_run(
+    tmp_path: Path, study: Path | None, workers: int, script: str = SLOW_RUN,
+    arguments: list[str] | None = None,
+) -> tuple[subprocess.Popen, Path]:  # fmt: skip
+    """``rockbridge run`` (or the command of ``arguments``) in a child process, slowed down by
+    ``script``; returns it and its file of pids.
 
     Its output goes to files, not pipes: a worker that outlived it would hold a pipe open."""
     started = tmp_path / "started.txt"
-    command = [sys.executable, "-c", SLOW_RUN, str(started), "run", str(study), "--workers",
-               str(workers)]  # fmt: skip
+    arguments = arguments or ["run", str(study), "--workers", str(workers)]
+    command = [sys.executable, "-c", script, str(started), *arguments]
     with open(tmp_path / "stdout.txt", "w") as out, open(tmp_path / "stderr.txt", "w") as err:
         child = subprocess.Popen(command, cwd=tmp_path, stdout=out, stderr=err)
     return child, started
@@ -95,22 +120,46 @@ def study(tmp_path):
     return path, expected
 
 
-def test_sigterm_saves_the_finished_analyses_and_the_next_run_resumes(tmp_path, study):
+@pytest.mark.parametrize(
+    ("how", "status", "said"),
+    [(signal.SIGTERM, 143, "terminated (SIGTERM)"), (signal.SIGHUP, 129, "terminated (SIGHUP)")],
+)  # fmt: skip
+def test_a_signal_in_the_compiled_integrator_saves_the_finished_analyses(
+    tmp_path, study, how, status, said
+):
+    """A one-worker run analyses in this process: a signal that arrives while the compiled
+    integrator runs stops the run once the batch is journalled, never inside the kernel (which
+    crashed with SIGSEGV, issue 32), and the next run resumes to the file an uninterrupted run
+    writes. SIGHUP (a closed terminal) is handled as SIGTERM; Ctrl-C as both (and below, in
+    ``analyze``)."""
     path, expected = study
-    child, started = start_run(tmp_path, path, workers=1)
+    child, started = start_run(tmp_path, path, workers=1, script=LONG_KERNEL)
     wait_for(lambda: len(started.read_text().split()) >= 2 if started.exists() else False)
-    # the first analysis is done, the second runs
-    child.send_signal(signal.SIGTERM)
+    child.send_signal(how)  # the second analysis is integrating
     child.wait(timeout=120)
     err = (tmp_path / "stderr.txt").read_text()
-    assert child.returncode == 143, err
-    assert "terminated (SIGTERM)" in err and "run the same command again to resume" in err
+    assert child.returncode == status, err
+    assert f"{said}: " in err and "run the same command again to resume" in err
     assert "Traceback" not in err
     saved = read_peaks(tmp_path / "out.h5")  # a readable file with what finished
     assert 1 <= len(saved) < 4
     report = run_study(load_study(path), workers=1)
     assert report.resumed == len(saved) and report.ran == 4 - len(saved)
     assert contents(tmp_path / "out.h5") == expected
+
+
+def test_ctrl_c_in_analyze_stops_it_after_the_integrator(tmp_path):
+    """``rockbridge analyze`` runs its one analysis in this process: Ctrl-C while the integrator
+    runs ends it with status 130 and one line, not a crash (issue 32)."""
+    write_study(tmp_path)
+    bridge = BRIDGES / "studied-hbar1.00.yaml"
+    child, started = start_run(tmp_path, None, 1, LONG_KERNEL, ["analyze", str(bridge), "R1.txt"])
+    wait_for(lambda: len(pids(started)) >= 1)
+    child.send_signal(signal.SIGINT)
+    child.wait(timeout=120)
+    err = (tmp_path / "stderr.txt").read_text()
+    assert child.returncode == 130, err
+    assert err.strip().splitlines()[-1] == "interrupted"
 
 
 @pytest.mark.parametrize("how", [signal.SIGKILL, signal.SIGTERM])
@@ -122,6 +171,19 @@ def test_the_workers_end_with_the_run(tmp_path, study, how):
     child.send_signal(how)
     child.wait(timeout=120)
     wait_for(lambda: not any(alive(pid) for pid in workers), timeout=10)
+
+
+def test_the_batches_of_a_killed_worker_run_again(tmp_path, study):
+    """SIGKILL of one local worker (as the out-of-memory killer sends) used to abort the run
+    (BrokenProcessPool, exit 1, issue 32); a new pool now runs the batches in flight again, as
+    Dask does, and the run ends ok with the file an uninterrupted run writes."""
+    path, expected = study
+    child, started = start_run(tmp_path, path, workers=2)
+    wait_for(lambda: len(pids(started) - {child.pid}) >= 1)  # a worker is analysing
+    os.kill(min(pids(started) - {child.pid}), signal.SIGKILL)
+    child.wait(timeout=120)
+    assert child.returncode == 0, (tmp_path / "stderr.txt").read_text()
+    assert contents(tmp_path / "out.h5") == expected
 
 
 def test_a_second_run_on_the_same_output_is_refused(tmp_path, study):
@@ -194,3 +256,38 @@ def test_a_sigkill_keeps_what_the_workers_journalled(tmp_path, study):
     report = run_study(load_study(path), workers=1)
     assert report.resumed == journalled and report.ran == 4 - journalled
     assert contents(tmp_path / "out.h5") == expected
+
+
+def test_a_stop_while_the_results_are_written_names_the_journal(tmp_path, monkeypatch):
+    """A second Ctrl-C while the results file is written leaves the analyses in the journal
+    only: the message said they were in the results file (issue 32)."""
+    from click.testing import CliRunner
+
+    from rockbridge_cli.cli import main
+    from rockbridge_cli.results.writing import ResultsWriter
+
+    def interrupted(self, *args, **kwargs):
+        raise KeyboardInterrupt
+
+    path = write_study(tmp_path, extra=f"output: {{path: {tmp_path / 'out.h5'}}}\n")
+    monkeypatch.setattr(ResultsWriter, "add", interrupted)
+    result = CliRunner().invoke(main, ["run", str(path), "--workers", "1"])
+    assert result.exit_code == 130
+    assert (f"interrupted: the analyses finished so far are in {tmp_path / 'out.h5.journal.db'}; "
+            "run the same command again to resume") in result.output  # fmt: skip
+    assert not (tmp_path / "out.h5").exists()
+
+
+def test_after_the_command_ctrl_c_is_left_to_the_system(monkeypatch):
+    """A Ctrl-C while the interpreter tears down printed "Exception ignored … KeyboardInterrupt"
+    and exited 0: once the command has ended, SIGINT has its default action (the process ends
+    at once, quietly, status 130)."""
+    import rockbridge_cli.cli as cli
+
+    monkeypatch.setattr(cli, "main", lambda: None)
+    previous = signal.getsignal(signal.SIGINT)
+    try:
+        cli.entry()
+        assert signal.getsignal(signal.SIGINT) == signal.SIG_DFL
+    finally:
+        signal.signal(signal.SIGINT, previous)

@@ -243,6 +243,32 @@ def test_a_journal_of_another_study_is_refused(tmp_path):
     assert run_study(study, workers=1, overwrite=True).ran == 4
 
 
+@pytest.mark.parametrize("damage", ["empty", "truncated", "log lost"])
+def test_a_damaged_journal_is_diagnosed_and_kept(tmp_path, damage):
+    """A journal cut to zero bytes, cut in half, or whose write-ahead log (which holds what a
+    killed run committed) is gone, was read as a new journal (its analyses discarded silently)
+    or as another study's (issue 32): it is diagnosed as damaged, kept as it is, and only
+    --overwrite discards it."""
+    study = load_study(write_study(tmp_path))
+    study.output.parent.mkdir(parents=True)
+    journal = Journal(study.output, study.config_hash)
+    nan = float("nan")
+    failed = Finished("studied-hbar1.00", "R1", "error", "x", nan, "", nan)
+    journal.add([(Outcome(Cell(0, 0, 0), failed), AnalysisResult.failed("b", "r", "x").pack())])
+    path = journal_path(study.output)
+    without_log = path.read_bytes()  # as a killed run leaves it, less its log
+    journal.close()
+    if damage == "log lost":
+        path.write_bytes(without_log)
+    else:
+        os.truncate(path, 0 if damage == "empty" else path.stat().st_size // 2)
+    before = path.read_bytes()
+    with pytest.raises(InputError, match=r"journal.db: is damaged \(.*--overwrite to discard"):
+        run_study(study, workers=1)
+    assert path.read_bytes() == before
+    assert run_study(study, workers=1, overwrite=True).ran == 4
+
+
 def test_a_journal_of_an_older_rockbridge_is_refused(tmp_path):
     """A journal an interrupted run of rockbridge before the verdict columns left (SQLite
     user_version 0, five columns) is one clear error, and --overwrite discards it."""
@@ -262,13 +288,15 @@ def test_a_journal_of_an_older_rockbridge_is_refused(tmp_path):
 
 
 def test_a_damaged_output_is_refused(tmp_path):
+    """A file at the output that is not a results file (here not even HDF5) is refused, with
+    --overwrite too: only results are ever replaced (issue 32)."""
     study = load_study(write_study(tmp_path))
     study.output.parent.mkdir(parents=True)
     study.output.write_bytes(b"not HDF5 at all" * 100)
-    with pytest.raises(InputError, match="not a readable HDF5 file.*--overwrite"):
-        run_study(study, workers=1)
+    for overwrite in (False, True):
+        with pytest.raises(InputError, match="is not a rockbridge results file: not replaced"):
+            run_study(study, workers=1, overwrite=overwrite)
     assert study.output.read_bytes() == b"not HDF5 at all" * 100
-    assert run_study(study, workers=1, overwrite=True).ran == 4
 
 
 def test_an_output_that_cannot_be_written_is_refused_before_any_work(tmp_path, monkeypatch):

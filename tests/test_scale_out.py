@@ -128,7 +128,7 @@ def test_shard_from_the_scheduler(environment, count, expected):
     [
         ({}, 3, "not inside an array job"),
         ({"JOB_COMPLETION_INDEX": "0"}, None, "--shard-count"),
-        ({"JOB_COMPLETION_INDEX": "3"}, 3, "not below the 3 shards"),
+        ({"JOB_COMPLETION_INDEX": "3"}, 3, r"task 3 \(from 0\) of 3 shards"),
         ({"SLURM_ARRAY_TASK_ID": "x", "SLURM_ARRAY_TASK_COUNT": "2"}, None, "--shard K/N"),
     ],
 )

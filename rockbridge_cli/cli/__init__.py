@@ -7,7 +7,9 @@ runtime failures exit with status 1; ``--debug`` shows the traceback instead.
 from __future__ import annotations
 
 import os
+import signal
 import sys
+import threading
 
 # One thread per process for the linear algebra and OpenMP libraries, set before numpy loads them:
 # rockbridge's parallelism is its worker processes, and on a shared machine (a cluster node, a CI
@@ -20,6 +22,7 @@ import click
 
 from .. import __version__
 from ..errors import InputError
+from ..interrupts import exit_status, stoppable, stopped_by
 
 
 class _Group(click.Group):
@@ -27,7 +30,8 @@ class _Group(click.Group):
 
     def invoke(self, ctx: click.Context):
         try:
-            return super().invoke(ctx)
+            with stoppable():  # SIGTERM and SIGHUP stop a command as Ctrl-C does
+                return super().invoke(ctx)
         except InputError as exc:
             if ctx.obj and ctx.obj.get("debug"):
                 raise
@@ -38,9 +42,9 @@ class _Group(click.Group):
         except BrokenPipeError:  # the reader (head, less) went away: nothing left to say
             sys.stderr.close()
             ctx.exit(0)
-        except KeyboardInterrupt:
-            click.echo("interrupted", err=True)
-            ctx.exit(130)
+        except KeyboardInterrupt as stop:
+            click.echo(stopped_by(stop), err=True)
+            ctx.exit(exit_status(stop))
         except OSError as exc:  # the system refused a file: its message names the file
             if ctx.obj and ctx.obj.get("debug"):
                 raise
@@ -71,6 +75,17 @@ def plot() -> None:
     plots."""
 
 
+def entry() -> None:
+    """The ``rockbridge`` console script: `main`, after which Ctrl-C is left to the system, so
+    that one pressed while the interpreter tears down ends it quietly (Python printed
+    "Exception ignored … KeyboardInterrupt" and exited 0)."""
+    try:
+        main()
+    finally:
+        if threading.current_thread() is threading.main_thread():
+            signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _register() -> None:
     # each module adds its commands
     from . import analysis, bridge, export, fragility, parametric, records, report, risk, study  # noqa: F401
@@ -79,4 +94,4 @@ def _register() -> None:
 _register()
 
 if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())
+    entry()

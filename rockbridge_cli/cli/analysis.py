@@ -8,6 +8,8 @@ from pathlib import Path
 import click
 
 from ..core.fidelity import PRESETS
+from ..errors import InputError
+from ..interrupts import held
 from . import main
 from .output import echo_json, echo_table, shown
 
@@ -61,13 +63,15 @@ def analyze(
 
     config = load_bridge(bridge)
     motion = read_record(record, units=units, time_step=time_step)
+    _check_work(record, motion, fidelity, tail)
     warnings = [f"{bridge}: {w}" for w in bridge_warnings(config)]
     for warning in warnings + [f"{record}: {w}" for w in record_warnings(motion)]:
         click.echo(f"warning: {warning}", err=True)
     if output is None:
-        response = run_analysis(
-            config.to_bridge(), motion.acceleration, motion.time_step, fidelity, tail=tail
-        )
+        with held():  # Ctrl-C stops the command once the compiled integrator has returned
+            response = run_analysis(
+                config.to_bridge(), motion.acceleration, motion.time_step, fidelity, tail=tail
+            )
         summary = response.peak_row()
     else:  # the same analysis, through the study runner, so that the file has run's layout
         from ..config.study import single_analysis
@@ -88,6 +92,21 @@ def analyze(
         reason = summary.get("message") or summary["status"]
         click.echo(f"error: the integrator stopped early ({reason}); no peak is known", err=True)
         ctx.exit(1)
+
+
+def _check_work(path: Path, motion, fidelity: str, tail: float) -> None:
+    """Refuse a tail out of range, or an analysis of the record that could not end
+    (`core.fidelity.check_work`)."""
+    from ..core.fidelity import check_work, knobs
+
+    try:
+        values = knobs(fidelity, tail=tail)
+    except ValueError as exc:
+        raise click.BadParameter(str(exc), param_hint="--tail") from None
+    try:
+        check_work(values, motion.acceleration.size, motion.time_step)
+    except ValueError as exc:
+        raise InputError(path, [("", str(exc))]) from None
 
 
 def _rows(bridge: str, record: str, s: dict) -> list[tuple[str, str]]:

@@ -27,9 +27,10 @@ def export_openquake(results: Path, output: Path | None) -> None:
     bridge's (characters OpenQuake refuses become _), one set of parameters per limit state
     with a fit for every bridge."""
     from ..assessment.exports import openquake_fragility_model
-    from ..paths import not_an_input
+    from ..paths import checked_output
 
-    target = not_an_input(output or results.with_name(f"{results.stem}-fragility.xml"), results)
+    target = output or results.with_name(f"{results.stem}-fragility.xml")
+    checked_output(target, results, what="a fragility model rockbridge wrote")
     for reason in openquake_fragility_model(results, target):
         click.echo(f"left out: {reason}")
     click.echo(f"OpenQuake fragility model: {target}")

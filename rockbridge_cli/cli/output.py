@@ -5,6 +5,7 @@ They need numpy only (no pandas), so that the commands that print results start 
 from __future__ import annotations
 
 import csv
+import io
 import json
 import math
 import sys
@@ -70,15 +71,24 @@ def write_csv(stream: IO[str], columns: dict[str, np.ndarray]) -> None:
 
 
 def export_csv(target: str, columns: dict[str, np.ndarray], source: Path) -> None:
-    """Write the columns as CSV to the file ``target`` (never ``source``, the file they were read
-    from), or to the standard output for ``-``."""
-    from ..paths import not_an_input, writable
+    """Write the columns as CSV to the file ``target``, or to the standard output for ``-``. An
+    existing file is replaced only if it is a table of the same columns (as rockbridge writes
+    them), never ``source``, the file they were read from (`paths.checked_output`)."""
+    from ..paths import checked_output
 
     if target == "-":
         write_csv(sys.stdout, columns)
         return
-    not_an_input(target, source)
-    with open(writable(target), "w", encoding="utf-8", newline="") as stream:
+    header = io.StringIO()
+    csv.writer(header, lineterminator="\n").writerow(columns)
+    first_line = header.getvalue().encode()
+
+    def same_table(path: Path) -> bool:
+        with open(path, "rb") as file:
+            return file.readline(len(first_line) + 1) == first_line
+
+    output = checked_output(target, source, ours=same_table, what="a table of these columns")
+    with open(output, "w", encoding="utf-8", newline="") as stream:
         write_csv(stream, columns)
     click.echo(f"CSV: {target}")
 

@@ -21,11 +21,6 @@ _DISPLAY = (
 )
 """Peak columns shown in tables: column, header with the display unit, scale from SI."""
 
-EXIT_INTERRUPTED = 130
-"""Exit status after Ctrl-C (128 + SIGINT, the shell's convention)."""
-EXIT_TERMINATED = 143
-"""Exit status after SIGTERM (128 + SIGTERM)."""
-
 
 @main.command()
 @click.argument("study", type=click.Path(path_type=Path))
@@ -53,8 +48,8 @@ EXIT_TERMINATED = 143
 @click.option(
     "--overwrite",
     is_flag=True,
-    help="Start afresh: delete the results file (of any study, or damaged) and its journal, "
-    "and recompute everything.",
+    help="Start afresh: delete the results file (of any study) and its journal, and recompute "
+    "everything. Only a results file is ever replaced, never another file at OUTPUT.",
 )
 @click.option(
     "--no-resume",
@@ -122,7 +117,9 @@ def run(
     """
     from ..config.study import load_study
     from ..cpus import usable_cpus
-    from ..study.run import Terminated, run_study
+    from ..interrupts import exit_status, stopped_by
+    from ..study.journal import journal_path
+    from ..study.run import run_study
     from ..study.shards import shard_label
     from .progress import ProgressDisplay
 
@@ -130,10 +127,7 @@ def run(
     resolved = load_study(study, preset=fidelity, output=output)
     changed = {k: v for k, v in (("tail", tail), ("recheck", recheck)) if v is not None}
     if changed:
-        resolved = dataclasses.replace(
-            resolved, knobs={**resolved.knobs, **changed},
-            overrides={**resolved.overrides, **changed},
-        )  # fmt: skip
+        resolved = _with_knobs(resolved, changed)
     for warning in resolved.warnings:
         click.echo(f"warning: {warning}", err=True)
     if part is not None and output is None:
@@ -157,15 +151,13 @@ def run(
             resolved, workers, resume, overwrite, progress=display, assembly=display.assembling,
             shard=part, scheduler=scheduler,
         )  # fmt: skip
-    except KeyboardInterrupt as exc:
+    except KeyboardInterrupt as stop:
         display.close()
-        stopped = "terminated (SIGTERM)" if isinstance(exc, Terminated) else "interrupted"
-        click.echo(
-            f"{stopped}: the analyses finished so far are in {resolved.output}; "
-            "run the same command again to resume",
-            err=True,
-        )
-        ctx.exit(EXIT_TERMINATED if isinstance(exc, Terminated) else EXIT_INTERRUPTED)
+        journal = journal_path(resolved.output)  # removed once the results file holds its own
+        kept = journal if journal.exists() else resolved.output
+        click.echo(f"{stopped_by(stop)}: the analyses finished so far are in {kept}; run the "
+                   "same command again to resume", err=True)  # fmt: skip
+        ctx.exit(exit_status(stop))
     display.close()
     counts = report.statuses
     click.echo(f"results: {report.output}")
@@ -223,6 +215,22 @@ def peaks(results: Path, csv_file: str | None, as_json: bool) -> None:
     click.echo(table_text([header for _, header, _ in shown], list(table)))
 
 
+def _with_knobs(study, changed: dict):
+    """The study with the knobs of its command-line options (``--tail``, ``--recheck``), once
+    they are checked (`core.fidelity.knobs`, `core.fidelity.check_work`)."""
+    from ..core.fidelity import check_work, knobs
+
+    overrides = {**study.overrides, **changed}
+    try:
+        settled = knobs(study.preset, **overrides)
+        for item in study.records:
+            if item.record is not None:
+                check_work(settled, item.record.acceleration.size, item.record.time_step)
+    except ValueError as exc:
+        raise click.BadParameter(str(exc), param_hint="--tail") from None
+    return dataclasses.replace(study, knobs=settled, overrides=overrides)
+
+
 def _shard(shard: str | None, count: int | None) -> tuple[int, int] | None:
     """(index, count) of the shard to run, None for the whole study."""
     from ..study.shards import parse_shard, shard_from_environment
@@ -242,7 +250,7 @@ def _shard(shard: str | None, count: int | None) -> tuple[int, int] | None:
 @main.command()
 @click.argument("output", type=click.Path(dir_okay=False, path_type=Path))
 @click.argument("parts", nargs=-1, required=True, type=click.Path(path_type=Path))
-@click.option("--overwrite", is_flag=True, help="Replace OUTPUT if it exists.")
+@click.option("--overwrite", is_flag=True, help="Replace OUTPUT if it holds results.")
 @click.pass_context
 def merge(ctx: click.Context, output: Path, parts: tuple[Path, ...], overwrite: bool) -> None:
     """Merge the results files of a study's shards (PARTS, from 'run --shard') into OUTPUT: the

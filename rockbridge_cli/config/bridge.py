@@ -19,6 +19,11 @@ from ..core.geometry import Model
 from . import loading
 from .loading import StrictModel
 
+MAX_DASHPOT_RATE = 1e5
+"""The largest backfill dashpot per deck mass, c / m_deck [1/s]: an explicit integrator's steps
+shrink as its inverse while the end gap is closed (about c / (3 m_deck) steps per second of
+contact: 1e15 N·s/m took minutes), and backfills have about 25 (48 MN·s/m on 2000 t)."""
+
 
 class Piers(StrictModel):
     """The rocking piers: square sections of one width, one or two heights."""
@@ -142,6 +147,27 @@ class BridgeConfig(StrictModel):
             )
         return part
 
+    @model_validator(mode="after")
+    def _dashpot_within_reach(self) -> BridgeConfig:
+        if self.abutments is None or self.deck is None or self.spans is None:
+            return self
+        rate = self.abutments.damping / self._deck_mass()
+        if rate > MAX_DASHPOT_RATE:
+            raise ValueError(
+                f"abutments.damping: c / m_deck = {rate:.3g} 1/s is more than "
+                f"{MAX_DASHPOT_RATE:g} 1/s (a backfill's is about 25): the integrator would need "
+                "steps shorter than 10 µs while the gap is closed"
+            )
+        return self
+
+    def _deck_mass(self) -> float:
+        """m_deck [kg]: given, or density · area · (2 L1 + L2)."""
+        assert self.deck is not None and self.spans is not None
+        if self.deck.mass is not None:
+            return self.deck.mass
+        assert self.deck.area is not None  # the deck gives exactly one of the two
+        return self.density * self.deck.area * (2.0 * self.spans.side + self.spans.central)
+
     @property
     def mirrored(self) -> bool:
         """True when the taller pier stands on the right (the model runs on the mirror image)."""
@@ -167,11 +193,7 @@ class BridgeConfig(StrictModel):
         H2 = 0.5 * heights[1]
         L1, L2 = self.spans.side, self.spans.central
         length = 2.0 * L1 + L2
-        if self.deck.mass is not None:
-            md = self.deck.mass
-        else:
-            assert self.deck.area is not None  # the deck gives exactly one of the two
-            md = self.density * self.deck.area * length
+        md = self._deck_mass()
         inertia = self.deck.inertia or geometry.deck_inertia(md, length, self.deck.depth)
         m1 = geometry.pier_mass(self.density, B, H1)
         m2 = geometry.pier_mass(self.density, B, H2)

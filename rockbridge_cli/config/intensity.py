@@ -4,7 +4,7 @@ measure (multiple stripes), or to the levels an incremental dynamic analysis fin
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Annotated, Literal
 
 from pydantic import Field, PositiveFloat, field_validator, model_validator
 
@@ -15,6 +15,16 @@ from .loading import StrictModel
 
 MAX_BISECTIONS = 20
 """Most halvings of the scan step an IDA may need (`Ida`)."""
+
+MAX_SCAN_LEVELS = 1000
+"""Most levels an IDA's upward scan may take per bridge × record, ``(max − start) / step``."""
+
+SA_PERIODS_S = (0.01, 20.0)
+"""The periods an ``sa_g`` or ``avgsa_g`` measure may name [s]: those of published spectra
+(NGA-West2's); the response of an oscillator far shorter takes as many sub-steps as it is short."""
+
+SaPeriod = Annotated[float, Field(ge=SA_PERIODS_S[0], le=SA_PERIODS_S[1])]
+"""A period of a spectral measure [s] (`SA_PERIODS_S`)."""
 
 
 class Ida(StrictModel):
@@ -44,6 +54,9 @@ class Ida(StrictModel):
     def _scan(self) -> Ida:
         if self.max < self.start:
             raise ValueError("max must not be below start")
+        if (self.max - self.start) / self.step > MAX_SCAN_LEVELS:
+            raise ValueError(f"(max − start) / step must be at most {MAX_SCAN_LEVELS} scan "
+                             "levels: raise step or lower max")  # fmt: skip
         if self.step / (self.tolerance * self.start) > 2.0**MAX_BISECTIONS:
             raise ValueError(f"step / (tolerance · start) must be at most 2^{MAX_BISECTIONS}: "
                              "raise start or tolerance")  # fmt: skip
@@ -66,11 +79,12 @@ class Intensity(StrictModel):
         description="Intensity measure"
     )
     levels: list[PositiveFloat] | None = Field(
-        None, min_length=1, description="Levels of the measure (multiple stripes)"
-    )
+        None, min_length=1, max_length=MAX_SCAN_LEVELS,
+        description="Levels of the measure (multiple stripes)",
+    )  # fmt: skip
     ida: Ida | None = Field(None, description="Incremental dynamic analysis")
-    period: PositiveFloat | None = Field(None, description="Period of sa_g [s]")
-    period_range: tuple[PositiveFloat, PositiveFloat] | None = Field(
+    period: SaPeriod | None = Field(None, description="Period of sa_g [s]")
+    period_range: tuple[SaPeriod, SaPeriod] | None = Field(
         None, description="Shortest and longest period of avgsa_g [s]"
     )
     damping: float = Field(0.05, gt=0.0, lt=1.0, description="Damping ratio of Sa [-]")

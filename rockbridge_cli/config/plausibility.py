@@ -31,6 +31,29 @@ BACKFILL_STIFFNESS_N_M = 1e6
 PIER_ASPECT = (1.5, 40.0)
 """Pier height over width H/B outside this range has not been built as a rocking pier."""
 
+GRAVITY_M_S2 = (9.76, 9.84)
+"""Gravity on Earth's surface, pole to equator and mountain to sea [m/s²]."""
+
+DENSITY_KG_M3 = (1000.0, 8000.0)
+"""Densities of structural materials, timber to steel [kg/m³] (25 is kN/m³ typed as kg/m³)."""
+
+DECK_MASS_KG = (1e4, 1e9)
+"""Deck masses of bridges, a footbridge's to a long viaduct's [kg]."""
+
+ULTIMATE_DISPLACEMENT_M = 1.0
+"""Backfill displacements at failure above this [m] are not a backfill's (about 0.1 m)."""
+
+SPAN_M = 2000.0
+"""Spans longer than this [m] have not been built."""
+
+TIME_STEP_S = (1e-4, 0.1)
+"""Sample intervals of recorded and synthetic ground motions [s] (10 kHz to 10 Hz): outside, a
+time column in ms or in minutes?"""
+
+SCALE_FACTORS = (0.01, 100.0)
+"""Factors an intensity level scales a record by, beyond which the level or the measure is
+probably wrong [-]."""
+
 
 def bridge_warnings(config: BridgeConfig) -> list[str]:
     """Implausible values of a bridge config, as ``field: reason`` texts."""
@@ -52,7 +75,27 @@ def bridge_warnings(config: BridgeConfig) -> list[str]:
         if 0.0 < abutments.stiffness < BACKFILL_STIFFNESS_N_M:
             found.append(f"abutments.stiffness: {abutments.stiffness:g} N/m is far below a "
                          "backfill's (tens of MN/m): kN/m typed as N/m?")  # fmt: skip
-    return found
+        if abutments.ultimate_displacement > ULTIMATE_DISPLACEMENT_M:
+            found.append(f"abutments.ultimate_displacement: {abutments.ultimate_displacement:g} m "
+                         "is not a backfill's (about 0.1 m): mm typed as m?")  # fmt: skip
+    return found + _outside_ranges(config)
+
+
+def _outside_ranges(config: BridgeConfig) -> list[str]:
+    """Gravity, density, deck mass and spans outside what has been built on Earth."""
+    values = [("gravity", config.gravity, GRAVITY_M_S2, "m/s²"),
+              ("density", config.density, DENSITY_KG_M3, "kg/m³")]  # fmt: skip
+    if config.deck is not None and config.deck.mass is not None:
+        values.append(("deck.mass", config.deck.mass, DECK_MASS_KG, "kg"))
+    if config.spans is not None:
+        values += [(f"spans.{name}", getattr(config.spans, name), (0.0, SPAN_M), "m")
+                   for name in ("side", "central")]  # fmt: skip
+    return [
+        f"{field}: {value:g} {unit} is outside {low:g}–{high:g} {unit}, the range of built "
+        "bridges: a slip of units?"
+        for field, value, (low, high), unit in values
+        if not low <= value <= high
+    ]
 
 
 def record_warnings(record: Record) -> list[str]:
@@ -65,4 +108,17 @@ def record_warnings(record: Record) -> list[str]:
         unit = record.metadata.get("file_units", "m/s2")
         found.append(f"peak {pga:.4g} g is not an earthquake's ({low:g}–{high:g} g): is the "
                      f"file really in {unit}?")  # fmt: skip
+    low, high = TIME_STEP_S
+    if not low <= record.time_step <= high:
+        found.append(f"time step {record.time_step:g} s is not a ground motion's ({low:g}–"
+                     f"{high:g} s): is the time column in seconds?")  # fmt: skip
     return found
+
+
+def scale_warning(record: str, scale: float) -> list[str]:
+    """A record scaled to an intensity level by an implausible factor (`SCALE_FACTORS`)."""
+    low, high = SCALE_FACTORS
+    if low <= scale <= high:
+        return []
+    return [f"{record}: scaled by {scale:.3g} to reach its level (more than {high:g} or less "
+            f"than {low:g}): is the level, the measure or its period right?"]  # fmt: skip

@@ -35,18 +35,22 @@ from pydantic import (
     model_validator,
 )
 
-from ..core.fidelity import PRESETS, knobs
+from ..core.fidelity import PRESETS, check_work, knobs
 from ..core.quantities import HISTORY_UNITS
 from ..errors import InputError
 from ..records.fema import read_fema_set
-from ..records.files import Record, read_manifest, read_record
+from ..records.files import MAX_RECORD_BYTES, Record, read_manifest, read_record
 from . import loading
 from .bridge import BridgeConfig, load_bridge
 from .intensity import Intensity, intensity_of, scaled_id
 from .loading import ID_PATTERN, StrictModel, resolve_path
-from .plausibility import bridge_warnings, record_warnings
+from .plausibility import bridge_warnings, record_warnings, scale_warning
 from .records import FemaSource, RecordFile
 from .sweep import Sweep, field_value, variant_id, varied
+
+MAX_ANALYSES = 1_000_000
+"""Most analyses in a study (bridges × records × levels): its grid and journal stay within a few
+hundred MB; a larger one is several studies, or shards (`study.shards`)."""
 
 
 def _path_or_mapping(value: Any) -> Any:
@@ -392,16 +396,21 @@ def study_from_data(
         bridges = _swept(bridges, config.sweep, path)
     records = _resolve_records(config.records, path)
     warnings = _warnings(bridges, records)  # of the files, not of their scaled copies
+    overrides = config.fidelity.overrides()
+    if config.output.output_step is not None:
+        overrides["output_step"] = config.output.output_step
+    settled = _settled_knobs(config.fidelity.preset, overrides, records, path)
+    _check_size(len(bridges), len(records), config.intensity, path)
+    if config.intensity is not None:
+        records = [_scalable(item, config.intensity) for item in records]
     if config.intensity is not None and config.intensity.levels is not None:
         records = _scaled(records, config.intensity)
+        warnings += tuple(w for r in records if r.record for w in scale_warning(r.id, r.scale))
     problems = _check_ids("bridges", [b.id for b in bridges])
     problems += _check_ids("records", [r.id for r in records])
     problems += [("records", "holds no records to analyse")] if not records else []
     if problems:
         raise InputError(path, problems)
-    overrides = config.fidelity.overrides()
-    if config.output.output_step is not None:
-        overrides["output_step"] = config.output.output_step
     if output is not None:
         target = Path(output)
     elif config.output.path is not None:
@@ -414,7 +423,7 @@ def study_from_data(
         bridges=tuple(bridges),
         records=tuple(records),
         preset=config.fidelity.preset,
-        knobs=knobs(config.fidelity.preset, **overrides),
+        knobs=settled,
         overrides=overrides,
         histories=config.output.kept(),
         output=target,
@@ -429,6 +438,46 @@ def _intensity_section(intensity: Intensity) -> dict[str, Any]:
     unused = {"ida"} if intensity.ida is None else set()
     unused |= {key for key in ("period_range", "design") if getattr(intensity, key) is None}
     return intensity.model_dump(exclude=unused)
+
+
+def _check_size(bridges: int, records: int, intensity: Intensity | None, study: Path) -> None:
+    """Refuse a study of more than `MAX_ANALYSES` analyses."""
+    levels = len(intensity.levels or ()) if intensity is not None else 0
+    if bridges * records * max(levels, 1) > MAX_ANALYSES:
+        count = f"{bridges} bridges × {records} records" + f" × {levels} levels" * bool(levels)
+        reason = f"{count} are more than {MAX_ANALYSES:,} analyses: split the study"
+        raise InputError(study, [("", reason)])
+
+
+def _settled_knobs(
+    preset: str, overrides: dict[str, Any], records: list[StudyRecord], study: Path
+) -> dict[str, Any]:
+    """Every fidelity knob (`core.fidelity.knobs`), once checked in range and, with each record,
+    within what an analysis can do (`core.fidelity.check_work`)."""
+    try:
+        settled = knobs(preset, **overrides)
+    except ValueError as exc:
+        raise InputError(study, [("fidelity", str(exc))]) from None
+    problems = []
+    for item in records:
+        if item.record is not None:
+            try:
+                check_work(settled, item.record.acceleration.size, item.record.time_step)
+            except ValueError as exc:
+                problems.append((f"records ({item.id})", str(exc)))
+    if problems:
+        more = f" (and {len(problems) - 1} more records)" if len(problems) > 1 else ""
+        raise InputError(study, [(problems[0][0], problems[0][1] + more)])
+    return settled
+
+
+def _scalable(item: StudyRecord, intensity: Intensity) -> StudyRecord:
+    """The record, or, if its intensity is zero (no motion at all), the record that cannot run
+    (`StudyRecord.error`): no factor scales it to a level."""
+    if item.record is None or intensity_of(item.record, intensity) > 0.0:
+        return item
+    reason = f"{item.source}: its {intensity.measure} is 0: it cannot be scaled to a level"
+    return dataclasses.replace(item, record=None, error=reason)
 
 
 def _scaled(records: list[StudyRecord], intensity: Intensity) -> list[StudyRecord]:
@@ -556,10 +605,14 @@ def _study_record(record: Record, source: str = "", id: str = "") -> StudyRecord
 
 
 def _file_digest(path: Path) -> str:
+    """SHA-256 of an unreadable record file's bytes, if it is a regular file of at most
+    `MAX_RECORD_BYTES` (a device or a huge file is never read); else ``unreadable``."""
     try:
-        return hashlib.sha256(path.read_bytes()).hexdigest()
+        if path.is_file() and path.stat().st_size <= MAX_RECORD_BYTES:
+            return hashlib.sha256(path.read_bytes()).hexdigest()
     except OSError:
-        return "unreadable"
+        pass
+    return "unreadable"
 
 
 def _check_ids(field: str, ids: list[str]) -> list[tuple[str, str]]:

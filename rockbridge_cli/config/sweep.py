@@ -11,6 +11,7 @@ one after the other (a grid).
 from __future__ import annotations
 
 import itertools
+import math
 import re
 from typing import Any, Literal
 
@@ -20,13 +21,16 @@ from pydantic import Field, PositiveInt, ValidationError, field_validator, model
 from .bridge import BridgeConfig
 from .loading import StrictModel
 
+MAX_VARIANTS = 10_000
+"""Most variants of each bridge a sweep makes (each is a bridge config held in memory)."""
+
 
 class Range(StrictModel):
     """``count`` values from ``start`` to ``stop``, both included, evenly spaced or log-spaced."""
 
     start: float = Field(description="First value [the field's unit]")
     stop: float = Field(description="Last value [the field's unit]")
-    count: PositiveInt = Field(ge=2, description="Number of values [-]")
+    count: PositiveInt = Field(ge=2, le=MAX_VARIANTS, description="Number of values [-]")
     spacing: Literal["linear", "log"] = Field("linear", description="linear or log")
 
     @model_validator(mode="after")
@@ -59,6 +63,15 @@ class Sweep(StrictModel):
             if len(set(listed)) != len(listed):
                 raise ValueError(f"{path}: a value is listed twice")
         return fields
+
+    @model_validator(mode="after")
+    def _bounded(self) -> Sweep:
+        counts = [v.count if isinstance(v, Range) else len(v) for v in self.fields.values()]
+        variants = math.prod(counts) if self.grid else sum(counts)
+        if variants > MAX_VARIANTS:
+            raise ValueError(f"{variants:,} variants of each bridge, more than {MAX_VARIANTS:,}: "
+                             "fewer values, or one field at a time (grid: false)")  # fmt: skip
+        return self
 
     def variations(self) -> list[dict[str, float]]:
         """Each variant's changes, path → value, in the order of the results."""

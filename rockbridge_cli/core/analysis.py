@@ -151,9 +151,11 @@ def analyze(
     Raises
     ------
     TypeError
-        ``bridge`` is not a `bridge.Bridge` (a bare `Model` does not say which way it faces).
+        ``bridge`` is not a `bridge.Bridge` (a bare `Model` does not say which way it faces), or
+        the accelerations or the time step are not real numbers.
     ValueError
-        An empty, non-finite or too short record, or a non-positive time step.
+        An empty, non-finite or too short record, a non-positive time step, a knob out of its
+        range (`fidelity.LIMITS`), or an analysis too long for them (`fidelity.check_work`).
     """
     if not isinstance(bridge, Bridge):
         raise TypeError(
@@ -161,6 +163,8 @@ def analyze(
             f"{type(bridge).__name__}: a bare model does not say whether it is mirrored"
         )
     model = bridge.model
+    if np.iscomplexobj(acceleration) or not isinstance(time_step, (int, float, np.number)):
+        raise TypeError("analyze takes real accelerations [m/s²] and a real time step [s]")
     acc = np.ascontiguousarray(acceleration, dtype=float)
     if acc.ndim != 1 or acc.size < 2:
         raise ValueError("the ground motion needs at least two samples")
@@ -169,8 +173,7 @@ def analyze(
     if not (time_step > 0.0 and np.isfinite(time_step)):
         raise ValueError(f"the time step must be positive, got {time_step}")
     knobs = fidelity.knobs(preset, **overrides)
-    if not (knobs["tail"] >= 0.0 and math.isfinite(knobs["tail"])):
-        raise ValueError(f"the tail must be a finite time ≥ 0 s, got {knobs['tail']}")
+    fidelity.check_work(knobs, acc.size, time_step)
     acc = np.concatenate([acc, np.zeros(int(round(knobs["tail"] / time_step)))])
     kin = _kinematics(model, knobs["kinematics"])
     sign = bridge.sign

@@ -15,6 +15,7 @@
 
 from __future__ import annotations
 
+import numbers
 from typing import Any
 
 _COMMON = {
@@ -50,6 +51,33 @@ PRESETS: dict[str, dict[str, Any]] = {
 SCHEMES = ("rk4", "dopri5")
 """Names of the integration schemes, in the order of their codes (`schemes.RK4`, `DOPRI5`)."""
 
+KINEMATICS = ("exact", "tabulated", "simplified")
+"""How the linkage is computed (`analysis._kinematics`)."""
+
+LIMITS: dict[str, tuple[float, float]] = {
+    "step": (1e-5, 1.0), "max_step": (1e-5, 1.0), "event_tol": (1e-13, 1e-2),
+    "rtol": (0.0, 1.0), "atol": (0.0, 1.0), "rest_velocity": (0.0, 1.0),
+    "output_step": (1e-4, 10.0), "max_events": (1, 1_000_000), "tail": (0.0, 3600.0),
+}  # fmt: skip
+"""The range of each numeric knob, ends included, so that an analysis ends and fits in memory:
+steps below 1e-5 s (a hundredth of the paper's) would take hours; an event located closer than
+1e-13 s cannot be (the spacing of floating-point times); 1e6 events take 40 MB [SI]."""
+
+TOLERANCE_FLOORS = (1e-13, 1e-16)
+"""DOPRI5 needs ``rtol`` or ``atol`` at least this [-, rad]: below both the error control asks
+for steps of round-off size and the analysis never ends."""
+
+MAX_GROUND_SAMPLES = 10_000_000
+"""Most samples of ground motion an analysis reads, the tail's included (80 MB)."""
+
+MAX_HISTORY_SAMPLES = 2_000_000
+"""Most samples of the histories an analysis stores, ``(duration + tail) / output_step`` (about
+100 bytes each, all histories)."""
+
+MAX_STEPS = 100_000_000
+"""Most steps an analysis may need while rocking all along, ``(duration + tail) / max_step``
+(``step`` for RK4): about two minutes."""
+
 
 def knobs(preset: str, **overrides: Any) -> dict[str, Any]:
     """The knobs of a preset, with any of them overridden.
@@ -73,7 +101,67 @@ def knobs(preset: str, **overrides: Any) -> dict[str, Any]:
     if unknown:
         raise ValueError(f"unknown fidelity knob(s): {', '.join(sorted(unknown))}")
     values.update({k: v for k, v in overrides.items() if v is not None})
+    _check(values)
     return values
+
+
+def _check(values: dict[str, Any]) -> None:
+    """Raise ValueError for a knob of the wrong type or out of its range (`LIMITS`)."""
+    for name, (low, high) in LIMITS.items():
+        value = values[name]
+        kind = numbers.Integral if name == "max_events" else numbers.Real
+        if (
+            isinstance(value, bool)
+            or not isinstance(value, kind)
+            or not low <= float(value) <= high
+        ):
+            raise ValueError(f"{name} must be a number from {low:g} to {high:g}, not {value!r}")
+    for name, choices in (("scheme", SCHEMES), ("kinematics", KINEMATICS)):
+        if values[name] not in choices:
+            raise ValueError(f"{name} must be one of {', '.join(choices)}, not {values[name]!r}")
+    for name in ("bisection", "turning_points", "recheck"):
+        if not isinstance(values[name], bool):
+            raise ValueError(f"{name} must be true or false, not {values[name]!r}")
+    if values["scheme"] == "dopri5" and not (
+        values["rtol"] >= TOLERANCE_FLOORS[0] or values["atol"] >= TOLERANCE_FLOORS[1]
+    ):
+        raise ValueError(f"dopri5 needs rtol ≥ {TOLERANCE_FLOORS[0]:g} or atol ≥ "
+                         f"{TOLERANCE_FLOORS[1]:g}: below both it never ends")  # fmt: skip
+
+
+def check_work(values: dict[str, Any], samples: int, time_step: float) -> None:
+    """Refuse an analysis that could not end or not fit in memory (`MAX_GROUND_SAMPLES`,
+    `MAX_HISTORY_SAMPLES`, `MAX_STEPS`).
+
+    Parameters
+    ----------
+    values
+        The knobs (`knobs`).
+    samples
+        Samples of the record [-].
+    time_step
+        Its sample interval [s].
+
+    Raises
+    ------
+    ValueError
+        What would be too much, and the knob to change.
+    """
+    tail = values["tail"]
+    ground = samples + tail / time_step
+    duration = (samples - 1) * time_step + tail
+    step = values["max_step"]
+    if values["scheme"] == "rk4":
+        step = min(step, values["step"])
+    for amount, most, what, knob in (
+        (ground, MAX_GROUND_SAMPLES, "samples of ground motion", "a shorter tail"),
+        (duration / values["output_step"], MAX_HISTORY_SAMPLES, "history samples",
+         "a longer output_step"),
+        (duration / step, MAX_STEPS, "steps", "a longer max_step (step for rk4)"),
+    ):  # fmt: skip
+        if not amount <= most:
+            raise ValueError(f"{duration:g} s of analysis would need {amount:.3g} {what}, more "
+                             f"than {most:.3g}: give {knob}")  # fmt: skip
 
 
 def settings(values: dict[str, Any]):

@@ -15,7 +15,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter
 
 from ..errors import InputError
-from ..paths import writable
+from ..paths import checked_output, maker_metadata
 
 FORMATS = (".png", ".pdf", ".svg")
 
@@ -41,14 +41,15 @@ def check_format(output: str | Path) -> Path:
     Raises
     ------
     InputError
-        The extension is not .png, .pdf or .svg, or the folder cannot be written.
+        The extension is not .png, .pdf or .svg, the folder cannot be written, or a file that is
+        not a figure rockbridge wrote is there (`paths.checked_output`).
     """
     output = Path(output)
     if output.suffix.lower() not in FORMATS:
         raise InputError(
             output, [("", f"unknown figure format {output.suffix!r}: use {', '.join(FORMATS)}")]
         )
-    return writable(output)
+    return checked_output(output, what="a figure rockbridge wrote")
 
 
 def style(index: int, filled: bool = True) -> dict:
@@ -63,12 +64,18 @@ def style(index: int, filled: bool = True) -> dict:
     }
 
 
+def plain(text: str) -> str:
+    """A user's text (a bridge's name, a record's) as Matplotlib shows it literally: a ``$``
+    would start mathematics, which a stray one breaks (the figure fails to draw)."""
+    return text.replace("$", r"\$")
+
+
 def series_labels(bridges: dict[str, dict]) -> dict[str, str]:
-    """Each bridge's legend label: its name, or its id where names repeat (a sweep's variants
-    share their base bridge's name)."""
+    """Each bridge's legend label: its name (as `plain` text), or its id where names repeat (a
+    sweep's variants share their base bridge's name)."""
     names = [attributes["name"] for attributes in bridges.values()]
     return {
-        bridge: attributes["name"] if names.count(attributes["name"]) == 1 else bridge
+        bridge: plain(attributes["name"]) if names.count(attributes["name"]) == 1 else bridge
         for bridge, attributes in bridges.items()
     }
 
@@ -84,8 +91,9 @@ def panel_label(axes, letter: str) -> None:
 
 
 def save(figure: Figure, output: Path) -> Path:
-    """Write the figure (format from the extension) and return its path."""
+    """Write the figure (format from the extension), marked as rockbridge's, and return its
+    path."""
     output.parent.mkdir(parents=True, exist_ok=True)
     FigureCanvasAgg(figure)
-    figure.savefig(output, dpi=200)
+    figure.savefig(output, dpi=200, metadata=maker_metadata(output.suffix))
     return output

@@ -11,7 +11,7 @@ from matplotlib.figure import Figure
 
 from ..core.quantities import STANDARD_GRAVITY
 from ..motions.baseline import integrate_motion
-from .common import FAILURE_LINE, check_format, legend_columns, panel_label, save, style
+from .common import FAILURE_LINE, check_format, legend_columns, panel_label, plain, save, style
 from .spectra import NAMED_RECORDS, load_records
 
 
@@ -49,7 +49,7 @@ def plot_record_motion(
         time = np.arange(record.acceleration.size) * record.time_step
         look = {k: v for k, v in style(index).items() if "marker" not in k} if named else {
             "color": "0.6", "linestyle": "-"}  # fmt: skip
-        label = record.name if named else None
+        label = plain(record.name) if named else None
         shown = (record.acceleration / STANDARD_GRAVITY, 100.0 * velocity, 100.0 * displacement)
         for axes, values in zip(panels, shown, strict=True):
             axes.plot(time, values, linewidth=0.7, label=label, **look)

@@ -24,7 +24,7 @@ from ..config.bridge import BridgeConfig, load_bridge
 from ..core import impacts
 from ..core.geometry import Model, ratios, with_short_pier
 from ..errors import InputError
-from .common import check_format, panel_label, save, style
+from .common import check_format, panel_label, plain, save, style
 
 POINTS = 60
 """Points per curve [-]."""
@@ -78,7 +78,7 @@ def plot_onset(bridge: str | Path, output: str | Path, h_max: float | None = Non
     _mark_own(axes, model.H1 / model.H2, [values[0] for values in own.values()])
     axes.set_xlabel(r"$\bar{h} = H_1/H_2$ [-]")
     axes.set_ylabel(r"$\ddot{u}_{g,min}$ [g]")
-    axes.set_title(f"{config.label(Path(bridge).stem)}\nonset of rocking (Eq. 8; Fig. 3)")
+    axes.set_title(f"{plain(config.label(Path(bridge).stem))}\nonset of rocking (Eq. 8; Fig. 3)")
     axes.legend(frameon=False)
     return save(figure, output)
 
@@ -95,7 +95,7 @@ def plot_q(bridge: str | Path, output: str | Path, h_max: float | None = None) -
     _mark_own(axes, model.m2 / 1e4, [ratios(model)["q"] * 1e6])
     axes.set_xlabel(r"$m_{pier,2}$ [$10^4$ kg]")
     axes.set_ylabel(r"$q$ [$10^{-3}$ m/kN]")
-    axes.set_title(f"{config.label(Path(bridge).stem)}\nabutment parameter q (Fig. 4)")
+    axes.set_title(f"{plain(config.label(Path(bridge).stem))}\nabutment parameter q (Fig. 4)")
     axes.legend(frameon=False)
     return save(figure, output)
 
@@ -115,7 +115,7 @@ def plot_restitution(bridge: str | Path, output: str | Path, h_max: float | None
     axes.set_xlabel(r"$\bar{h} = H_1/H_2$ [-]")
     axes.set_ylabel(r"$\eta$ [-]")
     axes.set_title(
-        f"{config.label(Path(bridge).stem)}\nrestitution at the rocking interfaces (Fig. 7)"
+        f"{plain(config.label(Path(bridge).stem))}\nrestitution at the rocking interfaces (Fig. 7)"
     )
     axes.legend(frameon=False)
     return save(figure, output)
@@ -149,7 +149,9 @@ def plot_spans(bridge: str | Path, output: str | Path) -> Path:
         panel_label(axes, letter)
     panels[0].set_ylabel(r"$\eta$ [-]")
     panels[0].legend(frameon=False)
-    figure.suptitle(f"{config.label(Path(bridge).stem)}: restitution vs span lengths (Fig. 8)")
+    figure.suptitle(
+        f"{plain(config.label(Path(bridge).stem))}: restitution vs span lengths (Fig. 8)"
+    )
     return save(figure, output)
 
 

@@ -25,7 +25,7 @@ from ..records.files import (
     read_stated_units,
 )
 from ..records.sets import TargetDefinition, read_set_target
-from .common import check_format, save, style
+from .common import check_format, plain, save, style
 
 NAMED_RECORDS = 8
 """Records from files (not a generated set) up to this many are drawn and named one by one."""
@@ -75,7 +75,7 @@ def plot_record_spectra(
     for index, (record, row) in enumerate(zip(records, values, strict=True)):
         if named:
             look = {k: v for k, v in style(index).items() if "marker" not in k}
-            axes.plot(periods, row, linewidth=1.0, label=record.name, **look)
+            axes.plot(periods, row, linewidth=1.0, label=plain(record.name), **look)
         else:
             axes.plot(periods, row, color="0.78", linewidth=0.6, linestyle="-")
     if not named:

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import json
 import math
+import numbers
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -45,6 +46,9 @@ MAX_RECORD_BYTES = 256 * 2**20
 
 #: Name of the file that describes a generated record set.
 MANIFEST = "manifest.json"
+
+MAX_MANIFEST_BYTES = 16 * 2**20
+"""Largest manifest read (a set of tens of thousands of records) [bytes]."""
 
 #: Tolerance on the spacing of a time column, relative to the time step [-].
 TIME_STEP_TOLERANCE = 1e-3
@@ -147,7 +151,15 @@ def read_record(
     InputError
         The file is missing, unreadable or malformed, or its units or time step are unknown or
         contradict the arguments; the message names the line.
+    TypeError
+        ``units`` is not a name, or ``time_step`` not a number.
     """
+    if units is not None and not isinstance(units, str):
+        raise TypeError(f"units is a name (g, m/s2 or cm/s2), not {units!r}")
+    if time_step is not None and (
+        isinstance(time_step, bool) or not isinstance(time_step, numbers.Real)
+    ):
+        raise TypeError(f"time_step is a number of seconds, not {time_step!r}")
     path = Path(path)
     lines = _read_lines(path)
     if path.suffix.lower() == ".at2":
@@ -161,7 +173,12 @@ def read_record(
     resolved_step = _resolve_time_step(path, step, time_step)
     scale = UNIT_SCALES[resolved_units]
     metadata = {**header, "format": file_format, "file_units": resolved_units}
-    return Record(name, resolved_step, values * scale, str(path), metadata)
+    with np.errstate(over="ignore"):
+        acceleration = values * scale
+    if not np.all(np.isfinite(acceleration)):
+        reason = f"a value is beyond the floating-point range once in m/s² (from {resolved_units})"
+        raise InputError(path, [("", reason)])
+    return Record(name, resolved_step, acceleration, str(path), metadata)
 
 
 def read_stated_units(path: str | Path) -> str | None:
@@ -198,6 +215,10 @@ def _parse_at2(path: Path, lines: list[str]):
     """PEER NGA AT2: returns values, header, time step [s] and units (or None)."""
     if len(lines) < 4:
         raise InputError(path, [(f"line {len(lines)}", "an AT2 file needs four header lines")])
+    kind = re.search(r"\b(VELOCITY|DISPLACEMENT)\b", lines[2], re.IGNORECASE)
+    if kind is not None:
+        reason = f"the header says {kind.group(1).upper()}: an AT2 file holds accelerations"
+        raise InputError(path, [("line 3", reason)])
     points, step = _parse_at2_counts(path, lines[3])
     units = _at2_units(lines[2])
     values: list[float] = []
@@ -227,18 +248,14 @@ def _parse_at2_counts(path: Path, line: str) -> tuple[int, float]:
     if points is None or step is None:  # the older layout: "5590  0.0050  NPTS, DT"
         old = re.match(r"\s*(\d+)\s+([0-9.Ee+-]+)\s+NPTS\s*,\s*DT", line, re.IGNORECASE)
         if old is None:
-            raise InputError(
-                path, [("line 4", f"expected 'NPTS= ..., DT= ...', got {line.strip()!r}")]
-            )
+            raise InputError(path, [("line 4", "expected 'NPTS= ..., DT= ...'")])
         numbers = old.groups()
     else:
         numbers = (points.group(1), step.group(1))
     try:
         count, dt = int(numbers[0]), float(numbers[1])
     except ValueError:
-        raise InputError(
-            path, [("line 4", f"cannot read NPTS and DT from {line.strip()!r}")]
-        ) from None
+        raise InputError(path, [("line 4", "cannot read NPTS and DT")]) from None
     if count < 2:
         raise InputError(path, [("line 4", f"NPTS = {count}: a record needs at least two points")])
     if not (math.isfinite(dt) and dt > 0.0):
@@ -330,19 +347,22 @@ def _read_header_time_step(path: Path, header: dict[str, Any]) -> float | None:
         return None
     step = header.pop("time_step")
     if not isinstance(step, (int, float)) or not (math.isfinite(step) and step > 0.0):
-        raise InputError(path, [("header", f"time_step {step!r} is not a positive number")])
+        raise InputError(path, [("header", "time_step is not a positive number")])
     return float(step)
 
 
 def _parse_numbers(path: Path, number: int, tokens: list[str]) -> list[float]:
+    """The numbers of one line; a message names the line and the value's place in it, never the
+    text (a config may name any readable file as a record: its content stays out of messages,
+    results and reports)."""
     values = []
-    for token in tokens:
+    for place, token in enumerate(tokens, start=1):
         try:
             value = float(token)
         except ValueError:
-            raise InputError(path, [(f"line {number}", f"{token!r} is not a number")]) from None
+            raise InputError(path, [(f"line {number}", f"value {place} is not a number")]) from None
         if not math.isfinite(value):
-            raise InputError(path, [(f"line {number}", f"{token!r} is not a finite number")])
+            raise InputError(path, [(f"line {number}", f"value {place} is not a finite number")])
         values.append(value)
     return values
 
@@ -419,7 +439,8 @@ def _resolve_units(path: Path, in_file: str | None, given: str | None) -> str:
 def _canonical_units(path: Path, text: str, whose: str) -> str:
     name = UNIT_NAMES.get(text.strip().lower().replace(" ", ""))
     if name is None:
-        reason = f"{whose} units {text!r} are unknown: use g, m/s2 or cm/s2"
+        stated = f" {text!r}" if whose == "the given" else ""  # the file's text stays out
+        reason = f"{whose} units{stated} are unknown: use g, m/s2 or cm/s2"
         raise InputError(path, [("units", reason)])
     return name
 
@@ -503,17 +524,14 @@ def read_manifest(folder: str | Path) -> dict[str, Any]:
     Raises
     ------
     InputError
-        The manifest is missing, not JSON, or lacks its list of records.
+        The manifest is missing, not a regular file of at most `MAX_MANIFEST_BYTES`, not JSON,
+        or lacks its list of records.
     """
     path = Path(folder) / MANIFEST
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError(
-            path, [("", "file not found: is this a folder written by generate-records?")]
-        ) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(path, [("", f"cannot read the file ({exc})")]) from None
+    if not path.exists():
+        reason = "file not found: is this a folder written by generate-records?"
+        raise InputError(path, [("", reason)])
+    text = read_input_text(path, MAX_MANIFEST_BYTES, "a record set's manifest")
     try:
         manifest = json.loads(text)
     except json.JSONDecodeError as exc:

@@ -139,8 +139,11 @@ COUNT_COLUMNS = (
     "rechecked",
 )
 
-COMPRESSION: dict[str, Any] = {"compression": "gzip", "compression_opts": 4, "shuffle": True}
-"""HDF5 filters of the compressed datasets (records, histories): byte shuffle, then deflate."""
+COMPRESSION: dict[str, Any] = {
+    "compression": "gzip", "compression_opts": 4, "shuffle": True, "fletcher32": True,
+}  # fmt: skip
+"""HDF5 filters of the compressed datasets (records, histories): byte shuffle, deflate, then a
+checksum (Fletcher-32) that HDF5 verifies on every read."""
 
 
 _KIND_CODES = {name: code for code, name in enumerate(EVENT_NAMES)}

@@ -61,16 +61,44 @@ class Chunk(NamedTuple):
 
     @classmethod
     def of(cls, samples: np.ndarray) -> Chunk:
-        """Shuffle the bytes of the samples (all first bytes, then all second bytes, …) and deflate
-        them: the HDF5 ``shuffle`` and ``gzip`` filters, in that order."""
+        """Shuffle the bytes of the samples (all first bytes, then all second bytes, …), deflate
+        them and append their checksum: the HDF5 ``shuffle``, ``gzip`` and ``fletcher32``
+        filters, in that order."""
         values = np.ascontiguousarray(samples, dtype=_SAMPLE)
         shuffled = values.view(np.uint8).reshape(-1, _SAMPLE.itemsize).T.tobytes()
-        return cls(values.size, zlib.compress(shuffled, COMPRESSION["compression_opts"]))
+        deflated = zlib.compress(shuffled, COMPRESSION["compression_opts"])
+        return cls(values.size, deflated + fletcher32(deflated).to_bytes(4, "little"))
 
     def samples(self) -> np.ndarray:
-        """The samples back (the inverse of `of`)."""
-        shuffled = np.frombuffer(zlib.decompress(self.data), dtype=np.uint8)
+        """The samples back (the inverse of `of`).
+
+        Raises
+        ------
+        ValueError
+            The chunk's checksum does not match its bytes: it is damaged.
+        """
+        deflated, checksum = self.data[:-4], self.data[-4:]
+        if fletcher32(deflated) != int.from_bytes(checksum, "little"):
+            raise ValueError("a history is damaged (its checksum does not match)")
+        shuffled = np.frombuffer(zlib.decompress(deflated), dtype=np.uint8)
         return shuffled.reshape(_SAMPLE.itemsize, -1).T.copy().view(_SAMPLE).ravel()
+
+
+def fletcher32(data: bytes) -> int:
+    """HDF5's Fletcher-32 checksum of ``data`` (``H5_checksum_fletcher32``, which its
+    ``fletcher32`` filter appends to a chunk, little-endian).
+
+    Two sums of the data's big-endian 16-bit words (a last odd byte is the high byte of one),
+    with end-around carry: the first sums the words, the second the running first sums, each
+    reduced modulo 65535 to 1 … 65535 (0 only for data that are all zero bytes).
+    """
+    words = np.frombuffer(data + b"\0" * (len(data) % 2), dtype=">u2").astype(np.int64)
+    if not words.any():
+        return 0
+    weights = np.arange(words.size, 0, -1, dtype=np.int64) % 65535  # word i is in n − i sums
+    first = int(words.sum()) % 65535 or 65535
+    second = int((words % 65535 * weights).sum()) % 65535 or 65535
+    return second << 16 | first
 
 
 @dataclass

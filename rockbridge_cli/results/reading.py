@@ -57,6 +57,16 @@ def open_results(path: str | Path) -> Iterator[h5py.File]:
             raise InputError(path, [("", f"damaged or incomplete results file ({exc})")]) from None
 
 
+def is_results_file(path: str | Path) -> bool:
+    """Whether a file is a rockbridge results file, of any format version (its root's ``format``
+    attribute): what ``run --overwrite`` and ``merge --overwrite`` may replace."""
+    try:
+        with h5py.File(path, "r") as file:
+            return file.attrs.get("format") == FORMAT
+    except OSError:  # not HDF5, or damaged beyond its root
+        return False
+
+
 def peak_columns(file: h5py.File) -> dict[str, np.ndarray]:
     """The columns of the peak table of an open results file: text as ``str`` arrays, counts as
     int64 (−1 where the analysis could not run), the rest float64 [SI]; in a sweep, then one

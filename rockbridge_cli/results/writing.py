@@ -196,9 +196,10 @@ def _table(
             dtype = np.int8
         else:
             dtype = np.int64 if name in COUNT_COLUMNS else np.float64
-        dataset = group.create_dataset(
-            name, shape=(0,), maxshape=(None,), chunks=(chunk,), dtype=dtype
-        )
+        dataset = group.create_dataset(  # numbers with a checksum HDF5 verifies on every read
+            name, shape=(0,), maxshape=(None,), chunks=(chunk,), dtype=dtype,
+            fletcher32=name not in TEXT_COLUMNS,  # (HDF5 filters cannot take text)
+        )  # fmt: skip
         dataset.attrs["units"] = unit
         dataset.attrs["description"] = description
         if name == "kind":  # a CF flag (§3.5)

@@ -29,6 +29,7 @@ from pathlib import Path
 from typing import Any, NamedTuple
 
 from ..errors import InputError
+from ..interrupts import held
 from ..results.packing import Packed
 from .grid import Cell, Grid
 from .journal import Journal
@@ -89,7 +90,8 @@ class Pace:
 
 
 RESENDS = 8
-"""Batches a Dask run sends again after the grid was lost with a worker, before it gives up."""
+"""Times a run sends batches again after a worker died before it gives up: a local pool is
+started anew (its batches in flight run again), a Dask cluster gets the grid again."""
 
 Run = Callable[[Sequence[Cell]], Iterator[list[Outcome]]]
 """Runs cells of the grid and yields their outcomes, a batch at a time, as the batches finish and
@@ -134,7 +136,8 @@ def _collector(function: Callable, args: tuple, futures: list[Any]) -> Callable[
                 return futures[0].result()
             except (CancelledError, BrokenProcessPool):
                 pass
-        return function(*args)
+        with held():  # compiled kernels, in this process
+            return function(*args)
 
     return collect
 
@@ -143,16 +146,21 @@ def _collector(function: Callable, args: tuple, futures: list[Any]) -> Callable[
 def local_workers(grid: Grid, journal: Journal, workers: int) -> Iterator[Workers]:
     """Worker processes on this machine, started when cells first come.
 
-    With one worker everything runs in this process. With more, this process only sends
+    With one worker everything runs in this process, a batch at a time; a stopping signal stops
+    the run once the batch is journalled (`interrupts.held`), as it stops a pool once the batches
+    in flight are. With more, this process only sends
     batches and receives outcomes: each worker loads the compiled kernels itself (from numba's
     disk cache, ~0.3 s, in parallel) and journals its own batches, which keeps the parent's
     share of the work small. The pool has ``workers`` processes, or as many as the first cells
-    if fewer. What is asked of ``call`` goes to the pool, first, once it starts.
+    if fewer. What is asked of ``call`` goes to the pool, first, once it starts. A worker that
+    dies (killed, out of memory) breaks the pool: a new one starts and runs the batches that
+    were in flight again, as Dask would, up to `RESENDS` times a run.
     """
     pool: ProcessPoolExecutor | None = None
     count = 1
     calls: list[tuple[Callable, tuple, list[Future]]] = []
     pace = Pace()
+    restarts = 0
 
     def call(function: Callable, *args: Any) -> Callable[[], Any]:
         futures: list[Future] = []
@@ -161,33 +169,55 @@ def local_workers(grid: Grid, journal: Journal, workers: int) -> Iterator[Worker
             futures.append(pool.submit(function, *args))
         return _collector(function, args, futures)
 
+    def start(size: int) -> ProcessPoolExecutor:
+        context = multiprocessing.get_context("fork") if hasattr(os, "fork") else None
+        with journal.released():  # no SQLite connection may cross a fork
+            started = ProcessPoolExecutor(
+                size, mp_context=context, initializer=_start_worker,
+                initargs=(grid, journal.output, journal.config_hash, os.getpid()),
+            )  # fmt: skip
+            started.submit(os.getpid)  # the first submission starts (forks) the workers
+        for function, args, futures in calls:
+            if not futures:  # asked before the first pool started (after, computed here)
+                futures.append(started.submit(function, *args))
+        return started
+
     def run(cells: Sequence[Cell]) -> Iterator[list[Outcome]]:
-        nonlocal pool, count
+        nonlocal pool, count, restarts
         if workers <= 1 or (pool is None and len(cells) <= 1):
-            yield from (pace.record(_journalled(journal, run_cells(grid, batch)))
-                        for batch in _batches(cells, 1, pace))  # fmt: skip
+            for batch in _batches(cells, 1, pace):
+                with held():  # a signal stops the run after the batch, as a worker's would
+                    outcomes = _journalled(journal, run_cells(grid, batch))
+                yield pace.record(outcomes)
             return
         if pool is None:
             count = min(workers, len(cells))
-            context = multiprocessing.get_context("fork") if hasattr(os, "fork") else None
-            with journal.released():  # no SQLite connection may cross a fork
-                pool = ProcessPoolExecutor(
-                    count, mp_context=context, initializer=_start_worker,
-                    initargs=(grid, journal.output, journal.config_hash, os.getpid()),
-                )  # fmt: skip
-                pool.submit(os.getpid)  # the first submission starts (forks) the workers
-            for function, args, futures in calls:
-                futures.append(pool.submit(function, *args))
-        in_flight: set[Future] = set()
+            pool = start(count)
+        batches = _batches(cells, count, pace)
+        again: list[list[Cell]] = []  # the batches a dead worker took down with the pool
+        in_flight: dict[Future, list[Cell]] = {}
         try:
-            for batch in _batches(cells, count, pace):
-                if len(in_flight) >= 2 * count:
-                    done, in_flight = wait(in_flight, return_when=FIRST_COMPLETED)
-                    yield from (pace.record(future.result()) for future in done)
-                in_flight.add(pool.submit(_run_batch, batch))
-            while in_flight:
-                done, in_flight = wait(in_flight, return_when=FIRST_COMPLETED)
-                yield from (pace.record(future.result()) for future in done)
+            while True:
+                while len(in_flight) < 2 * count and (ready := _next(again, batches)):
+                    in_flight[pool.submit(_run_batch, ready)] = ready
+                if not in_flight:
+                    return
+                done, _ = wait(in_flight, return_when=FIRST_COMPLETED)
+                for future in done:
+                    sent = in_flight.pop(future)
+                    if isinstance(future.exception(), BrokenProcessPool):
+                        again.append(sent)
+                    else:
+                        yield pace.record(future.result())
+                if again:  # a worker died (killed, out of memory): a new pool runs them again
+                    if restarts == RESENDS:
+                        raise RuntimeError(f"worker processes died {RESENDS + 1} times (out of "
+                                           "memory?); the finished analyses are saved")  # fmt: skip
+                    restarts += 1
+                    again += in_flight.values()
+                    in_flight.clear()
+                    pool.shutdown(wait=True, cancel_futures=True)
+                    pool = start(count)
         finally:  # interrupted: drop the batches not started
             for future in in_flight:
                 future.cancel()
@@ -197,6 +227,12 @@ def local_workers(grid: Grid, journal: Journal, workers: int) -> Iterator[Worker
     finally:  # wait for the few batches in flight
         if pool is not None:
             pool.shutdown(cancel_futures=True)
+
+
+def _next(again: list[list[Cell]], batches: Iterator[list[Cell]]) -> list[Cell] | None:
+    """The next batch to send: one to run again first, else the next new one; None when none is
+    left."""
+    return again.pop(0) if again else next(batches, None)
 
 
 def _batches(cells: Sequence[Cell], workers: int, pace: Pace) -> Iterator[list[Cell]]:
@@ -257,7 +293,7 @@ def dask_workers(grid: Grid, journal: Journal, scheduler: str) -> Iterator[Worke
         raise InputError(scheduler, [("", reason)]) from None
     try:
         client = Client(scheduler, timeout="10s")
-    except (OSError, TimeoutError) as exc:
+    except (OSError, TimeoutError, ValueError, TypeError) as exc:  # unreachable, or no address
         raise InputError(scheduler, [("", f"cannot reach the Dask scheduler ({exc})")]) from None
     shared = None
     resends = 0

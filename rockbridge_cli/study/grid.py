@@ -131,7 +131,8 @@ class Grid:
         The split depends on the grid alone, so every task of an array job computes the same one
         without talking to the others: the cells, costliest first (ties in the order of the
         results), each go to the shard with the least cost so far (ties to the lowest index);
-        shards then differ in cost by at most one cell's.
+        shards then differ in cost by at most one cell's. Shards beyond the number of cells are
+        empty (their count costs no memory).
 
         Raises
         ------
@@ -140,7 +141,8 @@ class Grid:
         """
         if not 0 <= index < count:
             raise ValueError(f"shard {index} of {count}: the index must be 0 … {count - 1}")
-        loads = [(0, shard) for shard in range(count)]
+        # with more shards than cells, cell i (costliest first) fills shard i: the others are empty
+        loads = [(0, shard) for shard in range(min(count, len(self.cells)))]
         mine = []
         for cell in sorted(self.cells, key=lambda c: (-self.cost(c), c.index)):
             load, shard = heapq.heappop(loads)

@@ -11,6 +11,7 @@ another study are never mixed in; it is removed once the results file holds its 
 
 from __future__ import annotations
 
+import os
 import sqlite3
 from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
@@ -29,10 +30,10 @@ _CHECKPOINT_PAGES = 1024
 """Pages the write-ahead log may hold before SQLite copies it into the database, the only step
 that waits for the disk (fsync): every 64 MiB instead of SQLite's default 4 MiB."""
 
-SCHEMA_VERSION = 5
+SCHEMA_VERSION = 6
 """The layout of the journal's tables (SQLite's ``user_version``): 2 added the verdicts, 3 packs
 event kinds as codes, 4 the numeric values as one vector, 5 the packed parts in columns of their
-own (`results.packing.Packed`)."""
+own (`results.packing.Packed`), 6 a checksum after each history (`results.packing.Chunk`)."""
 
 BUSY_TIMEOUT_S = 60.0
 """How long a writer waits for another's transaction to end [s] (each takes about a
@@ -68,7 +69,8 @@ class Journal:
     Raises
     ------
     InputError
-        The journal belongs to another study, or is not a journal.
+        The journal belongs to another study, is not a journal, or is damaged: empty, cut short,
+        or without its tables (its write-ahead log lost). A damaged journal is left as it is.
     """
 
     def __init__(self, output: Path, config_hash: str):
@@ -79,6 +81,10 @@ class Journal:
 
     def _connect(self) -> None:
         hint = "rerun with --overwrite to discard it"
+        damaged = "is damaged ({}): the analyses it holds cannot be read; " + hint
+        existed = self.path.exists()
+        if existed and self.path.stat().st_size == 0:  # a journal starts with its header page
+            raise InputError(self.path, [("", damaged.format("it is empty"))])
         try:
             self.connection = sqlite3.connect(
                 self.path, timeout=BUSY_TIMEOUT_S, isolation_level=None
@@ -87,11 +93,18 @@ class Journal:
             self.connection.execute("PRAGMA journal_mode=WAL")
             self.connection.execute("PRAGMA synchronous=NORMAL")
             self.connection.execute(f"PRAGMA wal_autocheckpoint={_CHECKPOINT_PAGES}")
+            tables = self.connection.execute("SELECT name FROM sqlite_master").fetchall()
+            if existed and ("study",) not in tables:  # its tables are in its first commit
+                self.connection.close()
+                reason = f"it has no tables: its write-ahead log ({self.path.name}-wal) is lost?"
+                raise InputError(self.path, [("", damaged.format(reason))])
             self.connection.executescript(_SCHEMA)
             stored = self.connection.execute("SELECT config_hash FROM study").fetchone()
             (version,) = self.connection.execute("PRAGMA user_version").fetchone()
-        except sqlite3.DatabaseError as exc:
-            raise InputError(self.path, [("", f"not a readable journal ({exc}); {hint}")]) from None
+        except sqlite3.OperationalError as exc:  # cannot open, read or lock it: not damage
+            raise InputError(self.path, [("", f"cannot open the journal ({exc})")]) from None
+        except sqlite3.DatabaseError as exc:  # malformed, or not a database
+            raise InputError(self.path, [("", damaged.format(exc))]) from None
         if stored is None:
             self.connection.execute(f"PRAGMA user_version={SCHEMA_VERSION}")
             self.connection.execute("INSERT INTO study VALUES (?)", (self.config_hash,))
@@ -170,7 +183,9 @@ class Journal:
 
 
 def journal_path(output: Path) -> Path:
-    """Where the journal of a results file lives."""
+    """Where the journal of a results file lives (its path made absolute, without ``..``: SQLite
+    cannot open a path whose ``..`` climbs above ``/``)."""
+    output = Path(os.path.abspath(output))
     return output.with_name(f"{output.name}.journal.db")
 
 

@@ -23,9 +23,9 @@ import h5py
 from ..assessment.fragility import store as store_fragilities
 from ..assessment.limit_states import stored_verdicts
 from ..errors import InputError
-from ..paths import replace_atomically, writable
+from ..paths import checked_output, replace_atomically
 from ..results.packing import AnalysisResult
-from ..results.reading import open_results, stored_results
+from ..results.reading import is_results_file, open_results, stored_results
 from ..results.writing import ResultsWriter, copy_description
 
 PROVENANCE = (
@@ -70,17 +70,22 @@ def merge_results(output: Path, parts: list[Path], overwrite: bool = False) -> M
     ------
     InputError
         No parts, a part that is not a results file, parts of different studies or rockbridge
-        versions, an output that is one of the parts, or an existing output without
-        ``overwrite``.
+        versions, an output that is one of the parts, an existing output without
+        ``overwrite``, or one that is not a results file (never replaced).
+    TypeError
+        ``parts`` is one path, not a list of them.
     """
+    if isinstance(parts, (str, os.PathLike)):
+        raise TypeError("parts is a list of results files, not one path")
     if not parts:
         raise InputError("merge", [("", "give the results files to merge")])
     output = Path(output)
     if any(output.resolve() == Path(part).resolve() for part in parts):
         raise InputError(output, [("", "is one of the parts: choose another output")])
+    checked_output(output, ours=is_results_file, what="a rockbridge results file")
     if output.exists() and not overwrite:
-        raise InputError(output, [("", "exists; rerun with --overwrite to replace it")])
-    writable(output)
+        reason = "holds results; rerun with --overwrite to replace them, or choose another output"
+        raise InputError(output, [("", reason)])
     temporary = output.with_name(f".{output.name}.{os.getpid()}.tmp")
     try:
         with ExitStack() as stack:

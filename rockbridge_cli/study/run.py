@@ -1,8 +1,8 @@
 """Run a study: every cell an independent analysis, in parallel, journalled, resumable.
 
 The parent process journals what the workers send back (`journal.Journal`, SQLite) and, when
-the run ends — completed, interrupted by Ctrl-C or SIGTERM, or stopped by an exception — writes
-the results file in one streaming pass from the earlier results file and the journal, into a
+the run ends — completed, interrupted by Ctrl-C, SIGTERM or SIGHUP, or stopped by an exception —
+writes the results file in one streaming pass from the earlier results file and the journal, into a
 temporary file that is then renamed over the output. A run killed outright (SIGKILL) loses only
 the analyses in flight: the next run finds the journal and the earlier file, skips what they
 hold and writes the same file an uninterrupted run would have written. One run at a time may
@@ -15,8 +15,6 @@ import dataclasses
 import heapq
 import math
 import os
-import signal
-import threading
 import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -33,9 +31,11 @@ from ..core.quantities import NO_FAILURE
 from ..core.summary import summarize_all
 from ..cpus import usable_cpus
 from ..errors import InputError
-from ..paths import replace_atomically, writable
+from ..interrupts import stoppable
+from ..paths import checked_output, replace_atomically
 from ..results.packing import AnalysisResult, Packed
 from ..results.reading import (
+    is_results_file,
     open_results,
     peak_columns,
     stored_results,
@@ -64,11 +64,6 @@ Assembly = Callable[[int, int], None]
 ORPHAN_WAIT_S = 10.0
 """How long a run waits for the lock of a run that has died to be released by its dying worker
 processes [s]."""
-
-
-class Terminated(KeyboardInterrupt):
-    """The run was asked to stop by SIGTERM (``docker stop``, Kubernetes, SLURM); handled like
-    Ctrl-C: the finished analyses are saved."""
 
 
 @dataclass(frozen=True)
@@ -131,7 +126,9 @@ def run_study(
     overwrite
         Start afresh: delete the results file and its journal, whatever study they belong to or
         if they cannot be read, and recompute everything. Without it, a results file or journal
-        of another study, or one that cannot be read, is refused and left untouched.
+        of another study, or one that cannot be read, is refused and left untouched. A file at
+        the output that is not a results file (the study, an input, a device) is refused
+        either way (`paths.checked_output`).
     progress
         Called after each analysis (`Progress`).
     assembly
@@ -146,21 +143,25 @@ def run_study(
     Raises
     ------
     InputError
-        The output cannot be written, another run is writing it, or it holds results of another
-        study (without ``overwrite``).
+        The output cannot be written, is not a results file, another run is writing it, or it
+        holds results of another study (without ``overwrite``).
+    TypeError, ValueError
+        ``study`` is not a `config.study.Study` (a path: load it with ``load_study``), or
+        ``workers`` or ``shard`` is not a count, or not a shard.
     KeyboardInterrupt
-        After the results file has been written from the analyses finished so far; `Terminated`
-        if SIGTERM stopped the run.
+        After the results file has been written from the analyses finished so far;
+        `interrupts.Terminated` if SIGTERM or SIGHUP stopped the run.
     """
+    _check_arguments(study, workers, shard)
     started = time.perf_counter()
     workers = workers or usable_cpus()
     created = _timestamp()
-    output = writable(study.output)
+    output = checked_output(study.output, ours=is_results_file, what="a rockbridge results file")
     grid = Grid.of(study)
     cells = grid.cells if shard is None else grid.shard(*shard)
     plan = Plan(study, grid, cells) if _is_ida(study) else None
     scope = grid.config_hash if shard is None else f"{grid.config_hash} shard {shard[0]}/{shard[1]}"
-    with _exclusive(output), _sigterm_interrupts():
+    with _exclusive(output), stoppable():
         for stale in output.parent.glob(f".{output.name}.*.tmp"):  # a killed run's
             stale.unlink()
         if overwrite:
@@ -222,6 +223,23 @@ def run_study(
     )
 
 
+def _check_arguments(study: Study, workers: int | None, shard: tuple[int, int] | None) -> None:
+    """Raise TypeError or ValueError for arguments `run_study` cannot take."""
+    from ..config.study import Study
+
+    if not isinstance(study, Study):
+        raise TypeError(f"run_study takes a Study (config.study.load_study(path)), not "
+                        f"{type(study).__name__}")  # fmt: skip
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)
+                                or workers < 1):  # fmt: skip
+        raise ValueError(f"workers is a count of processes, at least 1, not {workers!r}")
+    if shard is not None and not (
+        isinstance(shard, tuple) and len(shard) == 2 and all(type(n) is int for n in shard)
+        and 0 <= shard[0] < shard[1]
+    ):  # fmt: skip
+        raise ValueError(f"shard is (index, count) with 0 ≤ index < count, not {shard!r}")
+
+
 def _rounds(
     grid: Grid, cells: list[Cell], plan: Plan | None, verdicts: dict[tuple[str, str], Verdict]
 ) -> Iterator[list[Cell]]:
@@ -262,8 +280,8 @@ def _write(
 
                 store(file)
         replace_atomically(temporary, output)
-    except OSError as exc:  # a full disk, a removed folder: say which file, keep the journal
-        reason = exc.strerror or str(exc)
+    except (OSError, RuntimeError) as exc:  # a full disk (h5py: RuntimeError), a removed folder
+        reason = getattr(exc, "strerror", None) or str(exc)
         raise OSError(f"{output}: cannot write the results file ({reason}); the finished "
                       "analyses stay in the journal: rerun to resume") from None  # fmt: skip
     finally:
@@ -390,23 +408,6 @@ def _alive(pid: str) -> bool:
     except (ValueError, OSError):  # not a number, or another user's process
         return True
     return True
-
-
-@contextmanager
-def _sigterm_interrupts() -> Iterator[None]:
-    """Turn SIGTERM into `Terminated` while the run lasts (in the main thread only)."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-
-    def stop(signum, frame):
-        raise Terminated
-
-    previous = signal.signal(signal.SIGTERM, stop)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGTERM, previous)
 
 
 def _timestamp() -> str:

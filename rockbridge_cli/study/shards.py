@@ -10,6 +10,7 @@ from __future__ import annotations
 import os
 from collections.abc import Mapping
 
+from ..config.study import MAX_ANALYSES
 from ..errors import InputError
 
 SCHEDULERS = (
@@ -33,7 +34,8 @@ def parse_shard(text: str) -> tuple[int, int]:
     Raises
     ------
     ValueError
-        Not two integers K/N with 1 ≤ K ≤ N.
+        Not two integers K/N with 1 ≤ K ≤ N ≤ `config.study.MAX_ANALYSES` (a shard beyond the
+        number of analyses is empty).
     """
     try:
         number, count = (int(part) for part in text.split("/"))
@@ -41,6 +43,9 @@ def parse_shard(text: str) -> tuple[int, int]:
         raise ValueError(f"{text!r} is not K/N (for example 2/8)") from None
     if not 1 <= number <= count:
         raise ValueError(f"{text!r}: K must be 1 … N")
+    if count > MAX_ANALYSES:
+        raise ValueError(f"{text!r}: N must be at most {MAX_ANALYSES:,}, the most analyses a study "
+                         "may hold")  # fmt: skip
     return number - 1, count
 
 
@@ -73,8 +78,9 @@ def shard_from_environment(
             reason = (f"in {scheduler}, but {where} do not give the task's index and the number "
                       "of tasks; give --shard K/N, or --shard-count N")  # fmt: skip
             raise InputError("--shard auto", [("", reason)]) from None
-        if not 0 <= index < total:
-            reason = f"{index_name} gives task {index} (from 0), not below the {total} shards"
+        if not 0 <= index < total <= MAX_ANALYSES:
+            reason = (f"{index_name} gives task {index} (from 0) of {total} shards: the index must "
+                      f"be below the count, and the count at most {MAX_ANALYSES:,}")  # fmt: skip
             raise InputError("--shard auto", [("", reason)])
         return index, total
     names = ", ".join(name for name, *_ in SCHEDULERS)
