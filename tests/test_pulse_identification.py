@@ -259,3 +259,10 @@ def test_a_study_stores_each_records_pulse_and_the_report_shows_it(tmp_path):
     page = write_report(tmp_path / "r.h5", tmp_path / "r.html").read_text(encoding="utf-8")
     table = page[page.index("Input records") :]
     assert "T_p [s]" in table and f"<td>{copies[0]['pulse_period_s']:.3g}</td>" in table
+
+
+def test_a_record_shorter_than_the_shortest_pulse_holds_none():
+    """Four samples at 1e-9 s last 3 ns, below the 0.25 s of the shortest pulse looked for: no
+    pulse, and no search sized by the time step (it once asked for 563 GiB)."""
+    found = pulses.identify_pulse(np.array([0.0, 1.0, 2.0, 1.0]), 1e-9)
+    assert not found.is_pulse and math.isnan(found.period)

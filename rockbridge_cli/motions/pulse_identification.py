@@ -159,12 +159,13 @@ def identify_pulse(acceleration: np.ndarray, time_step: float) -> PulseIdentific
         raise ValueError("give one component, shape (n,), or two, shape (2, n)")
     velocities = np.array([integrate_motion(row, time_step)[0] for row in a])
     unit = float(np.max(np.abs(velocities)))  # the search runs on velocities of peak 1
-    if not (math.isfinite(unit) and unit > 0.0):  # at rest, or beyond floating point
+    duration = (a.shape[1] - 1) * time_step  # no pulse longer than the record is looked for
+    if not (math.isfinite(unit) and unit > 0.0) or duration < PERIOD_RANGE[0]:
         rest = np.zeros(a.shape[1])
         return PulseIdentification(False, math.nan, math.nan, math.nan, math.nan, unit,
                                    math.nan, False, 0.0, rest, rest)  # fmt: skip
     velocities /= unit
-    scales = search_scales(time_step)
+    scales = search_scales(time_step, min(PERIOD_RANGE[1], duration))
     coefficients = wavelet_transform(velocities, scales)
     strength = np.sum(coefficients**2, axis=0)
     found: list[PulseIdentification] = []
@@ -207,11 +208,12 @@ def frequency_ratio(pulse_period: float, radius: float, gravity: float = STANDAR
     return 2.0 * math.pi / pulse_period / math.sqrt(3.0 * gravity / (4.0 * radius))
 
 
-def search_scales(time_step: float) -> np.ndarray:
+def search_scales(time_step: float, longest: float = PERIOD_RANGE[1]) -> np.ndarray:
     """The scales of the search [samples]: from the one of pseudo-period 0.25 s, `SCALE_STEPS`
-    equal integer steps reaching 15 s (Shahi & Baker 2014)."""
+    equal integer steps reaching 15 s (Shahi & Baker 2014), or ``longest`` [s], the record's
+    duration, when it is shorter."""
     _, centre = db4_wavelet()
-    low, high = (period * centre / time_step for period in PERIOD_RANGE)
+    low, high = (period * centre / time_step for period in (PERIOD_RANGE[0], longest))
     first = max(1, math.floor(low))
     step = max(1, math.ceil((high - first) / SCALE_STEPS))
     return first + step * np.arange(SCALE_STEPS + 1)
