@@ -76,7 +76,7 @@ def peak_motion(acceleration: np.ndarray, time_step: float) -> tuple[float, floa
     samples."""
     a = np.asarray(acceleration, dtype=float)
     velocity, displacement = integrate_motion(a, time_step)
-    crossing = a[:-1] * a[1:] < 0.0
+    crossing = np.sign(a[:-1]) * np.sign(a[1:]) < 0.0
     start, end = a[:-1][crossing], a[1:][crossing]
     turning = velocity[:-1][crossing] + 0.5 * start * time_step * start / (start - end)
     pgv = max(float(np.max(np.abs(velocity))), float(np.max(np.abs(turning), initial=0.0)))
@@ -86,8 +86,9 @@ def peak_motion(acceleration: np.ndarray, time_step: float) -> tuple[float, floa
 def arias_intensity(acceleration: np.ndarray, time_step: float) -> float:
     """Arias intensity π/(2g)·∫a² dt [m/s], exact for a piecewise-linear acceleration."""
     a = np.asarray(acceleration, dtype=float)
-    squares = a[:-1] ** 2 + a[:-1] * a[1:] + a[1:] ** 2
-    return math.pi / (2.0 * STANDARD_GRAVITY) * time_step / 3.0 * float(np.sum(squares))
+    with np.errstate(over="ignore"):  # a record beyond floating point has an infinite one
+        squares = a[:-1] ** 2 + a[:-1] * a[1:] + a[1:] ** 2
+        return math.pi / (2.0 * STANDARD_GRAVITY) * time_step / 3.0 * float(np.sum(squares))
 
 
 def cumulative_absolute_velocity(acceleration: np.ndarray, time_step: float) -> float:
@@ -95,9 +96,11 @@ def cumulative_absolute_velocity(acceleration: np.ndarray, time_step: float) -> 
     in sign contributes two triangles)."""
     a = np.asarray(acceleration, dtype=float)
     start, end = np.abs(a[:-1]), np.abs(a[1:])
-    same = a[:-1] * a[1:] >= 0.0
-    total = start + end
-    areas = np.where(same, 0.5 * total, 0.5 * (start**2 + end**2) / np.where(same, 1.0, total))
+    same = np.sign(a[:-1]) * np.sign(a[1:]) >= 0.0
+    total = np.where(same, 1.0, start + end)
+    areas = np.where(
+        same, 0.5 * (start + end), 0.5 * (start * (start / total) + end * (end / total))
+    )
     return time_step * float(np.sum(areas))
 
 
