@@ -97,10 +97,10 @@ def cumulative_absolute_velocity(acceleration: np.ndarray, time_step: float) -> 
     a = np.asarray(acceleration, dtype=float)
     start, end = np.abs(a[:-1]), np.abs(a[1:])
     same = np.sign(a[:-1]) * np.sign(a[1:]) >= 0.0
-    total = np.where(same, 1.0, start + end)
-    areas = np.where(
-        same, 0.5 * (start + end), 0.5 * (start * (start / total) + end * (end / total))
-    )
+    with np.errstate(over="ignore"):  # a record beyond floating point has an infinite one
+        total = start + end
+        crossing = 0.5 * (start**2 + end**2) / np.where(same, 1.0, total)
+        areas = np.where(same, 0.5 * total, crossing)
     return time_step * float(np.sum(areas))
 
 
