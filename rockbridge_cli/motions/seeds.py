@@ -7,16 +7,17 @@ seeds, EN 1998-1 type 1, ground C, a_g = 0.6 g; README "Ground motions"):
 
 1. It starts from the seed linearly scaled to the target PGA, without the frequency-domain step
    of artificial records: scaling the Fourier amplitudes by target/spectrum moves the energy of
-   each band with that band's own timing in the record, and alone made D5–95 1.1–1.75 × the
+   each band with that band's own timing in the record, and alone made D5–95 1.13–1.75 × the
    seed's.
 2. The baseline correction leaves the least displacement away from the scaled seed's
    (`baseline.BaselineCorrection.anchored`), not the least displacement: the seed's own slow
    motion stays, and what the long-period wavelets add cannot wander (with the two-term
-   correction alone, PGD grew to 1.4–5.4 × the scaled seed's; towards zero, a seed's own 1.2 m
-   of ground displacement fell to 0.36 m).
+   correction alone, PGD grew to up to 5.4 × the scaled seed's; towards zero, a seed's own
+   1.2 m of ground displacement fell to 0.36 m).
 3. The wavelet system also keeps the times at which the seed builds up 5, 25, 50, 75 and 95 % of
-   its Arias intensity (`wavelets.AriasGoal`): wavelets sit where oscillators peak, which
-   concentrated the shaking (D5–75 of Chi-Chi TCU045 7.4 → 2.5 s).
+   its Arias intensity (`wavelets.AriasGoal`), and iterates rank by their change of D5–95 and
+   D5–75 too (`matching.MatchProblem.rank`): wavelets sit where oscillators peak, which
+   concentrated the shaking (D5–75 of Chi-Chi TCU045 7.4 → 1.7 s).
 4. The fit is checked on the dense grid of `spectral_fit`; the periods where it misses the
    tolerance join the matching periods and the matching goes on, up to
    `MatchSettings.dense_rounds` times.
