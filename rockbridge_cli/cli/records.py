@@ -11,7 +11,7 @@ from ..records.files import MANIFEST
 from . import main, plot
 
 if TYPE_CHECKING:
-    from ..records.sets import RecordSetReport
+    from ..records.sets import RecordSetReport, RecordSummary
 
 
 @main.command("generate-records")
@@ -96,41 +96,27 @@ def plot_record(
 
 
 def format_report(report: RecordSetReport) -> str:
-    """The EN 1998-1 §3.2.3.1.2 compliance report of a generated set, as text."""
-    from ..records.sets import GROUND_DISPLACEMENT_AIM
-
+    """The EN 1998-1 §3.2.3.1.2 compliance report of a generated set, as text: the records, the
+    fit on the dense grid, what matching changed of each seed, then the verdicts."""
     c = report.compliance
     low, high = report.band
+    grid = (
+        f"on the dense grid ({report.dense_periods} periods over {low:g}-{high:g} s, every "
+        "local extreme refined)"
+        if report.dense_tolerance
+        else f"at {report.check_periods} periods over {low:g}-{high:g} s"
+    )
     lines = [
         f"Wrote {len(report.records)} records and {MANIFEST} to {report.folder}",
-        f"Spectra at {report.check_periods} periods over {low:g}-{high:g} s, computed/target:",
+        f"Spectra {grid}, computed/target:",
         "  record   PGA/(ag*S)   min    max   v_end[cm/s]  d_end[cm]  PGV[cm/s]  PGD[cm]  "
         "PGD/d_g  D5-95[s]  iterations",
-    ]
-    dg = report.ground_displacement
-    largest = max((s.peak_displacement for s in report.records), default=0.0)
-    for s in report.records:
-        lines.append(
-            f"  {s.name:<8} {s.peak_acceleration / c.surface_pga:9.5f} {s.min_ratio:6.3f} "
-            f"{s.max_ratio:6.3f} {s.final_velocity * 100:+11.1e} "
-            f"{s.final_displacement * 100:+10.1e} {s.peak_velocity * 100:10.1f} "
-            f"{s.peak_displacement * 100:8.1f} {s.peak_displacement / dg:8.2f} "
-            f"{s.significant_duration:9.1f}  "
-            + (
-                f"{s.iterations:4d} ({s.attempts} attempts)"
-                if s.scale_factor is None
-                else f"scaled by {s.scale_factor:.4g}"
-            )  # fmt: skip
-        )
-    lines += [
-        f"  {'mean':<8} {'':9} {c.mean_min_ratio:6.3f} {c.mean_max_ratio:6.3f}",
-        f"EN 1998-1 §3.2.2.4 design ground displacement d_g = 0.025*a_g*S*T_C*T_D = "
-        f"{dg * 100:.1f} cm; largest PGD {largest / dg:.2f} d_g (PGD: peak of the doubly "
-        "integrated record, from rest)",
-        "Recorded seeds keep their own long-period content: their PGD is reported, not bounded"
-        if c.stationary_duration is None
-        else f"rockbridge's aim: every record's PGD within {GROUND_DISPLACEMENT_AIM:g} d_g -> "
-        f"{_verdict(largest <= GROUND_DISPLACEMENT_AIM * dg)}",
+        *(_record_line(s, c.surface_pga, report.ground_displacement) for s in report.records),
+        f"  {'mean':<8} {'':9} {c.mean_min_ratio:6.3f} {c.mean_max_ratio:6.3f}"
+        + ("" if not report.dense_tolerance else f"  (at {report.check_periods} periods)"),
+        *([] if report.dense_tolerance else _dense_lines(report)),
+        *_ground_lines(report),
+        *_seed_lines(report),
         "EN 1998-1 §3.2.3.1.2:",
         f"  (4)a at least 3 records: {c.count} -> {_verdict(c.count_ok)}",
         f"  (4)b mean zero-period value {c.mean_zero_period:.4g} m/s2 >= a_g*S "
@@ -143,8 +129,9 @@ def format_report(report: RecordSetReport) -> str:
         f"{_verdict(c.stationary_ok)}",
         "Scaled records keep their shapes: no per-record tolerance (min and max above)"
         if c.tolerance is None
-        else f"The config's tolerance: every record within {c.tolerance:.0%} of the target over "
-        f"{low:g}-{high:g} s -> {_verdict(c.records_ok)}",
+        else f"The config's tolerance: every record within {c.tolerance:.0%} of the target "
+        + (grid if report.dense_tolerance else f"over {low:g}-{high:g} s")
+        + f" -> {_verdict(c.records_ok)}",
         *(
             f"  {s.name} misses it by {miss:.3f} (min {s.min_ratio:.3f}, max {s.max_ratio:.3f})"
             for s, miss in zip(report.records, c.record_misses, strict=True)
@@ -154,6 +141,89 @@ def format_report(report: RecordSetReport) -> str:
         f"Wall time: {report.wall_time:.1f} s",
     ]
     return "\n".join(lines)
+
+
+def _record_line(s: RecordSummary, surface_pga: float, dg: float) -> str:
+    return (
+        f"  {s.name:<8} {s.peak_acceleration / surface_pga:9.5f} {s.min_ratio:6.3f} "
+        f"{s.max_ratio:6.3f} {s.final_velocity * 100:+11.1e} "
+        f"{s.final_displacement * 100:+10.1e} {s.peak_velocity * 100:10.1f} "
+        f"{s.peak_displacement * 100:8.1f} {s.peak_displacement / dg:8.2f} "
+        f"{s.significant_duration:9.1f}  "
+        + (
+            f"{s.iterations:4d} ({s.attempts} attempts)"
+            if s.scale_factor is None
+            else f"scaled by {s.scale_factor:.4g}"
+        )
+    )  # fmt: skip
+
+
+def _dense_lines(report: RecordSetReport) -> list[str]:
+    """Where the tolerance is checked at the check periods: the fit between them."""
+    lowest = min(report.records, key=lambda s: s.fit.min_ratio)
+    highest = max(report.records, key=lambda s: s.fit.max_ratio)
+    return [
+        f"On the dense grid ({report.dense_periods} periods, every local extreme refined): "
+        f"min {lowest.fit.min_ratio:.3f} ({lowest.name} at {lowest.fit.min_period:.3f} s), "
+        f"max {highest.fit.max_ratio:.3f} ({highest.name} at {highest.fit.max_period:.3f} s)"
+    ]
+
+
+def _ground_lines(report: RecordSetReport) -> list[str]:
+    from ..records.sets import GROUND_DISPLACEMENT_AIM
+
+    dg = report.ground_displacement
+    largest = max((s.peak_displacement for s in report.records), default=0.0)
+    changes = [s.seed_change for s in report.records if s.seed_change is not None]
+    lines = [
+        f"EN 1998-1 §3.2.2.4 design ground displacement d_g = 0.025*a_g*S*T_C*T_D = "
+        f"{dg * 100:.1f} cm; largest PGD {largest / dg:.2f} d_g (PGD: peak of the doubly "
+        "integrated record, from rest)"
+    ]
+    if changes:
+        return lines
+    if report.compliance.stationary_duration is None:
+        return [*lines, "Scaled seeds keep their own long-period content: their PGD is "
+                "reported, not bounded"]  # fmt: skip
+    verdict = _verdict(largest <= GROUND_DISPLACEMENT_AIM * dg)
+    return [*lines, f"rockbridge's aim: every record's PGD within {GROUND_DISPLACEMENT_AIM:g} "
+            f"d_g -> {verdict}"]  # fmt: skip
+
+
+def _seed_lines(report: RecordSetReport) -> list[str]:
+    """What matching changed of each seed, beside the seed linearly scaled to a_g*S."""
+    from ..records.sets import GROUND_DISPLACEMENT_AIM, SEED_CHANGE, SEED_GROUND_GROWTH
+
+    matched = [(s.name, s.seed_change) for s in report.records if s.seed_change is not None]
+    if not matched:
+        return []
+    lines = [
+        "Beside the seed scaled to a_g*S (matched / seed):",
+        "  record      PGV[cm/s]        PGD[cm]        D5-95[s]     D5-75[s]    Arias time[s]"
+        f"  changed > {SEED_CHANGE:.0%}",
+    ]
+    for name, change in matched:
+        new, old = change.record, change.seed
+        lines.append(
+            f"  {name:<8} {new.pgv * 100:6.1f} {old.pgv * 100:6.1f}  {new.pgd * 100:6.1f} "
+            f"{old.pgd * 100:6.1f}  {new.d5_95:6.1f} {old.d5_95:5.1f}  {new.d5_75:6.1f} "
+            f"{old.d5_75:5.1f}  {new.arias_time:6.1f} {old.arias_time:5.1f}   "
+            + (", ".join(change.flags) or "-")
+        )  # fmt: skip
+    missed = [name for name, change in matched if not change.ground_ok]
+    lines.append(
+        f"rockbridge's aim: PGD within {SEED_GROUND_GROWTH:g} x the scaled seed's or "
+        f"{GROUND_DISPLACEMENT_AIM:g} d_g, PGV within {SEED_GROUND_GROWTH:g} x or "
+        f"{GROUND_DISPLACEMENT_AIM:g} v_g (v_g = 2*pi*d_g/T_D), whichever is larger -> "
+        + (_verdict(not missed) if not missed else f"NO: {', '.join(missed)}")
+    )
+    lines += [
+        f"  {name} was resampled from {change.resampled[0]:g} s to {change.resampled[1]:g} s "
+        f"(band-limited, scipy.signal.resample_poly) to resolve {report.band[0]:g} s"
+        for name, change in matched
+        if change.resampled is not None
+    ]
+    return lines
 
 
 def _verdict(ok: bool | None) -> str:

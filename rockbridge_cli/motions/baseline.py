@@ -1,11 +1,13 @@
 """The ground's velocity and displacement under a record, and the correction that zeroes them at
 its end: both integrated exactly for a piecewise-linear acceleration; the baseline correction
-(Boore 2001), with the least ground displacement; and the significant duration D5–95."""
+(Boore 2001), with the least ground displacement, or the least away from a reference record's;
+and the record's build-up of Arias intensity: significant durations (D5–95, D5–75) and Arias
+times."""
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.polynomial import legendre
@@ -47,7 +49,14 @@ class BaselineCorrection:
     mid-record. More terms leave freedom that the correction spends on the least squares of the
     displacement over the samples, which removes that long-period wander; its functions only
     reach periods of about 2·t_end/(terms − 1), longer than the matched band
-    (`correction_terms`). All of it is linear in the acceleration.
+    (`correction_terms`). All of it is linear in the acceleration. Where the envelope is strong
+    in a part of the record only, τ can span that part alone (``span``; held at ±1 outside it):
+    over a 90 s record whose shaking lasts 20 s, 31 polynomials over the whole record are
+    numerically dependent inside those 20 s, and their coefficients reach 1e4.
+
+    `anchored` gives the correction that leaves the least displacement away from a reference
+    record's instead: a ↦ r + B(a − r), B this correction, which keeps the reference's own slow
+    motion (a recorded seed's ground displacement) and bounds only what the matching adds.
 
     Attributes
     ----------
@@ -59,18 +68,33 @@ class BaselineCorrection:
         (terms + 2, n).
     gain
         coefficients = ``gain @ (weights @ acceleration)``, shape (terms, terms + 2).
+    anchor
+        the trend of the reference (`anchored`), added back to every corrected record [m/s²];
+        None: no reference.
     """
 
     functions: np.ndarray
     weights: np.ndarray
     gain: np.ndarray
+    anchor: np.ndarray | None = None
 
     @classmethod
-    def of(cls, shape: np.ndarray, time_step: float, terms: int = 2) -> BaselineCorrection:
-        """The correction for records of envelope ``shape`` [-] at ``time_step`` [s]."""
+    def of(
+        cls,
+        shape: np.ndarray,
+        time_step: float,
+        terms: int = 2,
+        span: tuple[int, int] | None = None,
+    ) -> BaselineCorrection:
+        """The correction for records of envelope ``shape`` [-] at ``time_step`` [s], its
+        polynomials over the samples ``span`` (first, last; default: all)."""
         if terms < 2:
             raise ValueError(f"the two final conditions need two terms or more, got {terms}")
-        tau = np.linspace(-1.0, 1.0, shape.size)
+        if span is None:
+            tau = np.linspace(-1.0, 1.0, shape.size)
+        else:
+            first, last = span
+            tau = np.clip(2.0 * (np.arange(shape.size) - first) / (last - first) - 1.0, -1.0, 1.0)
         functions = shape * legendre.legvander(tau, terms - 1).T
         shapes = np.stack([integrate_motion(row, time_step)[1] for row in functions])
         scale = np.sqrt(np.mean(shapes**2, axis=1))  # balance the system: unit RMS displacements
@@ -90,9 +114,19 @@ class BaselineCorrection:
         """The trend's coefficients from ``weights @ acceleration`` (a column per record)."""
         return self.gain @ measures
 
+    def trend(self, acceleration: np.ndarray) -> np.ndarray:
+        """The trend that the correction removes from ``acceleration`` [m/s²]."""
+        return self.coefficients(self.weights @ acceleration) @ self.functions
+
+    def anchored(self, reference: np.ndarray) -> BaselineCorrection:
+        """The correction a ↦ r + self(a − r) for the reference r [m/s²], whose final velocity
+        and displacement must be zero (they are the corrected records')."""
+        return replace(self, anchor=self.trend(reference))
+
     def __call__(self, acceleration: np.ndarray) -> np.ndarray:
         """The corrected acceleration [m/s²]."""
-        return acceleration - self.coefficients(self.weights @ acceleration) @ self.functions
+        corrected = acceleration - self.trend(acceleration)
+        return corrected if self.anchor is None else corrected + self.anchor
 
 
 def correction_terms(duration: float, longest_period: float, reach: float) -> int:
@@ -123,10 +157,9 @@ def compute_final_motion(acceleration: np.ndarray, time_step: float) -> tuple[fl
 def compute_significant_duration(
     acceleration: np.ndarray, time_step: float, start: float = 0.05, end: float = 0.95
 ) -> float:
-    """Significant duration D5–95: time between 5% and 95% of the Arias intensity.
-
-    The Arias intensity grows as ∫a²dt (trapezoidal here); the crossing times are interpolated
-    linearly between samples (Trifunac & Brady 1975).
+    """Significant duration D5–95 (D5–75 with ``end=0.75``): the time between 5 % and 95 % of
+    the Arias intensity (Trifunac & Brady 1975), ∫a²dt by trapezoids, its crossings
+    interpolated linearly between samples.
 
     Parameters
     ----------
@@ -137,13 +170,43 @@ def compute_significant_duration(
     start, end
         fractions of the total intensity that bound the duration [-].
     """
+    times = compute_arias_times(acceleration, time_step, np.array([start, end]))
+    return float(times[1] - times[0])
+
+
+def compute_arias_times(
+    acceleration: np.ndarray, time_step: float, fractions: np.ndarray
+) -> np.ndarray:
+    """When the record has built up each fraction of its Arias intensity [s] (from its first
+    sample; 0.5: the Arias time, the centre of its shaking).
+
+    Parameters
+    ----------
+    acceleration
+        ground acceleration [m/s²].
+    time_step
+        time step [s].
+    fractions
+        fractions of the total intensity, in [0, 1] [-].
+    """
+    build_up = arias_build_up(acceleration)
+    times = np.arange(build_up.size) * time_step
+    return np.interp(fractions, build_up, times)
+
+
+def arias_build_up(acceleration: np.ndarray) -> np.ndarray:
+    """The share of the Arias intensity ∫a²dt reached at each sample (trapezoidal) [-].
+
+    Raises
+    ------
+    ValueError
+        A record of zeros, which builds up nothing.
+    """
     squared = np.asarray(acceleration, dtype=float) ** 2
     cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (squared[1:] + squared[:-1]))])
     if cumulative[-1] <= 0.0:
         raise ValueError("a record of zeros has no significant duration")
-    fraction = cumulative / cumulative[-1]
-    times = np.arange(fraction.size) * time_step
-    return float(np.interp(end, fraction, times) - np.interp(start, fraction, times))
+    return cumulative / cumulative[-1]
 
 
 def final_motion_vector(acceleration: np.ndarray, time_step: float) -> np.ndarray:

@@ -17,10 +17,11 @@ A record is built in four steps, all deterministic for a given random generator:
    kept.
 
 Step 3's wavelets and their linear system are in `wavelets`, step 4's baseline correction in
-`baseline`. The wavelet system uses the exact response of the discrete (piecewise-linear) record,
-so it stays accurate for periods of a few time steps. When the best misfit stays above the
-tolerance, a new set of random phases is drawn from the same generator (a bounded number of
-attempts).
+`baseline`; a recorded seed goes through steps 3–4 alone, with what keeps its ground and its
+duration (`seeds`). The wavelet system uses the exact response of the discrete
+(piecewise-linear) record, so it stays accurate for periods of a few time steps. When the best
+misfit stays above the tolerance, a new set of random phases is drawn from the same generator (a
+bounded number of attempts).
 
 References
 ----------
@@ -49,6 +50,7 @@ from scipy import fft
 from .baseline import BaselineCorrection, correction_terms
 from .spectra import compute_psa, find_peak_responses
 from .wavelets import (
+    AriasGoal,
     build_baseline_basis,
     build_peak_patterns,
     build_wavelets,
@@ -146,6 +148,15 @@ class MatchSettings:
     baseline_reach
         the baseline correction's functions stay at periods above this multiple of the longest
         period of the band (`baseline.correction_terms`) [-].
+    duration_weight
+        weight of a seed's Arias times in the wavelet system (`wavelets.AriasGoal`): a shift of
+        1 % of its D5–95 counts as a miss of 1 % of the mean target times this [-].
+    duration_tolerance
+        the change of a seed's D5–95 and D5–75 that counts as much as a worst misfit equal to
+        ``tolerance`` when iterates are ranked (`MatchProblem.rank`) [-].
+    dense_rounds
+        a seed's fit is then checked on the dense grid (`spectral_fit`), and its misses join the
+        matching periods, up to this many times [-].
     """
 
     tolerance: float = 0.05
@@ -160,6 +171,9 @@ class MatchSettings:
     halvings: int = 2
     patience: int = 6
     baseline_reach: float = 1.5
+    duration_weight: float = 1.0
+    duration_tolerance: float = 0.2
+    dense_rounds: int = 4
 
 
 @dataclass(frozen=True)
@@ -246,14 +260,13 @@ def generate_matched_record(
     times = np.arange(int(round(envelope.duration / time_step)) + 1) * time_step
     shape = compute_envelope(times, envelope)
     taper = np.where(times < envelope.rise, shape, 1.0)
-    problem = _Problem.of(
-        periods, target, peak_acceleration, time_step, shape, taper, settings, band, bounded=True
-    )
+    problem = MatchProblem.of(periods, target, peak_acceleration, time_step, shape, taper, settings,
+                              band)  # fmt: skip
     periods, target = problem.periods, problem.target
     best = None
     for attempt in range(1, settings.max_attempts + 1):
         start = _shape_stationary_process(periods, target, times, shape, rng, settings)
-        matched = _match_in_time_domain(problem, start)
+        matched = match_in_time_domain(problem, start)
         if best is None or matched[2] < best[2]:
             best = (*matched, attempt)
         if best[2] <= settings.tolerance:
@@ -261,76 +274,6 @@ def generate_matched_record(
     assert best is not None  # attempts ≥ 1
     acceleration, iterations, misfit, _ = best
     return MatchedRecord(acceleration, time_step, attempt, iterations, misfit)
-
-
-def match_seed(
-    periods: np.ndarray,
-    target: np.ndarray,
-    peak_acceleration: float,
-    seed: np.ndarray,
-    time_step: float,
-    settings: MatchSettings = MatchSettings(),
-    band: tuple[float, float] | None = None,
-) -> MatchedRecord:
-    """Match a recorded (or any given) accelerogram to a target spectrum, keeping its phases and
-    its envelope: the record's own non-stationarity, build-up and pulses.
-
-    The Fourier amplitudes of the seed are first scaled by target / computed spectrum, its phases
-    kept (step 2 of the generator); then the time-domain wavelets of step 3. Both are tapered
-    where the seed's own envelope (`seed_envelope`) is below `QUIET`, so that its quiet lead-in
-    and tail stay quiet; the baseline correction of step 4 follows that envelope too, and only
-    zeroes the final velocity and displacement: the long-period content of a recorded motion is
-    its own (its processing chose its high-pass), so its ground displacement is reported, not
-    bounded. One attempt: there are no phases to draw again.
-
-    Parameters
-    ----------
-    periods, target, peak_acceleration, settings, band
-        as for `generate_matched_record`.
-    seed
-        the accelerogram to match, at uniform steps [m/s²].
-    time_step
-        its time step, kept by the matched record [s].
-    """
-    seed = np.asarray(seed, dtype=float)
-    if seed.ndim != 1 or seed.size < 8 or not np.all(np.isfinite(seed)) or not seed.any():
-        raise ValueError("the seed must be a finite, non-zero record of at least 8 samples")
-    shape = seed_envelope(seed, time_step)
-    taper = np.minimum(1.0, shape / QUIET)
-    problem = _Problem.of(periods, target, peak_acceleration, time_step, shape, taper, settings,
-                          band, bounded=False)  # fmt: skip
-    start = _scale_seed(problem, seed)
-    acceleration, iterations, misfit = _match_in_time_domain(problem, start)
-    return MatchedRecord(acceleration, time_step, 1, iterations, misfit)
-
-
-QUIET = 0.05
-"""Where a seed's envelope is below this share of its peak, corrections are tapered in
-proportion, so that its quiet lead-in and tail stay quiet [-]."""
-
-
-def seed_envelope(acceleration: np.ndarray, time_step: float, window: float = 1.0) -> np.ndarray:
-    """A record's intensity envelope: the moving RMS of the acceleration over ``window`` [s],
-    normalised to a peak of 1 [-]."""
-    width = max(1, int(round(window / time_step)))
-    power = np.convolve(acceleration**2, np.ones(width) / width, mode="same")
-    envelope = np.sqrt(power)
-    return envelope / envelope.max()
-
-
-def _scale_seed(problem: _Problem, seed: np.ndarray) -> np.ndarray:
-    """Step 2 on a seed: its Fourier amplitudes scaled by target / computed spectrum, its
-    phases kept."""
-    n_fft = fft.next_fast_len(2 * seed.size)
-    frequencies = fft.rfftfreq(n_fft, problem.time_step)
-    safe = np.maximum(frequencies, frequencies[1])
-    spectrum = fft.rfft(seed, n_fft)
-    acceleration, step, periods = seed, problem.time_step, problem.periods
-    for _ in range(problem.settings.frequency_iterations):
-        psa = compute_psa(acceleration, step, periods, problem.settings.damping)
-        spectrum = spectrum * _interpolate_on_frequencies(periods, problem.target / psa, safe)
-        acceleration = problem.taper * fft.irfft(spectrum, n_fft)[: seed.size]
-    return acceleration
 
 
 def _check_matching_inputs(periods, target, peak_acceleration, time_step) -> None:
@@ -386,8 +329,9 @@ def _interpolate_on_frequencies(periods, values, frequencies) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class _Problem:
-    """What stays fixed while one record is matched (SI units)."""
+class MatchProblem:
+    """What stays fixed while one record is matched (SI units): by the generator, or for a seed
+    (`seeds.match_seed`), with its own baseline correction and the Arias times to keep."""
 
     periods: np.ndarray
     target: np.ndarray
@@ -398,13 +342,16 @@ class _Problem:
     counted: np.ndarray
     settings: MatchSettings
     baseline: BaselineCorrection
+    arias: AriasGoal | None = None
 
     @classmethod
-    def of(cls, periods, target, pga, time_step, shape, taper, settings, band, bounded) -> _Problem:
+    def of(
+        cls, periods, target, pga, time_step, shape, taper, settings, band, baseline=None,
+        arias=None,
+    ) -> MatchProblem:  # fmt: skip
         """The checked problem: ``band`` (default: all the periods) says which periods count in
-        the misfit compared with the tolerance; ``bounded``: the baseline correction also keeps
-        the ground displacement least (synthetic records), else it only zeroes the final
-        motion (seeds)."""
+        the misfit compared with the tolerance; ``baseline`` (default: the least-displacement
+        correction over the whole record, `correction_terms`) follows every step."""
         periods = np.asarray(periods, dtype=float)
         target = np.asarray(target, dtype=float)
         _check_matching_inputs(periods, target, pga, time_step)
@@ -412,10 +359,12 @@ class _Problem:
         counted = (periods >= low * (1.0 - 1e-9)) & (periods <= high * (1.0 + 1e-9))
         if not counted.any():
             raise ValueError(f"no matching period lies in the band {band!r}")
-        duration = (shape.size - 1) * time_step
-        terms = correction_terms(duration, high, settings.baseline_reach) if bounded else 2
-        baseline = BaselineCorrection.of(shape, time_step, terms)
-        return cls(periods, target, pga, time_step, shape, taper, counted, settings, baseline)
+        if baseline is None:
+            duration = (shape.size - 1) * time_step
+            terms = correction_terms(duration, high, settings.baseline_reach)
+            baseline = BaselineCorrection.of(shape, time_step, terms)
+        return cls(periods, target, pga, time_step, shape, taper, counted, settings, baseline,
+                   arias)  # fmt: skip
 
     @property
     def omegas(self) -> np.ndarray:
@@ -427,7 +376,8 @@ class _Problem:
         return corrected * (self.pga / np.max(np.abs(corrected)))
 
     def measure(self, acceleration: np.ndarray):
-        """The crests of every oscillator and the (worst, RMS) misfit."""
+        """The crests of every oscillator and the score: the worst and RMS misfits, and by how
+        much a seed's durations changed (`wavelets.AriasGoal.duration_change`; 0 for others)."""
         crests = find_peak_responses(
             acceleration,
             self.time_step,
@@ -437,14 +387,29 @@ class _Problem:
         )
         ratios = self.omegas**2 * np.abs(crests[0][:, 0]) / self.target
         worst = float(np.max(np.abs(ratios[self.counted] - 1.0)))
-        return crests, (worst, float(np.sqrt(np.mean(np.log(ratios) ** 2))))
+        rms = float(np.sqrt(np.mean(np.log(ratios) ** 2)))
+        if self.arias is None:
+            return crests, (worst, rms, 0.0)
+        return crests, (worst, rms, self.arias.duration_change(acceleration, self.time_step))
+
+    def rank(self, score: tuple[float, float, float]) -> tuple[bool, float]:
+        """How a score compares with others, lower first: a worst misfit outside the tolerance,
+        then the larger of the worst misfit and a seed's change of durations, each over its
+        tolerance (both within them: 1 or less)."""
+        worst, _, change = score
+        settings = self.settings
+        excess = max(worst / settings.tolerance, change / settings.duration_tolerance)
+        return worst > settings.tolerance, excess
 
 
-def _match_in_time_domain(problem: _Problem, acceleration: np.ndarray):
+def match_in_time_domain(problem: MatchProblem, acceleration: np.ndarray):
     """Step 3: wavelet corrections, each step halved until it lowers the RMS misfit.
 
     Every iterate is baseline-corrected and scaled to the target PGA, so its misfit is final;
-    the worst misfit counts only the periods in the band, the RMS one all of them.
+    the worst misfit counts only the periods in the band, the RMS one all of them. The best
+    iterate ranks first (`MatchProblem.rank`): the least worst misfit or, for a seed, the
+    least excess over the tolerances of the worst misfit and of its change of durations,
+    among the iterates within the spectral tolerance if any is.
 
     Returns
     -------
@@ -455,10 +420,10 @@ def _match_in_time_domain(problem: _Problem, acceleration: np.ndarray):
     delay = find_wavelet_delay(settings.wavelet_width, settings.damping)
     acceleration = problem.finish(acceleration)
     crests, score = problem.measure(acceleration)
-    best = (score[0], acceleration)
+    best = (problem.rank(score), score[0], acceleration)
     iteration = improved = 0
     while (
-        best[0] > settings.tolerance
+        best[0] > (False, 1.0)
         and iteration < settings.max_iterations
         and iteration - improved < settings.patience
     ):
@@ -475,20 +440,21 @@ def _match_in_time_domain(problem: _Problem, acceleration: np.ndarray):
                 break
             step *= 0.5
         acceleration, crests, score = trial, trial_crests, trial_score
-        if score[0] < best[0]:
-            best, improved = (score[0], acceleration), iteration
-    return best[1], iteration, best[0]
+        if problem.rank(score) < best[0]:
+            best, improved = (problem.rank(score), score[0], acceleration), iteration
+    return best[2], iteration, best[1]
 
 
-def _compute_correction(problem: _Problem, acceleration, crests, delay, weight) -> np.ndarray:
+def _compute_correction(problem: MatchProblem, acceleration, crests, delay, weight) -> np.ndarray:
     """The acceleration change that moves the selected crests and peaks to target, to first order.
 
     Unknowns: the amplitude of one wavelet per selected crest and of one local-peak pattern per
     sample near the PGA. Equations: each selected crest ω²·u(t) becomes sign·target; each such
     sample stays at min(|a|, pga) with its sign. The baseline correction that follows each step
     is linear, so it is folded into the system (each pattern enters with its own correction)
-    and the step is exact to first order for the corrected record. Neighbouring oscillators
-    that peak together give nearly equal rows, hence the Tikhonov weight ``weight``.
+    and the step is exact to first order for the corrected record. A seed's Arias times
+    (`wavelets.AriasGoal`) add one equation each. Neighbouring oscillators that peak together
+    give nearly equal rows, hence the Tikhonov weight ``weight``.
     """
     settings, time_step, pga = problem.settings, problem.time_step, problem.pga
     rows, row_times, current = select_crests(crests, problem.omegas, problem.target)
@@ -521,6 +487,13 @@ def _compute_correction(problem: _Problem, acceleration, crests, delay, weight) 
             np.sign(acceleration[samples]) * held - acceleration[samples],
         ]
     )
+    if problem.arias is not None:
+        gradient, shifts = problem.arias.rows(acceleration, time_step)
+        importance = settings.duration_weight * float(np.mean(problem.target))
+        times = compute_pattern_motion(*patterns.arrays, gradient)
+        times -= compute_pattern_motion(*basis.arrays, gradient) @ coupling
+        influence = np.vstack([influence, importance * times])
+        wanted = np.concatenate([wanted, importance * shifts])
     scale = weight * np.mean(np.max(np.abs(influence), axis=0))
     amplitudes = solve_regularised(influence, wanted, scale)
     change = superpose(patterns, amplitudes, acceleration.size)

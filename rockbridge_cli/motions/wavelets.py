@@ -1,7 +1,8 @@
 """The time-domain corrections of spectral matching (`matching`, step 3): tapered-cosine
 wavelets placed at the crests of oscillator responses, patterns that hold the record's peaks and
-baseline, the exact response of an oscillator to each (for a piecewise-linear record), and the
-regularised solve of the linear system that links their amplitudes to the crests."""
+baseline, the exact response of an oscillator to each (for a piecewise-linear record), the rows
+that hold a seed's build-up of Arias intensity (`AriasGoal`), and the regularised solve of the
+linear system that links their amplitudes to the crests."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core._jit import jit
+from .baseline import arias_build_up, compute_arias_times
 from .spectra import find_peak_responses
 
 #: Local peaks of |a| within this fraction of the PGA are held in place while matching [-].
@@ -33,6 +35,97 @@ def compute_pattern_motion(starts, lengths, values, weights):
             for k in range(lengths[j]):
                 motion[row, j] += weights[row, starts[j] + k] * values[j, k]
     return motion
+
+
+ARIAS_SHARES = (0.05, 0.25, 0.5, 0.75, 0.95)
+"""The shares of its Arias intensity whose times a matched seed keeps (`AriasGoal`) [-]."""
+
+
+@dataclass(frozen=True)
+class AriasGoal:
+    """When a seed builds up `ARIAS_SHARES` of its Arias intensity: the times its matched record
+    should keep, as equations linear in a correction.
+
+    At the seed's sample k_q a record has built up the share F(k_q) = I(k_q)/I(N), I(k) the
+    trapezoidal ∫a²dt; a change δa moves it by (δI(k_q) − F(k_q)·δI(N))/I(N), with
+    δI(k) = 2h·Σ_i w_i(k)·a_i·δa_i (trapezoid weights w: 1 inside, 1/2 at 0 and k, 0 after k).
+    Divided by the rate F' at which the record builds up there, a share is a time (Newton's
+    step for the time at which the record reaches the seed's share); divided by the seed's
+    D5–95 too, a time as a fraction of its duration [-].
+
+    Attributes
+    ----------
+    samples
+        the sample at which the seed reaches each share [-].
+    shares
+        the seed's share at each of them [-].
+    durations
+        the seed's D5–95 and D5–75 [s].
+    reach
+        F' is the mean rate over this many samples either side, ±2 % of D5–95 [-].
+    """
+
+    samples: np.ndarray
+    shares: np.ndarray
+    durations: tuple[float, float]
+    reach: int
+
+    @classmethod
+    def of(cls, seed: np.ndarray, time_step: float) -> AriasGoal:
+        """The goal of a seed [m/s²] at ``time_step`` [s]."""
+        build_up = arias_build_up(seed)
+        durations = _significant_durations(seed, time_step)
+        samples = np.searchsorted(build_up, ARIAS_SHARES)
+        reach = max(1, int(round(0.02 * durations[0] / time_step)))
+        return cls(samples, build_up[samples], durations, reach)
+
+    def duration_change(self, acceleration: np.ndarray, time_step: float) -> float:
+        """The larger relative change of D5–95 and D5–75 from the seed's to a record's [-]."""
+        durations = _significant_durations(acceleration, time_step)
+        return max(abs(new / old - 1.0) for new, old in zip(durations, self.durations, strict=True))
+
+    def rows(self, acceleration: np.ndarray, time_step: float) -> tuple[np.ndarray, np.ndarray]:
+        """The equations for a record [m/s²] at ``time_step`` [s]: ``gradient @ δa`` is the
+        first-order change of each share, ``wanted`` the change back to the seed's,
+        both as times over the seed's D5–95 [-].
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            gradient, shape (shares, samples) [s²/m], and wanted, shape (shares,) [-].
+        """
+        build_up, scales, wanted = self._linearise(acceleration, time_step)
+        squared = acceleration**2
+        total = time_step * (squared.sum() - 0.5 * (squared[0] + squared[-1]))
+        whole = np.ones(acceleration.size)
+        whole[[0, -1]] = 0.5
+        gradient = np.empty((self.samples.size, acceleration.size))
+        for row, sample in enumerate(self.samples):
+            partial = np.where(np.arange(acceleration.size) <= sample, whole, 0.0)
+            partial[[0, sample]] = 0.5 if sample > 0 else 0.0
+            gradient[row] = (partial - build_up[sample] * whole) * acceleration
+        gradient *= (2.0 * time_step / total * scales)[:, None]
+        return gradient, wanted
+
+    def _linearise(self, acceleration, time_step):
+        """The record's build-up, 1/(F'·D5–95) at the seed's samples, and how far it is from the
+        seed's shares there, as times over D5–95 [-]."""
+        build_up = arias_build_up(acceleration)
+        before = np.maximum(self.samples - self.reach, 0)
+        after = np.minimum(self.samples + self.reach, acceleration.size - 1)
+        rates = (build_up[after] - build_up[before]) / ((after - before) * time_step)
+        scales = 1.0 / (np.maximum(rates, 1e-12) * self.durations[0])
+        return build_up, scales, (self.shares - build_up[self.samples]) * scales
+
+
+def _significant_durations(acceleration: np.ndarray, time_step: float) -> tuple[float, float]:
+    """D5–95 and D5–75 of a record [s]."""
+    start, three_quarters, end = compute_arias_times(acceleration, time_step, DURATION_SHARES)
+    return float(end - start), float(three_quarters - start)
+
+
+DURATION_SHARES = np.array([0.05, 0.75, 0.95])
+"""The shares that bound D5–95 and D5–75 [-]."""
 
 
 def select_crests(crests, omegas, target):
