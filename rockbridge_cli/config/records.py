@@ -171,8 +171,9 @@ class RecordSetConfig(StrictModel):
         list[RecordFile] | FemaSet | None, BeforeValidator(_fema_seeds)
     ] = Field(
         None, description="Recorded motions to adjust, one record each, instead of count: a list "
-        "of files, or a FEMA P695 set ({fema_p695: far-field}); each keeps its time step, length, "
-        "phases and envelope.",
+        "of files, or a FEMA P695 set ({fema_p695: far-field}); each keeps its length, phases, "
+        "envelope, durations and ground displacement, and its time step unless too coarse for "
+        "the band (then resampled, band-limited).",
     )  # fmt: skip
     adjust: Literal["match", "scale", "scale-set", "none"] = Field(
         "match", description="What is done to the seeds: matched to the target (match), "
@@ -192,7 +193,8 @@ class RecordSetConfig(StrictModel):
     band: tuple[float, float] = Field(
         (0.05, 4.0),
         description="Shortest and longest period matched and checked, within 0 < T <= 4 s, the "
-        "shortest at least 5 time steps [s]. EN 1998-1 checks 0.2*T1 to 2*T1.",
+        "shortest at least 5 time steps of artificial records [s]. EN 1998-1 checks 0.2*T1 to "
+        "2*T1.",
     )
     check_periods: int = Field(
         100, ge=10, le=2000, description="Log-spaced periods over the band for the check [-]."
