@@ -37,6 +37,7 @@ from ..results.reading import open_results, peak_columns
 from . import limit_states
 from .ida import Lattice, Walk, walk
 from .limit_states import Verdict
+from .spectrum import store as store_spectrum
 
 if TYPE_CHECKING:
     from .measures import Conversion
@@ -366,9 +367,13 @@ def _counts(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def store(file: h5py.File) -> None:
     """Write the fragilities of an open results file into it, as the table ``/fragility``: one
     row per bridge × limit state (median, beta, the 90 % interval of the median) and, per row,
-    each record's capacity (``capacities``, rows × records, NaN where not reached)."""
+    each record's capacity (``capacities``, rows × records, NaN where not reached). A spectrum
+    study's file gets its spectrum instead (`spectrum.store`)."""
     intensity = json.loads(file.attrs.get("intensity", "null"))
     if intensity is None:
+        return
+    if "spectrum" in json.loads(file.attrs["config"]):  # its IDA finds a spectrum's boundaries
+        store_spectrum(file)
         return
     found = fragilities_of(peak_columns(file), intensity)
     records = list(dict.fromkeys(record for item in found for record in item.capacities))

@@ -88,7 +88,18 @@ def entry() -> None:
 
 def _register() -> None:
     # each module adds its commands
-    from . import analysis, bridge, export, fragility, parametric, records, report, risk, study  # noqa: F401
+    from . import (  # noqa: F401
+        analysis,
+        bridge,
+        export,
+        fragility,
+        parametric,
+        records,
+        report,
+        risk,
+        spectrum,
+        study,
+    )
 
 
 _register()

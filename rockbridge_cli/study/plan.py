@@ -2,6 +2,9 @@
 (`assessment.ida`) on every curve at once — each round the levels the verdicts so far call for —
 and, on resuming, the replay of the rule from the stored verdicts without re-running anything. The
 workers hold the records as read; each analysis scales its record itself (`grid.Cell`).
+
+An overturning spectrum (`config.spectrum`) is such an IDA that also maps: its first round runs
+every scan level of every curve (the map), and its bisections then start from the map's verdicts.
 """
 
 from __future__ import annotations
@@ -40,6 +43,7 @@ class Plan:
             intensity_of(r.record, intensity) if r.record is not None else 1.0
             for r in study.records
         ]
+        self.mapped = study.spectrum is not None
 
     def round(self, verdicts: Mapping[tuple[str, str], Verdict]) -> list[Cell]:
         """The analyses to run next, on every curve at once; empty when the IDA is done."""
@@ -72,5 +76,19 @@ class Plan:
         return [
             self.cell(curve, n)
             for curve in self.curves
-            for n in sorted(getattr(self.walk(curve, verdicts), which))
+            for n in sorted(self._indices(curve, verdicts, which))
         ]
+
+    def _indices(
+        self, curve: Cell, verdicts: Mapping[tuple[str, str], Verdict], which: str
+    ) -> set[int]:
+        """The lattice indices of a curve the rule wants or has visited, with, for a spectrum,
+        the scan levels of the map it has not run yet or has run."""
+        indices = set(getattr(self.walk(curve, verdicts), which))
+        if self.mapped:
+            wanted = which == "wanted"
+            indices |= {
+                n for n in range(0, self.lattice.count, self.lattice.stride)
+                if (self.grid.ids(self.cell(curve, n)) in verdicts) != wanted
+            }  # fmt: skip
+        return indices

@@ -1,0 +1,91 @@
+"""``rockbridge spectrum overturning BRIDGE``: the overturning spectrum of a bridge file under a
+pulse, run as a spectrum study; and ``rockbridge plot overturning RESULTS``, its figure."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+import yaml
+
+from ..core.fidelity import PRESETS
+from ..motions.pulses import SHAPES
+from . import main, plot
+from .output import figure_option
+
+
+def _grid(text: str) -> dict[str, float]:
+    """``START:STOP:COUNT`` as a range of the spectrum section."""
+    try:
+        start, stop, count = text.split(":")
+        return {"start": float(start), "stop": float(stop), "count": int(count)}
+    except ValueError:
+        raise click.BadParameter(f"expected START:STOP:COUNT, got {text!r}") from None
+
+
+@main.group()
+def spectrum() -> None:
+    """Spectra of a bridge computed by running it: overturning under a pulse."""
+
+
+@spectrum.command()
+@click.argument("bridge", type=click.Path(path_type=Path))
+@click.option("--pulse", type=click.Choice(SHAPES), default="one-sine-a", show_default=True)
+@click.option("--frequencies", default="0.25:10:40", show_default=True, metavar="START:STOP:N",
+              help="ω_p/p, evenly spaced [-].")  # fmt: skip
+@click.option("--amplitudes", default="1:10:37", show_default=True, metavar="START:STOP:N",
+              help="a_p over the reference acceleration, evenly spaced [-].")  # fmt: skip
+@click.option("--reference", type=click.Choice(["g_tan_alpha", "onset"]), default="g_tan_alpha",
+              show_default=True, help="a_ref: g·tan α1, or the onset (Eq. 8).")  # fmt: skip
+@click.option("--fidelity", type=click.Choice(list(PRESETS)), default="default", show_default=True)
+@click.option("--workers", type=click.IntRange(min=1), default=None,
+              help="Worker processes [default: the CPUs this process may use].")  # fmt: skip
+@click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path), default=None,
+              help="Results file [default: results/<bridge stem>-<pulse>.h5].")  # fmt: skip
+@click.option("--figure", type=click.Path(dir_okay=False, path_type=Path), default=None,
+              help="Figure file [default: <output stem>.png beside the output].")  # fmt: skip
+@click.option("--overwrite", is_flag=True, help="Replace an output that holds other results.")
+def overturning(
+    bridge: Path, pulse: str, frequencies: str, amplitudes: str, reference: str, fidelity: str,
+    workers: int | None, output: Path | None, figure: Path | None, overwrite: bool,
+) -> None:  # fmt: skip
+    """Overturning spectrum of BRIDGE (a YAML file) under a pulse: every ω_p/p × a_p/a_ref of
+    the grid, then each limit state's lowest amplitude per frequency by bisection; stored in an
+    HDF5 results file and drawn. A study with a spectrum section does the same with every
+    option of a study (rockbridge run).
+    """
+    from ..config.study import study_from_data
+    from ..plots.overturning import plot_overturning
+    from ..study.run import run_study
+    from .progress import ProgressDisplay
+
+    output = output or Path("results") / f"{bridge.stem}-{pulse}.h5"
+    data = {
+        "description": f"rockbridge spectrum overturning {bridge} --pulse {pulse}",
+        "bridges": [str(bridge.resolve())],
+        "spectrum": {"pulse": pulse, "frequencies": _grid(frequencies),
+                     "amplitudes": _grid(amplitudes), "reference": reference},
+        "fidelity": fidelity,
+    }  # fmt: skip
+    source = output.with_suffix(".study.yaml")
+    study = study_from_data(data, source, yaml.safe_dump(data, sort_keys=False), None, output)
+    display = ProgressDisplay(heading=f"spectrum: {len(study.records)} frequencies")
+    report = run_study(study, workers, overwrite=overwrite, progress=display,
+                       assembly=display.assembling)  # fmt: skip
+    display.close()
+    click.echo(f"results: {report.output} ({report.total} analyses, "
+               f"{report.wall_time_s:.1f} s on {report.workers} worker(s))")  # fmt: skip
+    drawn = plot_overturning(report.output, figure or report.output.with_suffix(".png"))
+    click.echo(f"Figure: {drawn}")
+
+
+@plot.command("overturning")
+@click.argument("results", type=click.Path(path_type=Path))
+@figure_option("<results stem>-overturning.png beside RESULTS")
+def plot_overturning_spectrum(results: Path, output: Path | None) -> None:
+    """The overturning spectrum of RESULTS (a spectrum study): the map of what each analysis
+    reached and each limit state's boundary, ω_p/p across, a_p/a_ref up."""
+    from ..plots.overturning import plot_overturning
+
+    figure = output or results.with_name(f"{results.stem}-overturning.png")
+    click.echo(f"Figure: {plot_overturning(results, figure)}")

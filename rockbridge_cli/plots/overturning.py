@@ -1,0 +1,102 @@
+"""The overturning spectrum of a spectrum study, in the field's convention (Makris & Roussos 2000;
+Zhang & Makris 2001): ω_p/p across, a_p/(g·tan α) (or a_p over the onset acceleration) up; the
+map of what each analysis reached — the two modes of overturning, with and without an impact, the
+safe region between them, and for a bridge the joints closing and the abutment failing — and the
+bisected boundary of each limit state (`assessment.spectrum`)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from matplotlib.artist import Artist
+from matplotlib.colors import BoundaryNorm, ListedColormap
+from matplotlib.figure import Figure
+from matplotlib.patches import Patch
+
+from ..assessment.spectrum import NOT_RUN, REGIONS, read_spectrum
+from ..core.quantities import STANDARD_GRAVITY
+from .common import FAILURE_LINE, GAP_LINE, check_format, save
+
+REGION_COLOURS = {
+    "not run": "#f2d0e0",
+    "no_rocking": "white",
+    "rocking": "0.93",
+    "gap_closure": "#cfe0ee",
+    "abutment_failure": "#f3c98f",
+    "overturning_after_impact": "0.62",
+    "overturning_without_impact": "0.3",
+}
+"""Each region's colour (code −1 first): greys for the block's regions, so that they print."""
+
+REGION_LABELS = {"rocking": "rocking, survives", "gap_closure": "gaps close, survives"}
+"""Legend labels where the region's name alone would not say it."""
+
+REFERENCE_LABELS = {"g_tan_alpha": "a_p / (g·tan α)", "onset": "a_p / ü_g,min"}
+"""The vertical axis, by the spectrum's reference acceleration."""
+
+BOUNDARY_LINES = {
+    "overturning": {"color": "black", "linestyle": "-", "linewidth": 1.4},
+    "gap_closure": GAP_LINE,
+    "abutment_failure": FAILURE_LINE,
+}
+"""How each limit state's boundary is drawn (a backfill state: dash-dot)."""
+
+
+def plot_overturning(results: str | Path, output: str | Path) -> Path:
+    """Draw the overturning spectrum of a results file of a spectrum study.
+
+    Raises
+    ------
+    InputError
+        The file is not a spectrum study's, or the figure cannot be written there.
+
+    Returns
+    -------
+    pathlib.Path
+        The figure file.
+    """
+    output = check_format(output)
+    spectrum = read_spectrum(results)
+    x, y = spectrum.frequency_ratios, spectrum.amplitude_ratios
+    figure = Figure(figsize=(6.4, 4.8), layout="constrained")
+    axes = figure.subplots()
+    colours = ListedColormap(list(REGION_COLOURS.values()))
+    norm = BoundaryNorm(np.arange(NOT_RUN - 0.5, len(REGIONS)), colours.N)
+    edges_x, edges_y = _edges(x), _edges(y)
+    axes.pcolormesh(edges_x, edges_y, spectrum.regions.T, cmap=colours, norm=norm)
+    present = set(np.unique(spectrum.regions).tolist())
+    handles: list[Artist] = [
+        Patch(
+            facecolor=colour,
+            edgecolor="0.5",
+            linewidth=0.5,
+            label=REGION_LABELS.get(name, name.replace("_", " ")),
+        )  # fmt: skip
+        for code, (name, colour) in enumerate(REGION_COLOURS.items(), start=NOT_RUN)
+        if code in present
+    ]
+    for state, values in spectrum.boundaries.items():
+        look = BOUNDARY_LINES.get(state, {"color": "black", "linestyle": "-.", "linewidth": 1.0})
+        reached = "" if np.isfinite(values).any() else f": none up to {y.max():g}"
+        label = f"lowest {state.replace('_', ' ')}{reached}"
+        handles += axes.plot(x, values, **look, label=label)
+    axes.set_xlim(edges_x[0], edges_x[-1])
+    axes.set_ylim(edges_y[0], edges_y[-1])
+    axes.set_xlabel("ω_p / p")
+    axes.set_ylabel(REFERENCE_LABELS[spectrum.reference])
+    pulse = spectrum.pulse["shape"]
+    axes.set_title(
+        f"{spectrum.bridge} under {pulse}\np = {spectrum.frequency_parameter:.3g} rad/s, "
+        f"a_ref = {spectrum.reference_acceleration / STANDARD_GRAVITY:.3g} g",
+        fontsize="medium",
+    )
+    figure.legend(handles=handles, loc="outside right center", frameon=False, fontsize="small")
+    return save(figure, output)
+
+
+def _edges(centres: np.ndarray) -> np.ndarray:
+    """Cell edges around the axis values: midway between neighbours, and as far outside the
+    ends."""
+    middle = 0.5 * (centres[1:] + centres[:-1])
+    return np.concatenate([[2 * centres[0] - middle[0]], middle, [2 * centres[-1] - middle[-1]]])

@@ -1,0 +1,241 @@
+"""Overturning: rockbridge against the rocking literature's anchors, and the overturning spectrum
+as a study (config.spectrum, study.plan, assessment.spectrum, plots.overturning, the command).
+
+Where each expected value comes from (tests/anchors.py derives them):
+* Housner (1963): the least amplitude of a rectangular and of a half-sine pulse that overturns a
+  slender block, closed forms of his linearised equation; of a rectangular pulse for a block of
+  any slenderness, by energy conservation on his nonlinear equation (a quadrature).
+* Makris & Roussos (2000), Zhang & Makris (2001): the least amplitude of one-sine (types A, B)
+  and cycloidal (type C_1) pulses that overturns a slender block without an impact, from the
+  closed-form solution of the linearised equation.
+* The least amplitude that overturns at all (after an impact too) from Housner's nonlinear
+  equation integrated by scipy's DOP853, an integrator that shares nothing with rockbridge's.
+* Dimitrakopoulos & DeJong (2012): similarity; Makris & Vassiliou (2013): a frame with a rigid cap
+  is a block of size R·(1 + 3γ)/(1 + 2γ) (its histories under ground motion:
+  test_solver.py::test_symmetric_frame_rocks_like_its_equivalent_block).
+
+Tolerances: the linearisation errs by O(α²), so slender blocks (α = 0.02) are held to α² = 4e-4;
+the exact forms and the independent integrator to 1e-6 (pulses sampled at T_p/2000, whose
+piecewise-linear interpolant lowers the crest by ~5e-7).
+"""
+
+from __future__ import annotations
+
+import math
+
+import h5py
+import numpy as np
+import pytest
+from anchors import (
+    PHASES,
+    block,
+    frame,
+    frame_and_block,
+    half_sine_pulse,
+    rectangular_pulse,
+    similarity,
+    toppled,
+    under_pulse,
+    without_impact,
+)
+from anchors import at_all as least_overturning
+from click.testing import CliRunner
+from studies import REPO, contents
+
+from rockbridge_cli.assessment.spectrum import REGIONS, read_spectrum
+from rockbridge_cli.cli import main
+from rockbridge_cli.config.spectrum import frequency_parameter
+from rockbridge_cli.config.study import load_study
+from rockbridge_cli.core.dynamics import coefficients
+from rockbridge_cli.core.kinematics import EXACT
+from rockbridge_cli.errors import InputError
+from rockbridge_cli.study.merge import merge_results
+from rockbridge_cli.study.run import run_study
+
+# ---------------------------------------------------------------- the frequency parameter
+
+
+@pytest.mark.parametrize("bridge", [block(0.2), frame(0.0), frame(1.5), frame(8.0)])
+def test_frequency_parameter_is_the_block_s_and_the_frame_s(bridge):
+    """p² = (∂V/∂φ at rest)/(M(0)·sin α) from the Lagrangian coefficients of the linkage: Housner's
+    3g/(4R) for a block, Makris & Vassiliou's (1 + 2γ)/(1 + 3γ)·3g/(4R) for a symmetric frame."""
+    model = bridge.model
+    mass, _, gravity, *_ = coefficients(model, 1.0, 0.0, EXACT)
+    assert frequency_parameter(model) ** 2 == pytest.approx(
+        abs(gravity) / (mass * math.sin(model.alpha1)), rel=1e-12
+    )
+
+
+# ---------------------------------------------------------------- the anchors (tests/anchors.py)
+
+
+@pytest.mark.parametrize("slender", [True, False])
+@pytest.mark.parametrize("p_t1", [0.5, 2.0])
+def test_housner_rectangular_pulse(p_t1, slender):
+    """The least a_p of a rectangular pulse: the slender block within α² of Housner's linearised
+    1/(1 − e^(−p·t1)); the stocky one (2–3 % away from it) within 1e-6 of the exact form."""
+    anchor = rectangular_pulse(p_t1, slender)
+    assert anchor.agrees, anchor
+
+
+@pytest.mark.parametrize("omega_ratio", [0.5, 2.0, 5.0])
+def test_housner_half_sine_pulse(omega_ratio):
+    """The least a_p of a half-sine pulse within α² of the closed form of Housner's linearised
+    equation, √(A² − 1) + A·exp(−(π − asin(1/A))/Ω) = Ω."""
+    anchor = half_sine_pulse(omega_ratio)
+    assert anchor.agrees, anchor
+
+
+@pytest.mark.parametrize(
+    "shape, omega_ratio", [(shape, 1.0) for shape in PHASES] + [("one-sine-a", 4.0),
+                                                               ("cycloidal-c", 2.0)],
+)  # fmt: skip
+def test_overturning_without_impact_of_a_slender_block(shape, omega_ratio):
+    """The least a_p that overturns without an impact within α² of the closed-form solution of
+    the linearised equation (Makris & Roussos 2000: types A, B; Zhang & Makris 2001: B, C_1)."""
+    anchor = without_impact(shape, omega_ratio)
+    assert anchor.agrees, anchor
+
+
+@pytest.mark.parametrize("shape, omega_ratio, bracket", [
+    ("one-sine-a", 3.0, (1.3, 1.5)), ("cycloidal-c", 3.0, (2.0, 2.2)),
+])  # fmt: skip
+def test_least_overturning_amplitude_against_an_independent_integrator(shape, omega_ratio, bracket):
+    """The least a_p that overturns the stocky block at all (here after one impact, below the
+    amplitude that overturns it without one) within 1e-6 of Housner's nonlinear equation
+    integrated by scipy's DOP853."""
+    anchor = least_overturning(shape, omega_ratio, bracket)
+    assert anchor.agrees, anchor
+    response = under_pulse(block(0.25), shape, omega_ratio, anchor.found, samples=2000)
+    assert toppled(response) and response.n_impacts == 1
+
+
+def test_similarity_law():
+    """Dimitrakopoulos & DeJong (2012): blocks of one slenderness and different sizes under pulses
+    of the same ω_p/p and a_p/(g·tan α) rock alike: θ/α against p·t agrees to 1e-9."""
+    anchor = similarity()
+    assert anchor.agrees, anchor
+
+
+def test_a_frame_overturns_as_its_equivalent_block():
+    """Makris & Vassiliou (2013): a symmetric frame with a rigid cap overturns at the least
+    amplitude of its block, R·(1 + 3γ)/(1 + 2γ) with the frame's restitution, to 1e-7."""
+    anchor = frame_and_block()
+    assert anchor.agrees, anchor
+
+
+# ---------------------------------------------------------------- the spectrum as a study
+
+SPECTRUM = """description: a small spectrum
+bridges:
+  - id: block
+    piers: {{width: 0.8, heights: [2.0]}}
+spectrum:
+  pulse: {pulse}
+  frequencies: {{start: 1.0, stop: 6.0, count: 4}}
+  amplitudes: {{start: 1.0, stop: 5.0, count: 5}}
+  tolerance: 0.01
+output:
+  path: {output}
+"""
+
+
+def spectrum_study(folder, pulse: str = "one-sine-a", output: str = "spectrum.h5"):
+    path = folder / "spectrum.yaml"
+    path.write_text(SPECTRUM.format(pulse=pulse, output=output), encoding="utf-8")
+    return path
+
+
+def test_a_spectrum_study_maps_and_bisects(tmp_path):
+    """Every ω_p/p × a_p/(g·tan α) is one analysis; each frequency's least overturning amplitude
+    is bracketed to the tolerance by a level that overturns and one below it that does not, and
+    no mapped amplitude below the bracket overturns. The analyses are rockbridge's own (the
+    anchors above check them); this checks the study's bookkeeping."""
+    study = load_study(spectrum_study(tmp_path))
+    assert len(study.records) == 4 and study.histories == ()
+    report = run_study(study, workers=1)
+    found = read_spectrum(report.output)
+    assert found.regions.shape == (4, 5) and (found.regions >= 0).all()
+    bridge = study.bridges[0].config.to_bridge()
+    overturning = [REGIONS.index("overturning_after_impact"),
+                   REGIONS.index("overturning_without_impact")]  # fmt: skip
+    for i, ratio in enumerate(found.frequency_ratios):
+        upper, lower = found.boundaries["overturning"][i], found.below["overturning"][i]
+        mapped = np.isin(found.regions[i], overturning)
+        if math.isnan(upper):
+            assert not mapped.any()
+            continue
+        assert upper - lower <= 0.01 * upper
+        assert not mapped[found.amplitude_ratios <= lower].any()
+        for amplitude, topples in ((upper, True), (lower, False)):
+            response = under_pulse(bridge, "one-sine-a", ratio, amplitude, samples=100)
+            assert toppled(response) == topples
+    with h5py.File(report.output, "r") as file:
+        region = file["spectrum/region"]
+        assert region.shape == (4, 5) and region.attrs["flag_meanings"] == " ".join(REGIONS)
+    again = run_study(load_study(spectrum_study(tmp_path)), workers=1)
+    assert again.ran == 0
+
+
+def test_a_spectrum_shards_and_merges_to_the_same_file(tmp_path):
+    """Two shards merged hold the spectrum one run stores."""
+    whole = run_study(load_study(spectrum_study(tmp_path, output="whole.h5")), workers=2).output
+    parts = [
+        run_study(load_study(spectrum_study(tmp_path, output=f"part{k}.h5")), workers=1,
+                  shard=(k, 2)).output
+        for k in range(2)
+    ]  # fmt: skip
+    merged = merge_results(tmp_path / "merged.h5", parts).output
+    expected, got = contents(whole), contents(merged)
+    for name in [n for n in expected if n.startswith("spectrum")]:
+        assert got[name] == expected[name], name
+
+
+def test_the_spectrum_command_runs_and_draws(tmp_path):
+    bridge = tmp_path / "block.yaml"
+    bridge.write_text("name: block\npiers: {width: 0.8, heights: [2.0]}\n", encoding="utf-8")
+    output = tmp_path / "block.h5"
+    result = CliRunner().invoke(main, [
+        "spectrum", "overturning", str(bridge), "--pulse", "cycloidal-c", "--frequencies",
+        "1:5:3", "--amplitudes", "1:4:4", "-o", str(output), "--workers", "1",
+    ])  # fmt: skip
+    assert result.exit_code == 0, result.output
+    assert output.with_suffix(".png").stat().st_size > 10_000
+    drawn = CliRunner().invoke(main, ["plot", "overturning", str(output)])
+    assert drawn.exit_code == 0 and (tmp_path / "block-overturning.png").exists()
+
+
+def test_a_results_file_without_a_spectrum_is_refused(tmp_path):
+    result = CliRunner().invoke(main, ["plot", "overturning", str(REPO / "README.md")])
+    assert result.exit_code == 2
+
+
+@pytest.mark.parametrize(
+    "change, field, reason",
+    [
+        ("  amplitudes: {start: 1.0, stop: 5.0, count: 5, spacing: log}\n",
+         "spectrum.amplitudes", "linear"),
+        ("records: {pulses: [{shape: one-sine-a, amplitude_g: 0.1, period: 1}]}\n", "",
+         "exactly one of records and spectrum"),
+        ("intensity: {measure: scale, levels: [1.0]}\n", "", "without intensity or sweep"),
+    ],
+)  # fmt: skip
+def test_bad_spectrum_sections(tmp_path, change, field, reason):
+    text = spectrum_study(tmp_path).read_text(encoding="utf-8")
+    if change.startswith("  amplitudes"):
+        text = text.replace("  amplitudes: {start: 1.0, stop: 5.0, count: 5}\n", change)
+    else:
+        text += change
+    path = tmp_path / "bad.yaml"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(InputError) as excinfo:
+        load_study(path)
+    problems = dict(excinfo.value.problems)
+    assert field in problems and reason in problems[field], problems
+
+
+@pytest.mark.parametrize("name", ["overturning-block.yaml", "overturning-hbar2.00.yaml"])
+def test_the_bundled_spectra_load(name):
+    study = load_study(REPO / "configs" / "studies" / name)
+    assert study.spectrum is not None and study.histories == ()
+    assert len(study.records) == study.spectrum["frequencies"]["count"]
