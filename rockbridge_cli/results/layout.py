@@ -11,6 +11,9 @@
                                in the order of /peaks
     /fragility/<column>        with an intensity section: fragility per bridge × limit state
                                (`rockbridge_cli.assessment.fragility.store`)
+    /spectrum/<name>           a spectrum study's instead: its axes, the map of what each
+                               analysis reached and each limit state's boundary
+                               (`rockbridge_cli.assessment.spectrum.store`)
     /analyses/<bridge>/<record>/histories/<name>     histories, where the study keeps them
 
 ``/events`` is a contiguous ragged array in the sense of the CF conventions (§9.3.3): the column
