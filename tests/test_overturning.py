@@ -206,8 +206,13 @@ def test_the_spectrum_command_runs_and_draws(tmp_path):
 
 
 def test_a_results_file_without_a_spectrum_is_refused(tmp_path):
-    result = CliRunner().invoke(main, ["plot", "overturning", str(REPO / "README.md")])
-    assert result.exit_code == 2
+    study = tmp_path / "pulse.yaml"
+    study.write_text("bridges: [{id: block, piers: {width: 0.8, heights: [2.0]}}]\n"
+                     "records: {pulses: [{shape: one-sine-a, amplitude_g: 0.5, period: 1, "
+                     "rest: 1}]}\n", encoding="utf-8")  # fmt: skip
+    output = run_study(load_study(study, output=tmp_path / "pulse.h5"), workers=1).output
+    result = CliRunner().invoke(main, ["plot", "overturning", str(output)])
+    assert result.exit_code == 2 and "no spectrum section" in result.output
 
 
 @pytest.mark.parametrize(
