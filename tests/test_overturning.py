@@ -117,9 +117,18 @@ def test_similarity_law():
     assert anchor.agrees, anchor
 
 
-def test_a_frame_overturns_as_its_equivalent_block():
-    """Makris & Vassiliou (2013): a symmetric frame with a rigid cap overturns at the least
-    amplitude of its block, R·(1 + 3γ)/(1 + 2γ) with the frame's restitution, to 1e-7."""
+def test_a_frame_rocks_and_overturns_as_its_equivalent_block():
+    """Makris & Vassiliou (2013): a symmetric frame with a rigid cap (γ = 0.75) rocks under a pulse
+    as its block, R·(1 + 3γ)/(1 + 2γ) with the frame's restitution: θ1 to 1e-9 rad through
+    several impacts, and the least amplitude that overturns it to 1e-7."""
+    rigid = frame(1.5)
+    twin = block(rigid.model.alpha1, rigid.model.R1 * (1 + 3 * 0.75) / (1 + 2 * 0.75),
+                 restitution=rigid.eta(1.0))  # fmt: skip
+    rocked = [under_pulse(b, "one-sine-a", 5.0, 2.0, samples=500, preset="reference",
+                          histories=True) for b in (rigid, twin)]  # fmt: skip
+    assert rocked[0].n_impacts == rocked[1].n_impacts >= 2
+    np.testing.assert_allclose(rocked[0].histories["theta1"], rocked[1].histories["theta1"],
+                               rtol=0, atol=1e-9)  # fmt: skip
     anchor = frame_and_block()
     assert anchor.agrees, anchor
 

@@ -63,7 +63,8 @@ def plot_overturning(results: str | Path, output: str | Path) -> Path:
     axes = figure.subplots()
     colours = ListedColormap(list(REGION_COLOURS.values()))
     norm = BoundaryNorm(np.arange(NOT_RUN - 0.5, len(REGIONS)), colours.N)
-    edges_x, edges_y = _edges(x), _edges(y)
+    logarithmic = x.size > 2 and np.allclose(np.diff(np.log(x)), np.log(x[1] / x[0]))
+    edges_x, edges_y = _edges(x, logarithmic), _edges(y)
     axes.pcolormesh(edges_x, edges_y, spectrum.regions.T, cmap=colours, norm=norm)
     present = set(np.unique(spectrum.regions).tolist())
     handles: list[Artist] = [
@@ -81,6 +82,7 @@ def plot_overturning(results: str | Path, output: str | Path) -> Path:
         reached = "" if np.isfinite(values).any() else f": none up to {y.max():g}"
         label = f"lowest {state.replace('_', ' ')}{reached}"
         handles += axes.plot(x, values, **look, label=label)
+    axes.set_xscale("log" if logarithmic else "linear")
     axes.set_xlim(edges_x[0], edges_x[-1])
     axes.set_ylim(edges_y[0], edges_y[-1])
     axes.set_xlabel("ω_p / p")
@@ -95,8 +97,10 @@ def plot_overturning(results: str | Path, output: str | Path) -> Path:
     return save(figure, output)
 
 
-def _edges(centres: np.ndarray) -> np.ndarray:
-    """Cell edges around the axis values: midway between neighbours, and as far outside the
-    ends."""
+def _edges(centres: np.ndarray, logarithmic: bool = False) -> np.ndarray:
+    """Cell edges around the axis values: midway between neighbours (in the logarithms on a
+    logarithmic axis), and as far outside the ends."""
+    if logarithmic:
+        return np.exp(_edges(np.log(centres)))
     middle = 0.5 * (centres[1:] + centres[:-1])
     return np.concatenate([[2 * centres[0] - middle[0]], middle, [2 * centres[-1] - middle[-1]]])
