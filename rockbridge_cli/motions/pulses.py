@@ -39,6 +39,7 @@ the ground displaced, as the near-fault "fling" it idealises does.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -63,11 +64,8 @@ DEFAULT_CYCLES = {
 RICKER_CENTRE = {"ricker-symmetric": 1.5, "ricker-antisymmetric": 2.0}
 """Centre of each Ricker wavelet, in periods from t = 0; the wavelet is cut at twice it [-]."""
 
-_ANTISYMMETRIC_PEAK = (
-    (3.0 - (3.0 - math.sqrt(6.0)))
-    * math.sqrt(3.0 - math.sqrt(6.0))
-    * math.exp(-(3.0 - math.sqrt(6.0)) / 2.0)
-)
+_U1 = 3.0 - math.sqrt(6.0)
+_ANTISYMMETRIC_PEAK = math.sqrt(6.0) * math.sqrt(_U1) * math.exp(-0.5 * _U1)
 """β of the antisymmetric Ricker wavelet: max |(u² − 3)·u·exp(−u²/2)|, at u² = 3 − √6."""
 
 
@@ -196,31 +194,25 @@ def _unit_waveform(pulse: Pulse, t: np.ndarray) -> np.ndarray:
         x = (math.pi / pulse.period * (t - RICKER_CENTRE[shape] * pulse.period)) ** 2
         return (1.0 - 2.0 * x) * np.exp(-x)
     if shape == "ricker-antisymmetric":
-        u = (
-            2.0
-            * math.pi
-            * (t - RICKER_CENTRE[shape] * pulse.period)
-            / (math.sqrt(3.0) * pulse.period)
-        )
+        tau = t - RICKER_CENTRE[shape] * pulse.period
+        u = 2.0 * math.pi * tau / (math.sqrt(3.0) * pulse.period)
         return (u * u - 3.0) * u * np.exp(-0.5 * u * u) / _ANTISYMMETRIC_PEAK
-    gamma = float(pulse.cycles or 2.0)
-    return _mp_acceleration(t, pulse.period, gamma, pulse.phase) / _mp_peak(
-        pulse.period, gamma, pulse.phase
-    )
+    shape_of = (pulse.period, float(pulse.cycles or 2.0), pulse.phase)  # T_p, γ, ν
+    return _mp_acceleration(t, *shape_of) / _mp_peak(*shape_of)
 
 
 def _mp_acceleration(t: np.ndarray, period: float, gamma: float, phase: float) -> np.ndarray:
     """dv/dt of Mavroeidis & Papageorgiou's velocity pulse with A = 1, from t = 0 [1/s]."""
     tau = 2.0 * math.pi / period * (np.asarray(t, dtype=float) - 0.5 * gamma * period)
     envelope, carrier = 1.0 + np.cos(tau / gamma), np.cos(tau + phase)
-    return (
-        -math.pi / period * (np.sin(tau / gamma) * carrier / gamma + np.sin(tau + phase) * envelope)
-    )
+    swell = np.sin(tau / gamma) * carrier / gamma  # the envelope's rate of change
+    return -math.pi / period * (swell + np.sin(tau + phase) * envelope)
 
 
+@functools.lru_cache(maxsize=256)
 def _mp_peak(period: float, gamma: float, phase: float) -> float:
     """max |dv/dt| of `_mp_acceleration`: the largest of 2^14 samples, refined by the parabola
-    through it and its neighbours (relative error ~1e-12) [1/s]."""
+    through it and its neighbours (relative error below 1e-10) [1/s]."""
     t = np.linspace(0.0, gamma * period, 2**14 + 1)
     values = np.abs(_mp_acceleration(t, period, gamma, phase))
     i = int(np.clip(np.argmax(values), 1, t.size - 2))
