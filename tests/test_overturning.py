@@ -232,11 +232,12 @@ def test_a_results_file_without_a_spectrum_is_refused(tmp_path):
         ("records: {pulses: [{shape: one-sine-a, amplitude_g: 0.1, period: 1}]}\n", "",
          "exactly one of records and spectrum"),
         ("intensity: {measure: scale, levels: [1.0]}\n", "", "without intensity or sweep"),
+        ("  amplitudes: {start: 0.0001, stop: 5.0, count: 5}\n", "spectrum", "2^20"),
     ],
 )  # fmt: skip
 def test_bad_spectrum_sections(tmp_path, change, field, reason):
     text = spectrum_study(tmp_path).read_text(encoding="utf-8")
-    if change.startswith("  amplitudes"):
+    if change.startswith("  amplitudes"):  # in place of the section's
         text = text.replace("  amplitudes: {start: 1.0, stop: 5.0, count: 5}\n", change)
     else:
         text += change

@@ -34,6 +34,7 @@ from ..core.quantities import LIMIT_STATES, check_limit_state
 from ..motions.pulses import SHAPES, Pulse
 from ..records.files import Record
 from ..records.pulses import pulse_record
+from .intensity import MAX_BISECTIONS
 from .loading import StrictModel
 from .sweep import Range
 
@@ -107,6 +108,15 @@ class Spectrum(StrictModel):
         if min(frequencies.start, frequencies.stop) <= 0.0:
             raise ValueError("frequency ratios must be positive")
         return frequencies
+
+    @model_validator(mode="after")
+    def _bisections(self) -> Spectrum:
+        start, count = self.amplitudes.start, self.amplitudes.count
+        step = (self.amplitudes.stop - start) / (count - 1)
+        if step / (self.tolerance * start) > 2.0**MAX_BISECTIONS:
+            raise ValueError(f"amplitude step / (tolerance · start) must be at most "
+                             f"2^{MAX_BISECTIONS}: raise start, count or tolerance")  # fmt: skip
+        return self
 
     @field_validator("limit_states")
     @classmethod
