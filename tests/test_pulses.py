@@ -168,7 +168,7 @@ def test_a_study_runs_pulses_named_by_their_parameters(tmp_path):
     )
     extra = ("intensity: {measure: scale, levels: [1.0, 2.0]}\n"
              "sweep: {fields: {piers.width: [0.4, 0.5]}}\noutput: {histories: none}\n")  # fmt: skip
-    study = load_study(pulse_study(tmp_path, records, extra))
+    study = load_study(pulse_study(tmp_path, records, extra), output=tmp_path / "pulses.h5")
     assert [r.id for r in study.records][::2] == [
         "one-sine-a_0.3g_0.5s+1x", "ricker-symmetric_0.2g_0.5s+1x", "C2+1x",
     ]  # fmt: skip
