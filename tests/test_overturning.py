@@ -212,6 +212,8 @@ def test_the_spectrum_command_runs_and_draws(tmp_path):
     assert output.with_suffix(".png").stat().st_size > 10_000
     drawn = CliRunner().invoke(main, ["plot", "overturning", str(output)])
     assert drawn.exit_code == 0 and (tmp_path / "block-overturning.png").exists()
+    fitted = CliRunner().invoke(main, ["fragility", str(output)])
+    assert fitted.exit_code == 2 and "rockbridge plot overturning draws it" in fitted.output
 
 
 def test_a_results_file_without_a_spectrum_is_refused(tmp_path):

@@ -215,6 +215,9 @@ def fragilities(
         columns = peak_columns(file)
         if intensity is None:
             raise InputError(path, [("", "the study has no intensity section: nothing to fit")])
+        if "spectrum" in json.loads(file.attrs.get("config", "{}")):
+            raise InputError(path, [("", "an overturning spectrum, not records of one hazard: "
+                                     "rockbridge plot overturning draws it")])  # fmt: skip
         conversion = None
         if measure is not None and measure != intensity["measure"]:
             from .measures import Conversion
