@@ -31,11 +31,8 @@ from rockbridge_cli.core.quantities import STANDARD_GRAVITY  # noqa: E402
 from rockbridge_cli.motions import baseline, matching, seeds, spectral_fit  # noqa: E402
 from rockbridge_cli.records.fema import read_fema_set  # noqa: E402
 from rockbridge_cli.records.files import read_record  # noqa: E402
-from rockbridge_cli.records.sets import (  # noqa: E402
-    compare_with_seed,
-    match_settings,
-    resolve_target,
-)
+from rockbridge_cli.records.sets import compare_with_seed, match_settings  # noqa: E402
+from rockbridge_cli.records.target import resolve_target  # noqa: E402
 
 CONFIG = REPO / "configs" / "records" / "seeds-fema-far-field-ec8-type1-C-ag0.6g.yaml"
 

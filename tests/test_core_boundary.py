@@ -153,8 +153,13 @@ LAYERS = (
 """The package's rooms from the ground up (docs/architecture.md): a room imports its own modules and
 the rooms of the layers below it, never those above."""
 
-BACK_UP = {("rockbridge_cli.records.sets", "rockbridge_cli.config.records")}
-"""The one import that runs back up: a record set is generated from its config."""
+BACK_UP = {
+    ("rockbridge_cli.records.sets", "rockbridge_cli.config.records"),
+    ("rockbridge_cli.records.manifest", "rockbridge_cli.config.records"),
+    ("rockbridge_cli.records.target", "rockbridge_cli.config.records"),
+}
+"""The one room's import that runs back up: a record set is generated from its config (its
+generator, manifest and target read `config.records.RecordSetConfig`)."""
 
 
 def room(module: str) -> str:

@@ -21,11 +21,8 @@ from rockbridge_cli.motions import baseline, matching, wavelets
 from rockbridge_cli.motions.ec8 import compute_elastic_spectrum
 from rockbridge_cli.motions.spectra import compute_psa, find_peak_responses
 from rockbridge_cli.records.files import read_record_set
-from rockbridge_cli.records.sets import (
-    GROUND_DISPLACEMENT_AIM,
-    generate_record_set,
-    read_set_target,
-)
+from rockbridge_cli.records.sets import GROUND_DISPLACEMENT_AIM, generate_record_set
+from rockbridge_cli.records.target import read_set_target
 
 ROOT = Path(__file__).parents[1]
 PAPER = ROOT / "configs" / "records" / "ec8-type1-C-ag0.6g.yaml"

@@ -19,7 +19,7 @@ from rockbridge_cli.records.files import (
     read_stated_units,
     write_record,
 )
-from rockbridge_cli.records.sets import read_set_target
+from rockbridge_cli.records.target import read_set_target
 
 DATA = Path(__file__).parent / "data" / "records"
 BUNDLED = Path(__file__).parents[1] / "records" / "ec8-type1-C-ag0.6g"

@@ -27,12 +27,9 @@ from rockbridge_cli.errors import InputError
 from rockbridge_cli.motions import baseline, ec8, spectra, spectral_fit, wavelets
 from rockbridge_cli.motions import seeds as seed_matching
 from rockbridge_cli.records.files import read_record, read_record_set
-from rockbridge_cli.records.sets import (
-    SeedChange,
-    TargetDefinition,
-    generate_record_set,
-    read_set_target,
-)
+from rockbridge_cli.records.sets import generate_record_set
+from rockbridge_cli.records.summary import SeedChange
+from rockbridge_cli.records.target import TargetDefinition, read_set_target
 
 TARGET = "target: {spectrum_type: 1, ground_type: C, ag_g: 0.6}\n"
 

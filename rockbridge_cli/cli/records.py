@@ -11,7 +11,8 @@ from ..records.files import MANIFEST
 from . import main, plot
 
 if TYPE_CHECKING:
-    from ..records.sets import RecordSetReport, RecordSummary
+    from ..records.sets import RecordSetReport
+    from ..records.summary import RecordSummary
 
 
 @main.command("generate-records")
@@ -192,7 +193,8 @@ def _ground_lines(report: RecordSetReport) -> list[str]:
 
 def _seed_lines(report: RecordSetReport) -> list[str]:
     """What matching changed of each seed, beside the seed linearly scaled to a_g*S."""
-    from ..records.sets import GROUND_DISPLACEMENT_AIM, SEED_CHANGE, SEED_GROUND_GROWTH
+    from ..records.sets import GROUND_DISPLACEMENT_AIM, SEED_GROUND_GROWTH
+    from ..records.summary import SEED_CHANGE
 
     matched = [(s.name, s.seed_change) for s in report.records if s.seed_change is not None]
     if not matched:

@@ -24,7 +24,7 @@ from ..records.files import (
     read_record_set,
     read_stated_units,
 )
-from ..records.sets import TargetDefinition, read_set_target
+from ..records.target import TargetDefinition, read_set_target
 from .common import check_format, plain, save, style
 
 NAMED_RECORDS = 8

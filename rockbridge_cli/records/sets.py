@@ -7,23 +7,21 @@ from __future__ import annotations
 
 import dataclasses
 import json
-import platform
 import re
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 import numpy as np
-import scipy
 
-from .. import __version__
 from ..config.records import FemaSet, RecordSetConfig
-from ..errors import InputError
 from ..motions import baseline, ec8, matching, seeds, spectra, spectral_fit
 from ..paths import writable
 from .fema import read_fema_set
-from .files import MANIFEST, PROVENANCE, Record, read_manifest, read_record, write_record
+from .files import MANIFEST, PROVENANCE, Record, read_record, write_record
+from .manifest import build_manifest, checks_dense, record_header, round_floats
+from .summary import RecordSummary, SeedChange
+from .target import TargetDefinition, resolve_target
 
 GROUND_DISPLACEMENT_AIM = 2.0
 """The peak ground displacement a matched record should stay within, as a multiple of EN 1998-1's
@@ -35,97 +33,6 @@ SEED_GROUND_GROWTH = 1.25
 """A matched seed's PGD may reach this multiple of the seed's linearly scaled to the target PGA,
 or `GROUND_DISPLACEMENT_AIM` d_g where that is larger; the same for its PGV with v_g
 (`TargetDefinition.ground_velocity`) [-]."""
-
-SEED_CHANGE = 0.25
-"""The report flags a matched seed whose D5–95, D5–75 or PGV changed by more than this share of
-the seed's (the PGV of the seed scaled to the target PGA), or whose Arias time moved by more
-than this share of its D5–95 [-]."""
-
-
-@dataclass(frozen=True)
-class SeedChange:
-    """What matching did to a seed: the matched record's traits beside the seed's, the seed
-    linearly scaled to the target PGA.
-
-    Attributes
-    ----------
-    record, seed
-        their PGV, PGD, D5–95, D5–75 and Arias time (`seeds.MotionTraits`).
-    pgv_bound, pgd_bound
-        the largest PGV [m/s] and PGD [m] the matched record may have (`SEED_GROUND_GROWTH`).
-    resampled
-        the seed's own time step and the one it was resampled to, to resolve the band [s]; None
-        where it was matched at its own.
-    """
-
-    record: seeds.MotionTraits
-    seed: seeds.MotionTraits
-    pgv_bound: float
-    pgd_bound: float
-    resampled: tuple[float, float] | None
-
-    @property
-    def ground_ok(self) -> bool:
-        """PGV and PGD within their bounds."""
-        return self.record.pgv <= self.pgv_bound and self.record.pgd <= self.pgd_bound
-
-    @property
-    def flags(self) -> tuple[str, ...]:
-        """The traits that changed by more than `SEED_CHANGE`."""
-        new, old = self.record, self.seed
-        changes = {
-            "PGV": new.pgv / old.pgv - 1.0,
-            "D5-95": new.d5_95 / old.d5_95 - 1.0,
-            "D5-75": new.d5_75 / old.d5_75 - 1.0,
-            "Arias time": (new.arias_time - old.arias_time) / old.d5_95,
-        }
-        return tuple(name for name, change in changes.items() if abs(change) > SEED_CHANGE)
-
-
-@dataclass(frozen=True)
-class RecordSummary:
-    """How one generated record turned out.
-
-    Attributes
-    ----------
-    name, file
-        record name and file name in the set's folder.
-    peak_acceleration
-        PGA [m/s²].
-    min_ratio, max_ratio
-        min and max over the check periods of computed / target spectrum [-].
-    final_velocity, final_displacement
-        ground velocity [m/s] and displacement [m] at the end of the record.
-    peak_velocity, peak_displacement
-        largest |ground velocity| [m/s] and |displacement| [m] over the record.
-    significant_duration
-        D5–95 [s].
-    attempts, iterations
-        phase sets tried and matching iterations of the kept one [-].
-    scale_factor
-        the factor of a seed scaled rather than matched (`ec8.scale_factors`) [-], else None.
-    fit
-        the ratio to the target on the dense grid, every local extreme refined
-        (`spectral_fit.measure_fit`).
-    seed_change
-        what the matching changed of a matched seed, else None.
-    """
-
-    name: str
-    file: str
-    peak_acceleration: float
-    min_ratio: float
-    max_ratio: float
-    final_velocity: float
-    final_displacement: float
-    peak_velocity: float
-    peak_displacement: float
-    significant_duration: float
-    attempts: int
-    iterations: int
-    fit: spectral_fit.SpectralFit
-    scale_factor: float | None = None
-    seed_change: SeedChange | None = None
 
 
 @dataclass(frozen=True)
@@ -166,68 +73,6 @@ class RecordSetReport:
     dense_tolerance: bool = False
 
 
-@dataclass(frozen=True)
-class TargetDefinition:
-    """The resolved target of a record set, in SI units.
-
-    Attributes
-    ----------
-    spectrum_type, ground_type, damping
-        as in the config.
-    design_acceleration
-        a_g [m/s²].
-    surface_pga
-        a_g·S, the records' PGA [m/s²].
-    """
-
-    spectrum_type: int
-    ground_type: str
-    damping: float
-    design_acceleration: float
-    surface_pga: float
-
-    @property
-    def ground_displacement(self) -> float:
-        """EN 1998-1's design ground displacement d_g [m] (`ec8.design_ground_displacement`)."""
-        return ec8.design_ground_displacement(
-            self.spectrum_type, self.ground_type, self.design_acceleration
-        )
-
-    @property
-    def ground_velocity(self) -> float:
-        """v_g = 2π·d_g/T_D [m/s]: EN 1998-1 gives no design ground velocity; this one stands to
-        d_g as the spectrum's pseudo-velocity to its displacement at T_D, where its constant
-        velocity and constant displacement branches meet (0.64 m/s for type 1, ground C,
-        a_g = 0.6 g)."""
-        corner = ec8.get_spectrum_shape(self.spectrum_type, self.ground_type).corner_d
-        return 2.0 * np.pi * self.ground_displacement / corner
-
-    def evaluate(self, periods: np.ndarray, extrapolate: bool = False) -> np.ndarray:
-        """Se at the given periods [m/s²]."""
-        return ec8.compute_elastic_spectrum(
-            periods,
-            self.spectrum_type,
-            self.ground_type,
-            design_acceleration=self.design_acceleration,
-            damping=self.damping,
-            extrapolate=extrapolate,
-        )
-
-
-def resolve_target(config: RecordSetConfig) -> TargetDefinition:
-    """a_g and a_g·S of a config in m/s², whichever of ``ag_g`` and ``pga_g`` it gives."""
-    target = config.target
-    soil = ec8.get_spectrum_shape(target.spectrum_type, target.ground_type).soil_factor
-    if target.ag_g is not None:
-        design = target.ag_g * config.gravity
-    else:
-        assert target.pga_g is not None  # the config gives exactly one of the two
-        design = target.pga_g * config.gravity / soil
-    return TargetDefinition(
-        target.spectrum_type, target.ground_type, target.damping, design, design * soil
-    )
-
-
 def generate_record_set(
     config: RecordSetConfig, folder: str | Path, config_name: str = ""
 ) -> RecordSetReport:
@@ -262,10 +107,10 @@ def generate_record_set(
     check = np.geomspace(*config.band, config.check_periods)
     summaries, compliance = _summarise(made, check, target, config)
     for index, record in enumerate(records):
-        header = _record_header(config, target, index, record)
+        header = record_header(config, target, index, record)
         write_record(folder / f"{record.name}.txt", record, header)
-    manifest = _round_floats(
-        _build_manifest(config, config_name, target, records, summaries, compliance)
+    manifest = round_floats(
+        build_manifest(config, config_name, target, records, summaries, compliance)
     )
     (folder / MANIFEST).write_text(json.dumps(manifest, indent=2) + "\n", encoding="utf-8")
     return RecordSetReport(
@@ -277,7 +122,7 @@ def generate_record_set(
         time.perf_counter() - started,
         target.ground_displacement,
         spectral_fit.dense_periods(config.band, target.damping).size,
-        _checks_dense(config),
+        checks_dense(config),
     )
 
 
@@ -291,19 +136,12 @@ def match_settings(config: RecordSetConfig, target: TargetDefinition) -> matchin
         # A seed's worst misfit jumps about under the duration rows while its RMS misfit still
         # falls: it runs its iterations out (FEMA P695 FF11a: 0.952–1.094 after 25, where the
         # artificial records' patience of 6 left it at 0.784–1.155).
-        **({"patience": config.max_iterations} if _checks_dense(config) else {}),
+        **({"patience": config.max_iterations} if checks_dense(config) else {}),
     )
 
 
 Made = tuple[Record, matching.MatchedRecord, "SeedChange | None"]
 """A record of the set, how its matching went, and what it changed of its seed."""
-
-
-def _checks_dense(config: RecordSetConfig) -> bool:
-    """Whether the set's tolerance is checked on the dense grid: for matched seeds, which
-    `seeds.match_seed` matches there; artificial records keep the check periods they were
-    matched at, so that the bundled sets' manifests stay as they were made."""
-    return config.seeds is not None and config.adjust == "match"
 
 
 def _synthesised(config, target, settings) -> list[Made]:
@@ -436,7 +274,7 @@ def _summarise(made: list[Made], check, target, config):
     )
     fits = [spectral_fit.measure_fit(r.acceleration, r.time_step, target.evaluate, config.band,
                                      target.damping) for r in records]  # fmt: skip
-    if _checks_dense(config):
+    if checks_dense(config):
         compliance = dataclasses.replace(
             compliance,
             record_min_ratio=tuple(fit.min_ratio for fit in fits),
@@ -470,155 +308,3 @@ def _summarise(made: list[Made], check, target, config):
             )
         )
     return summaries, compliance
-
-
-def _record_header(
-    config: RecordSetConfig, target: TargetDefinition, index: int, record: Record
-) -> dict:
-    pga = target.surface_pga if config.adjust == "match" else record.peak_acceleration
-    return {
-        "pga": pga,
-        "pga_g": pga / config.gravity,
-        **({"seed": config.seed} if config.seeds is None else record.metadata),
-        "record_index": index,
-        "target": f"{config.target.code} type {target.spectrum_type} ground {target.ground_type}"
-        f" a_g={target.design_acceleration / config.gravity:g}g"
-        f" damping={target.damping:g}",
-        "generator": f"rockbridge {__version__}",
-    }
-
-
-def _build_manifest(config, config_name, target, records, summaries, compliance) -> dict[str, Any]:
-    shape = ec8.get_spectrum_shape(target.spectrum_type, target.ground_type)
-    return {
-        "format": "rockbridge-record-set 1",
-        "generator": f"rockbridge {__version__}",
-        # The last printed digit of the samples depends on these (FFT and linear algebra).
-        "environment": {
-            "python": platform.python_version(),
-            "numpy": np.__version__,
-            "scipy": scipy.__version__,
-        },
-        "config_name": config_name,
-        "config": config.model_dump(mode="json", by_alias=True),
-        "target": {
-            "code": config.target.code,
-            "spectrum_type": target.spectrum_type,
-            "ground_type": target.ground_type,
-            "damping": target.damping,
-            "soil_factor": shape.soil_factor,
-            "corner_periods_s": [shape.corner_b, shape.corner_c, shape.corner_d],
-            "design_acceleration_m_s2": target.design_acceleration,
-            "surface_pga_m_s2": target.surface_pga,
-            "ground_displacement_m": target.ground_displacement,
-            "gravity_m_s2": config.gravity,
-        },
-        "check": {
-            "band_s": list(config.band),
-            "periods": config.check_periods,
-            **(_dense_check(config, target) if config.seeds is not None else {}),
-        },
-        "seed": config.seed,
-        "records": [
-            {
-                "name": s.name,
-                "file": s.file,
-                "record_index": index,
-                "pga_m_s2": s.peak_acceleration,
-                "pga_g": s.peak_acceleration / config.gravity,
-                "min_ratio": s.min_ratio,
-                "max_ratio": s.max_ratio,
-                "final_velocity_m_s": s.final_velocity,
-                "final_displacement_m": s.final_displacement,
-                "pgv_m_s": s.peak_velocity,
-                "pgd_m": s.peak_displacement,
-                "d5_95_s": s.significant_duration,
-                "stationary_duration_s": config.envelope.stationary if config.envelope else None,
-                **(records[index].metadata if config.seeds is not None else {}),
-                **(_seed_entries(s) if config.seeds is not None else {}),
-                "attempts": s.attempts,
-                "iterations": s.iterations,
-            }
-            for index, s in enumerate(summaries)
-        ],
-        "mean": {"min_ratio": compliance.mean_min_ratio, "max_ratio": compliance.mean_max_ratio},
-        "compliance": {
-            "count": compliance.count,
-            "count_ok": compliance.count_ok,
-            "mean_zero_period_m_s2": compliance.mean_zero_period,
-            "zero_period_ok": compliance.zero_period_ok,
-            "mean_ok": compliance.mean_ok,
-            "stationary_ok": compliance.stationary_ok,
-            "tolerance": compliance.tolerance,
-            "records_ok": compliance.records_ok,
-            "compliant": compliance.compliant,
-        },
-    }
-
-
-def _dense_check(config: RecordSetConfig, target: TargetDefinition) -> dict[str, Any]:
-    """How the manifest of a set of seeds states the dense grid."""
-    return {
-        "dense_periods": spectral_fit.dense_periods(config.band, target.damping).size,
-        "dense_step_ln_period": spectral_fit.STEP * target.damping,
-        "dense_extremes_refined_to_ln_period": spectral_fit.PRECISION,
-        "tolerance_checked_on": "dense" if _checks_dense(config) else "check periods",
-    }
-
-
-def _seed_entries(summary: RecordSummary) -> dict[str, Any]:
-    """A seed record's dense fit and, matched, what the matching changed of its seed."""
-    fit = summary.fit
-    entries: dict[str, Any] = {
-        "dense_min_ratio": fit.min_ratio,
-        "dense_min_period_s": fit.min_period,
-        "dense_max_ratio": fit.max_ratio,
-        "dense_max_period_s": fit.max_period,
-    }
-    change = summary.seed_change
-    if change is not None:
-        entries["matched"] = _traits(change.record)
-        entries["seed_scaled_to_pga"] = _traits(change.seed)
-        entries["pgv_bound_m_s"] = change.pgv_bound
-        entries["pgd_bound_m"] = change.pgd_bound
-        entries["ground_ok"] = change.ground_ok
-        entries["changed_over_25_percent"] = list(change.flags)
-    return entries
-
-
-def _traits(traits: seeds.MotionTraits) -> dict[str, float]:
-    return {"pgv_m_s": traits.pgv, "pgd_m": traits.pgd, "d5_95_s": traits.d5_95,
-            "d5_75_s": traits.d5_75, "arias_time_s": traits.arias_time}  # fmt: skip
-
-
-def _round_floats(value: Any) -> Any:
-    """Floats to 10 significant digits, recursively: a readable, stable manifest."""
-    if isinstance(value, float):
-        return float(f"{value:.10g}")
-    if isinstance(value, dict):
-        return {key: _round_floats(item) for key, item in value.items()}
-    if isinstance(value, list):
-        return [_round_floats(item) for item in value]
-    return value
-
-
-def read_set_target(folder: str | Path) -> TargetDefinition:
-    """The target spectrum stored in a record set's manifest (SI units).
-
-    Raises
-    ------
-    InputError
-        The manifest is missing or corrupt, or lacks the target.
-    """
-    manifest = read_manifest(folder)
-    target = manifest.get("target")
-    keys = (
-        "spectrum_type",
-        "ground_type",
-        "damping",
-        "design_acceleration_m_s2",
-        "surface_pga_m_s2",
-    )
-    if not isinstance(target, dict) or any(key not in target for key in keys):
-        raise InputError(Path(folder) / MANIFEST, [("target", "missing or incomplete")])
-    return TargetDefinition(*(target[key] for key in keys))

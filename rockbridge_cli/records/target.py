@@ -1,0 +1,101 @@
+"""The target spectrum of a record set, resolved in SI units from its config (`resolve_target`)
+or read back from a set's manifest (`read_set_target`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..errors import InputError
+from ..motions import ec8
+from .files import MANIFEST, read_manifest
+
+if TYPE_CHECKING:
+    from ..config.records import RecordSetConfig
+
+
+@dataclass(frozen=True)
+class TargetDefinition:
+    """The resolved target of a record set, in SI units.
+
+    Attributes
+    ----------
+    spectrum_type, ground_type, damping
+        as in the config.
+    design_acceleration
+        a_g [m/s²].
+    surface_pga
+        a_g·S, the records' PGA [m/s²].
+    """
+
+    spectrum_type: int
+    ground_type: str
+    damping: float
+    design_acceleration: float
+    surface_pga: float
+
+    @property
+    def ground_displacement(self) -> float:
+        """EN 1998-1's design ground displacement d_g [m] (`ec8.design_ground_displacement`)."""
+        return ec8.design_ground_displacement(
+            self.spectrum_type, self.ground_type, self.design_acceleration
+        )
+
+    @property
+    def ground_velocity(self) -> float:
+        """v_g = 2π·d_g/T_D [m/s]: EN 1998-1 gives no design ground velocity; this one stands to
+        d_g as the spectrum's pseudo-velocity to its displacement at T_D, where its constant
+        velocity and constant displacement branches meet (0.64 m/s for type 1, ground C,
+        a_g = 0.6 g)."""
+        corner = ec8.get_spectrum_shape(self.spectrum_type, self.ground_type).corner_d
+        return 2.0 * np.pi * self.ground_displacement / corner
+
+    def evaluate(self, periods: np.ndarray, extrapolate: bool = False) -> np.ndarray:
+        """Se at the given periods [m/s²]."""
+        return ec8.compute_elastic_spectrum(
+            periods,
+            self.spectrum_type,
+            self.ground_type,
+            design_acceleration=self.design_acceleration,
+            damping=self.damping,
+            extrapolate=extrapolate,
+        )
+
+
+def resolve_target(config: RecordSetConfig) -> TargetDefinition:
+    """a_g and a_g·S of a config in m/s², whichever of ``ag_g`` and ``pga_g`` it gives."""
+    target = config.target
+    soil = ec8.get_spectrum_shape(target.spectrum_type, target.ground_type).soil_factor
+    if target.ag_g is not None:
+        design = target.ag_g * config.gravity
+    else:
+        assert target.pga_g is not None  # the config gives exactly one of the two
+        design = target.pga_g * config.gravity / soil
+    return TargetDefinition(
+        target.spectrum_type, target.ground_type, target.damping, design, design * soil
+    )
+
+
+def read_set_target(folder: str | Path) -> TargetDefinition:
+    """The target spectrum stored in a record set's manifest (SI units).
+
+    Raises
+    ------
+    InputError
+        The manifest is missing or corrupt, or lacks the target.
+    """
+    manifest = read_manifest(folder)
+    target = manifest.get("target")
+    keys = (
+        "spectrum_type",
+        "ground_type",
+        "damping",
+        "design_acceleration_m_s2",
+        "surface_pga_m_s2",
+    )
+    if not isinstance(target, dict) or any(key not in target for key in keys):
+        raise InputError(Path(folder) / MANIFEST, [("target", "missing or incomplete")])
+    return TargetDefinition(*(target[key] for key in keys))
