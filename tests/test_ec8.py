@@ -182,3 +182,33 @@ class TestCompliance:
     def test_shapes_must_agree(self):
         with pytest.raises(ValueError, match="shapes"):
             ec8.check_compliance(np.ones((3, 2)), self.target, np.ones(3), 1.0)
+
+
+@pytest.mark.parametrize(
+    ("spectrum_type", "period", "expected"),
+    [
+        # EN 1998-1 §3.2.2.3, Table 3.4 and Eqs. (3.8)-(3.11), by hand for a_g = 1, ξ = 5 % (η = 1):
+        # type 1: a_vg = 0.90, T_B 0.05, T_C 0.15, T_D 1.0 s; type 2: a_vg = 0.45, same corners.
+        (1, 0.0, 0.90),  # Sve(0) = a_vg
+        (1, 0.025, 0.90 * (1.0 + 0.5 * 2.0)),  # halfway up the rising branch: a_vg·(1 + ½(3η − 1))
+        (1, 0.10, 2.70),  # the plateau a_vg·η·3.0
+        (1, 0.30, 2.70 * 0.15 / 0.30),  # a_vg·η·3.0·T_C/T
+        (1, 2.0, 2.70 * 0.15 * 1.0 / 4.0),  # a_vg·η·3.0·T_C·T_D/T²
+        (2, 0.10, 1.35),
+        (2, 0.50, 1.35 * 0.15 / 0.50),
+    ],
+)
+def test_the_vertical_spectrum_by_hand(spectrum_type, period, expected):
+    value = ec8.compute_vertical_spectrum(period, spectrum_type, design_acceleration=1.0)
+    assert float(value) == pytest.approx(expected, rel=1e-12)
+
+
+def test_the_vertical_spectrum_is_continuous_and_damped_like_the_horizontal():
+    """Continuous at its corners; 10 % damping scales the plateau by η = sqrt(10/15) (Eq. 3.6)."""
+    for corner in (0.05, 0.15, 1.0):
+        below, above = ec8.compute_vertical_spectrum(
+            np.array([corner - 1e-12, corner + 1e-12]), 1, design_acceleration=3.0
+        )
+        assert below == pytest.approx(above, rel=1e-9)
+    ratio = ec8.compute_vertical_spectrum(0.1, 1, 1.0, damping=0.10) / 2.7
+    assert ratio == pytest.approx((10.0 / 15.0) ** 0.5, rel=1e-12)

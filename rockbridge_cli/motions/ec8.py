@@ -209,6 +209,53 @@ def compute_elastic_spectrum(
     )
 
 
+VERTICAL_SHAPES = {1: (0.90, 0.05, 0.15, 1.0), 2: (0.45, 0.05, 0.15, 1.0)}
+"""EN 1998-1 Table 3.4, the vertical elastic spectrum by spectrum type: a_vg/a_g and the corner
+periods T_B, T_C, T_D [s] (the same for every ground type: no soil factor)."""
+
+
+def compute_vertical_spectrum(
+    periods: np.ndarray | float,
+    spectrum_type: int,
+    design_acceleration: float,
+    damping: float = 0.05,
+) -> np.ndarray:
+    """Vertical elastic response spectrum Sve(T) of EN 1998-1 §3.2.2.3, Eqs. (3.8)–(3.11).
+
+    Parameters
+    ----------
+    periods
+        vibration periods, 0 <= T <= 4 s [s].
+    spectrum_type
+        1 or 2 (Table 3.4) [-].
+    design_acceleration
+        a_g, the horizontal design ground acceleration on type A ground [m/s²]; the vertical
+        one is a_vg = 0.90·a_g (type 1) or 0.45·a_g (type 2).
+    damping
+        viscous damping ratio ξ [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        Sve(T), the shape of ``periods`` [m/s²]; Sve(0) = a_vg, the vertical PGA.
+    """
+    periods = np.asarray(periods, dtype=float)
+    if np.any(~np.isfinite(periods)) or np.any(periods < 0.0) or np.any(periods > MAX_PERIOD):
+        raise ValueError(f"EN 1998-1 Eqs. (3.8)-(3.11) hold for 0 <= T <= {MAX_PERIOD:g} s")
+    if spectrum_type not in VERTICAL_SHAPES:
+        raise ValueError(f"spectrum type must be 1 or 2, got {spectrum_type!r}")
+    ratio, tb, tc, td = VERTICAL_SHAPES[spectrum_type]
+    avg, eta = ratio * design_acceleration, compute_damping_correction(damping)
+    plateau = avg * eta * 3.0
+    safe = np.maximum(periods, tb)
+    return np.select(
+        [periods <= tb, periods <= tc, periods <= td],
+        [avg * (1.0 + periods / tb * (eta * 3.0 - 1.0)), np.full_like(periods, plateau),
+         plateau * tc / safe],
+        default=plateau * tc * td / safe**2,
+    )  # fmt: skip
+
+
 def _resolve_design_acceleration(
     design_acceleration: float | None, surface_pga: float | None, soil_factor: float
 ) -> float:
