@@ -311,8 +311,8 @@ def _risk_section(found: list, intensity: dict, hazard: HazardCurve, years: floa
         "</sub>(im)| (Cornell et al. 2002), the return period 1/λ and P the probability of at "
         f"least one occurrence in {years:g} years, 1 − exp(−λ·{years:g}); the 5–95 % intervals "
         "are those of the bootstrap over the records. &lt; marks an upper bound: no record "
-        "reaches the state up to the highest level run.</p>\n"
-        + _table(headers, rows, text_columns=(0, 1))
+        "reaches the state up to the highest level run, or up to where a failure ended its "
+        "curve.</p>\n" + _table(headers, rows, text_columns=(0, 1))
     )
 
 

@@ -124,7 +124,7 @@ def test_pelicun_demands_are_the_peak_tables_rows(ida, tmp_path):
     stripes = counts[counts == 2].index  # the levels both records ran
     names = sorted(p.name for p in (tmp_path / "demands").iterdir())
     assert names == sorted(f"{bridge}+{level:.10g}g.csv" for bridge, level in stripes)
-    assert {round(level, 9) for _, level in stripes} >= {0.1, 0.5, 0.9, 1.3, 1.7, 2.1, 2.5}
+    assert {round(level, 9) for _, level in stripes} >= {0.1, 0.5, 0.9}  # below every failure
     for bridge, level in stripes:
         gap = load_bridge(BRIDGES / f"{bridge}.yaml").abutments.gap
         stripe = peaks[(peaks["bridge"] == bridge) & (peaks["intensity"] == level)]
@@ -153,12 +153,12 @@ def test_pelicun_reads_the_demands(ida, tmp_path):
     peaks = read_peaks(ida)
     invoke("export", "pelicun", ida, "-o", tmp_path / "demands")
     assessment = Assessment({"PrintLog": False, "Verbose": False})
-    assessment.demand.load_sample(str(tmp_path / "demands" / "studied-hbar2.00+1.3g.csv"))
+    assessment.demand.load_sample(str(tmp_path / "demands" / "studied-hbar2.00+0.9g.csv"))
     sample, units = assessment.demand.save_sample(save_units=True)
-    stripe = peaks[(peaks["bridge"] == "studied-hbar2.00") & np.isclose(peaks["intensity"], 1.3)]
+    stripe = peaks[(peaks["bridge"] == "studied-hbar2.00") & np.isclose(peaks["intensity"], 0.9)]
     np.testing.assert_allclose(sample["DEC"]["1"]["1"], stripe["u_deck_max"], rtol=1e-12)
     np.testing.assert_allclose(sample["FNR"]["2"]["1"], stripe["theta2_max"], rtol=1e-12)
-    np.testing.assert_allclose(sample["PGA"]["0"]["1"], 1.3, rtol=1e-12)
+    np.testing.assert_allclose(sample["PGA"]["0"]["1"], 0.9, rtol=1e-12)
     assert units["DEC"]["1"]["1"] == "m" and units["PGA"]["0"]["1"] == "g"
 
 
@@ -166,7 +166,7 @@ def test_the_exports_go_beside_the_results_and_never_over_them(ida):
     assert invoke("export", "openquake", ida).exit_code == 0
     assert ida.with_name("ida-fragility.xml").is_file()
     assert invoke("export", "pelicun", ida).exit_code == 0
-    assert len(list(ida.with_name("ida-pelicun").iterdir())) >= 2 * 7
+    assert len(list(ida.with_name("ida-pelicun").iterdir())) >= 2 * 3  # 0.1, 0.5, 0.9 g
     result = invoke("export", "openquake", ida, "-o", ida)
     assert result.exit_code == 2 and "is the file being read" in result.output
 

@@ -23,17 +23,18 @@ from studies import contents, write_study
 
 from rockbridge_cli.assessment import limit_states
 from rockbridge_cli.assessment.fragility import fit_capacities
-from rockbridge_cli.assessment.ida import Lattice, walk
+from rockbridge_cli.assessment.ida import Lattice, Outcome, walk
 from rockbridge_cli.cli import main
 from rockbridge_cli.config.study import load_study
 from rockbridge_cli.core.quantities import check_limit_state
+from rockbridge_cli.core.summary import summarize
 from rockbridge_cli.errors import InputError
 from rockbridge_cli.results import read_peaks
 from rockbridge_cli.study.run import run_study
 
 IDA = (
     "intensity: {measure: pga_g, ida: {start: 0.1, step: 0.4, max: 2.5, tolerance: 0.05, "
-    "limit_states: [gap_closure, backfill_50, abutment_failure]}}\n"
+    "limit_states: [gap_closure, backfill_50, abutment_failure, overturning]}}\n"
     "fidelity: fast\noutput: {histories: none}\n"
 )
 """Two bridges × the two synthetic bursts of `studies`; their abutments fail at 1.1–2.1 g."""
@@ -65,7 +66,7 @@ def synthetic(lattice, thresholds):
 
     def reaches(n):
         ran.append(n)
-        return frozenset(s for s, c in thresholds.items() if lattice.level(n) >= c)
+        return Outcome(frozenset(s for s, c in thresholds.items() if lattice.level(n) >= c))
 
     return reaches, ran
 
@@ -101,7 +102,7 @@ def test_a_non_monotonic_curve_follows_the_rule():
 
     def reaches(n):
         hit = n in resurrects or lattice.level(n) >= 2.6 and n <= 2 * lattice.stride
-        return frozenset({"s"}) if hit else frozenset()
+        return Outcome(frozenset({"s"}) if hit else frozenset())
 
     steps = walk(lattice, 0.1, ("s",), reaches)
     below, level = (lattice.level(n) for n in steps.capacities["s"])
@@ -112,9 +113,68 @@ def test_the_walk_asks_for_what_it_needs_next():
     """Without verdicts the rule asks for the start; with the scan done, for the bisections."""
     lattice = Lattice.of({"start": 1.0, "step": 1.0, "max": 3.0, "tolerance": 0.3})
     assert walk(lattice, 0.3, ("s",), lambda n: None).wanted == {0}
-    scan = {0: frozenset(), lattice.stride: frozenset({"s"})}
+    scan = {0: Outcome(frozenset()), lattice.stride: Outcome(frozenset({"s"}))}
     steps = walk(lattice, 0.3, ("s",), scan.get)
     assert steps.wanted == {lattice.stride // 2}  # between 1.0 and 2.0
+
+
+def ending(lattice, thresholds, failures):
+    """A monotonic curve whose analyses from level failures[s] on end in the failure s (the
+    lowest such level wins): a failure reaches its own state and every state below it."""
+    ran = []
+
+    def outcome(n):
+        ran.append(n)
+        level = lattice.level(n)
+        ended = min((c, s) for s, c in failures.items() if level >= c)[1] if any(
+            level >= c for c in failures.values()) else ""  # fmt: skip
+        hit = {s for s, c in thresholds.items() if level >= c} | ({ended} if ended else set())
+        return Outcome(frozenset(hit), ended)
+
+    return outcome, ran
+
+
+def test_a_curve_ends_at_its_first_failure():
+    """The abutment fails from 2.0 on: overturning cannot be observed, the scan stops at 2.2, the
+    first scan level at or above 2.0, nothing above it runs, and the curve ends at the lowest
+    level that failed, the abutment's capacity."""
+    lattice = Lattice.of({"start": 0.2, "step": 0.4, "max": 4.0, "tolerance": 0.05})
+    states = ("gap_closure", "abutment_failure", "overturning")
+    outcome, ran = ending(lattice, {"gap_closure": 0.3}, {"abutment_failure": 2.0})
+    steps = walk(lattice, 0.05, states, outcome)
+    assert not steps.wanted and max(ran) == 5 * lattice.stride  # 0.2 + 5 · 0.4 = 2.2
+    assert steps.ended_by == "abutment_failure"
+    assert steps.end == steps.capacities["abutment_failure"][1]
+    assert steps.unreachable("overturning") and steps.capacities["overturning"] == (-1, None)
+    below, level = (lattice.level(n) for n in steps.capacities["abutment_failure"])
+    assert below < 2.0 <= level and level - below <= 0.05 * level
+    assert not steps.unreachable("gap_closure") and not steps.unreachable("abutment_failure")
+
+
+def test_a_failure_found_by_bisection_shortens_the_curve():
+    """The scan meets the abutment's failure at 2.2, but its bisection finds a pier overturning at
+    2.05 (from 2.04 on, a bridge whose failures come in the other order in one direction): the
+    curve ends there, the abutment's failure is unreachable, overturning's capacity is bracketed
+    below 2.05, and the rule replayed on its own verdicts asks for nothing more."""
+    lattice = Lattice.of({"start": 0.2, "step": 0.4, "max": 4.0, "tolerance": 0.02})
+    states = ("abutment_failure", "overturning")
+    outcome, ran = ending(lattice, {}, {"abutment_failure": 2.1, "overturning": 2.04})
+    scan_only = {n: outcome(n) for n in range(0, 6 * lattice.stride, lattice.stride)}
+    scan_only[5 * lattice.stride] = Outcome(frozenset({"abutment_failure"}), "abutment_failure")
+    first = walk(lattice, 0.02, states, scan_only.get)
+    assert first.end == 5 * lattice.stride and first.wanted  # bisecting the abutment's failure
+
+    def mixed(n):  # the scan level 2.2 fails the abutment, levels 2.04–2.2 below it overturn
+        return scan_only.get(n) or outcome(n)
+
+    steps = walk(lattice, 0.02, states, mixed)
+    assert not steps.wanted and steps.ended_by == "overturning"
+    assert 2.04 <= lattice.level(steps.end) < 2.2
+    assert steps.unreachable("abutment_failure")
+    below, level = (lattice.level(n) for n in steps.capacities["overturning"])
+    assert below < 2.04 <= level and level - below <= 0.02 * level
+    replayed = walk(lattice, 0.02, states, {n: mixed(n) for n in steps.visited}.get)
+    assert not replayed.wanted and replayed.capacities == steps.capacities
 
 
 def test_limit_states_of_a_peak_table():
@@ -173,6 +233,35 @@ def test_an_ida_runs_in_rounds_and_keeps_every_level(ida_run):
         assert json.loads(file.attrs["intensity"])["ida"]["tolerance"] == 0.05
         assert file.attrs["complete"] and list(file["records"]) == ["R1", "R2"]
     assert run_study(study, workers=1).ran == 0  # complete: nothing to do
+
+
+def test_no_level_runs_above_a_failure_and_overturning_is_unreachable(ida_run):
+    """The model has one degree of freedom: u_deck and the piers' rotations are functions of θ1,
+    so a bridge whose tall pier reaches the abutment's failure rotation before either overturning
+    rotation, in both directions (`summarize`'s capacities), fails its abutment before any pier
+    can overturn. The studied bridges are such bridges: every curve ends at its abutment's
+    failure, no analysis runs above a failure, and overturning is unreachable on every curve."""
+    study, _ = ida_run
+    peaks = read_peaks(study.output)
+    for bridge in study.bridges:
+        caps = summarize(bridge.config.to_bridge())["capacities"]
+        for direction in ("p", "n"):
+            abutment = abs(caps["abutment"][direction])
+            assert abutment < min(abs(caps[m][direction]) for m in caps if m != "abutment")
+    assert set(peaks["failure_mode"]) == {"none", "abutment"}
+    scans = np.round(0.1 + 0.4 * np.arange(7), 12)  # the scan levels of IDA, 0.1 to 2.5 g
+    for _, rows in peaks.groupby(["bridge", "base_record"]):
+        levels = np.round(rows["intensity"].to_numpy(), 12)
+        failed = levels[(rows["failure_mode"] != "none").to_numpy()]
+        assert levels.max() == min(set(failed) & set(scans))  # no scan above the first failure
+    result = invoke("fragility", study.output)
+    assert result.exit_code == 0, result.output
+    for bridge in ("studied-hbar1.00", "studied-hbar2.00"):
+        line = f"{bridge}  overturning: unreachable — the abutment fails first on 2/2 records"
+        assert line in result.output
+    rows = json.loads(invoke("fragility", study.output, "--json").output)
+    overturning = [row for row in rows if row["limit_state"] == "overturning"]
+    assert all(row["median"] is None and len(row["unreachable"]) == 2 for row in overturning)
 
 
 def test_a_capacity_agrees_with_plain_runs_just_below_and_above(ida_run, tmp_path):
@@ -243,15 +332,26 @@ def test_ida_shards_merged_equal_a_single_run(ida_run, tmp_path):
 def test_fragility_of_an_ida_is_stored_printed_and_drawn(ida_run, tmp_path):
     study, _ = ida_run
     rows = json.loads(invoke("fragility", study.output, "--json").output)
-    assert {r["limit_state"] for r in rows} == {"gap_closure", "backfill_50", "abutment_failure"}
+    assert {r["limit_state"] for r in rows} == {
+        "gap_closure",
+        "backfill_50",
+        "abutment_failure",
+        "overturning",
+    }
     assert {"bridge", "limit_state", "measure", "median", "beta", "capacities"} <= set(rows[0])
     with h5py.File(study.output) as file:
         stored = file["fragility"]
         assert json.loads(stored.attrs["records"]) == ["R1", "R2"]
-        np.testing.assert_array_equal(stored["median"][()], [r["median"] for r in rows])
+        np.testing.assert_array_equal(
+            stored["median"][()], [np.nan if r["median"] is None else r["median"] for r in rows]
+        )
         capacities = stored["capacities"][()]
     for row, stored_row in zip(rows, capacities, strict=True):
-        assert [row["capacities"][r] for r in ("R1", "R2")] == stored_row.tolist()
+        assert [row["capacities"][r] for r in ("R1", "R2")] == stored_row.tolist() or (
+            row["limit_state"] == "overturning" and np.isnan(stored_row).all()
+        )
+        if row["limit_state"] == "overturning":
+            continue  # unreachable (the test above)
         known = np.log([c for c in row["capacities"].values()])
         assert row["median"] == pytest.approx(np.exp(known.mean()), rel=1e-12)
     table = list(
@@ -261,6 +361,9 @@ def test_fragility_of_an_ida_is_stored_printed_and_drawn(ida_run, tmp_path):
         (r["bridge"], r["limit_state"]) for r in rows
     ]
     for line, row in zip(table, rows, strict=True):
+        if row["median"] is None:
+            assert line["median"] == "" and row["limit_state"] == "overturning"
+            continue
         assert float(line["median"]) == row["median"]
         assert float(line["capacity_R2"]) == row["capacities"]["R2"]
     for kind in ("ida", "fragility"):

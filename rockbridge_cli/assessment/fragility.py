@@ -9,7 +9,10 @@ From an IDA, each record has a capacity (`assessment.ida`); ln θ and β are the
 deviation (1/n, the maximum-likelihood estimate) of the log-capacities. A curve the IDA has not
 finished (an interrupted run, an analysis that could not run) is left out. Records that reach the
 state at the first level already, or never up to the last, are censored there (their likelihood
-is Φ or 1 − Φ at that level), not dropped: dropping them would bias θ.
+is Φ or 1 − Φ at that level), not dropped: dropping them would bias θ. A record whose curve a
+failure ended before it reached the state (*unreachable*: the abutment failed before any pier
+overturned) is censored at the level where its curve ended, as a competing risk; a state no record
+can reach has no fit.
 
 The uncertainty of θ is a bootstrap over the records (the same record at every level is one
 draw). A run stores the fits in its results file (`/fragility`, `store`); `fragilities` computes
@@ -20,7 +23,7 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -35,7 +38,7 @@ from ..errors import InputError
 from ..motions.intensity import MEASURES
 from ..results.reading import open_results, peak_columns
 from . import limit_states
-from .ida import Lattice, Walk, walk
+from .ida import Lattice, Outcome, Walk, walk
 from .limit_states import Verdict
 from .spectrum import store as store_spectrum
 
@@ -63,6 +66,9 @@ class Fragility:
     capacities : per record, the lowest level at which it reaches the state, or None
     draws : (θ, β) of each bootstrap resampling of the records that fixes both (what
         `assessment.risk` propagates); empty without a fit
+    unreachable : per record of an IDA on which the state cannot be observed, the failure limit
+        state that ended its curve first and the level there (`assessment.ida`): its capacity
+        is None, and the fit censors it at that level
     """
 
     bridge: str
@@ -75,6 +81,7 @@ class Fragility:
     fractions: list[float]
     capacities: dict[str, float | None]
     draws: tuple[tuple[float, float], ...] = ()
+    unreachable: dict[str, tuple[str, float]] = field(default_factory=dict)
 
     def row(self) -> dict[str, object]:
         """As JSON-ready data."""
@@ -83,6 +90,8 @@ class Fragility:
             "median": self.median, "beta": self.beta,
             "median_90": list(self.median_90) if self.median_90 else None,
             "levels": self.levels, "fractions": self.fractions, "capacities": self.capacities,
+            "unreachable": {record: {"ended_by": by, "level": level}
+                            for record, (by, level) in self.unreachable.items()},
         }  # fmt: skip
 
 
@@ -289,11 +298,11 @@ def _ida_fragility(bridge, mine, intensity, rng, bootstrap, conversion) -> list[
     walks: dict[str, Walk] = {}
     for base in dict.fromkeys(mine["base_record"]):
 
-        def reaches(n: int, base=base) -> frozenset[str] | None:
+        def outcome(n: int, base=base) -> Outcome | None:
             verdict = verdicts.get(scaled_id(base, lattice.level(n), intensity["measure"]))
-            return None if verdict is None else verdict.reaches(states)
+            return None if verdict is None else verdict.outcome(states)
 
-        steps = walk(lattice, intensity["ida"]["tolerance"], states, reaches)
+        steps = walk(lattice, intensity["ida"]["tolerance"], states, outcome)
         if not steps.wanted:  # a curve an interrupted run or a failed analysis left unfinished
             walks[base] = steps  # has no capacities yet
 
@@ -302,7 +311,6 @@ def _ida_fragility(bridge, mine, intensity, rng, bootstrap, conversion) -> list[
         return level if conversion is None else conversion.value(bridge, base, level)
 
     top = lattice.level(lattice.count - 1)
-    bounds = np.array([[value(base, lattice.start), value(base, top)] for base in walks])
     found = []
     for state in states:
         indices = {base: steps.capacities[state] for base, steps in walks.items()}
@@ -310,11 +318,25 @@ def _ida_fragility(bridge, mine, intensity, rng, bootstrap, conversion) -> list[
             base: None if n is None else value(base, lattice.level(n))
             for base, (_, n) in indices.items()
         }
+        unreachable = {
+            base: (steps.ended_by, value(base, lattice.level(steps.end)))
+            for base, steps in walks.items()
+            if steps.unreachable(state) and steps.end is not None
+        }
         coded = np.array([
             np.inf if n is None else 0.0 if below < 0 else capacities[base]
             for base, (below, n) in indices.items()
         ]).reshape(-1, 1)  # fmt: skip
-        data = np.hstack([coded, bounds.reshape(-1, 2)])  # a record's capacity with its bounds
+        bounds = np.array(
+            [
+                [
+                    value(base, lattice.start),
+                    unreachable[base][1] if base in unreachable else value(base, top),
+                ]
+                for base in walks
+            ]
+        ).reshape(-1, 2)  # a record never reaching the state is censored where its curve ends
+        data = np.hstack([coded, bounds])  # a record's capacity with its bounds
         fit = _fit_capacities(data)
         draws = _bootstrap(fit, data, rng, bootstrap, _fit_capacities)
         reached = np.array([c for c in capacities.values() if c is not None])
@@ -323,9 +345,28 @@ def _ida_fragility(bridge, mine, intensity, rng, bootstrap, conversion) -> list[
         median, beta = fit or (None, None)
         found.append(Fragility(
             bridge, state, intensity["measure"] if conversion is None else conversion.measure,
-            median, beta, _interval(draws), levels, fractions, capacities, draws,
+            median, beta, _interval(draws), levels, fractions, capacities, draws, unreachable,
         ))  # fmt: skip
     return found
+
+
+FAILURE_PHRASES = {"abutment_failure": "the abutment fails", "overturning": "a pier overturns"}
+"""How a failure limit state that ends an analysis reads in a sentence."""
+
+
+def unreachable_note(item: Fragility) -> str:
+    """Why a limit state of an IDA cannot be observed on some records, as one line ("" if it
+    can on all): ``overturning: unreachable — the abutment fails first on 10/10 records``."""
+    if not item.unreachable:
+        return ""
+    causes: dict[str, int] = {}
+    for ended_by, _ in item.unreachable.values():
+        causes[ended_by] = causes.get(ended_by, 0) + 1
+    total = len(item.capacities)
+    which = "" if len(item.unreachable) == total else " on some records"
+    return f"{item.limit_state}: unreachable{which} — " + ", ".join(
+        f"{FAILURE_PHRASES.get(by, by)} first on {n}/{total} records" for by, n in causes.items()
+    )
 
 
 def _fit_capacities(data: np.ndarray) -> tuple[float, float | None] | None:

@@ -2,10 +2,13 @@
 (a curve) and each limit state, the lowest intensity at which the state is reached.
 
 The rule (docs/batch.md): scan upward from ``start`` by ``step`` until every limit state has been
-reached or the next level would pass ``max``; then, for each state, bisect between the last scan
-level that did not reach it and the first that did, until the two are within ``tolerance`` of the
-upper one, which is the capacity. Rocking IDA curves need not be monotonic: a level above the
-capacity may again not reach the state; the rule is the definition, and every level run is kept.
+reached, an analysis ended in a failure or the next level would pass ``max``; then, for each state,
+bisect between the last scan level that did not reach it and the first that did, until the two are
+within ``tolerance`` of the upper one, which is the capacity. A failure (the abutment's, or a
+pier's overturning) ends an analysis, so the curve ends at the lowest level whose analysis failed:
+a state not reached up to there is *unreachable* on that curve (its capacity is not above ``max``,
+it cannot be observed). Rocking IDA curves need not be monotonic: a level above the capacity may
+again not reach the state; the rule is the definition, and every level run is kept.
 
 Every level an IDA can run lies on a lattice, ``start + step · n / 2^depth`` (bisection halves
 the step), so a level has one exact value and one id however it was reached, and the position of
@@ -19,7 +22,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 
 @dataclass(frozen=True)
@@ -53,6 +56,20 @@ class Lattice:
         return self.start + self.step * n / self.stride
 
 
+class Outcome(NamedTuple):
+    """What the rule needs of one analysis.
+
+    Attributes
+    ----------
+    reached : the limit states the analysis reached
+    ended_by : the failure limit state that ended the analysis (``abutment_failure`` or
+        ``overturning``), or "" if it ran to its end
+    """
+
+    reached: frozenset[str]
+    ended_by: str = ""
+
+
 @dataclass(frozen=True)
 class Walk:
     """Where one curve stands.
@@ -63,58 +80,132 @@ class Walk:
     visited : lattice indices run so far that the rule uses
     capacities : limit state → lattice indices (below, level) of the capacity so far; level
         None if not reached, below −1 if reached at ``start``
+    end : lattice index of the lowest analysis run that ended in a failure, where the curve
+        ends; None if none did
+    ended_by : the failure limit state that ended the curve ("" without ``end``)
     """
 
     wanted: frozenset[int]
     visited: frozenset[int]
     capacities: dict[str, tuple[int, int | None]]
+    end: int | None = None
+    ended_by: str = ""
+
+    def unreachable(self, state: str) -> bool:
+        """Whether ``state`` cannot be observed on this curve: a failure ended it first."""
+        return self.end is not None and self.capacities[state][1] is None
 
 
 def walk(
     lattice: Lattice,
     tolerance: float,
     states: tuple[str, ...],
-    reaches: Callable[[int], frozenset[str] | None],
+    outcome: Callable[[int], Outcome | None],
 ) -> Walk:
     """Follow the rule along one curve.
 
+    A failure (the abutment's, a pier's overturning) ends an analysis, so a state that its
+    analysis did not reach cannot be observed at or above its level: the curve ends at the lowest
+    level whose analysis ended in a failure, the scan stops at the first, and the states not
+    reached up to it are unreachable. Should a bisection find a failure below the scan's that the
+    capacities so far contradict (another failure, a state reached below it without a capacity),
+    the rule is followed again on the curve that ends there.
+
     Parameters
     ----------
-    reaches
-        For a lattice index, the limit states its analysis reached, or None if it has not run.
+    outcome
+        For a lattice index, what its analysis reached, or None if it has not run.
     """
-    wanted: set[int] = set()
-    visited: set[int] = set()
-    reached_so_far: set[str] = set()
-    scanned = []
+    seen: dict[int, Outcome] = {}
+
+    def look(n: int) -> Outcome | None:
+        found = outcome(n)
+        if found is not None:
+            seen[n] = found
+        return found
+
+    scanned, wanted = _scan(lattice, states, look)
+    last = max(scanned, default=None)
+    end = last if last is not None and scanned[last].ended_by else None
+    while True:
+        capacities, asked = _bisect(lattice, tolerance, states, scanned, end, seen, look)
+        lowest = min((n for n, found in seen.items() if found.ended_by), default=None)
+        if lowest is None or lowest == end or _consistent(capacities, seen, lowest):
+            break
+        end = lowest  # a failure below the end that the capacities contradict: a shorter curve
+    if lowest is not None:
+        capacities = {
+            state: (-1, None) if level is None or level > lowest else (below, level)
+            for state, (below, level) in capacities.items()
+        }  # a state not reached where the curve ends is unreachable
+    wanted = {n for n in wanted | asked if lowest is None or n < lowest}
+    ended_by = "" if lowest is None else seen[lowest].ended_by
+    return Walk(frozenset(wanted), frozenset(seen), capacities, lowest, ended_by)
+
+
+def _consistent(
+    capacities: dict[str, tuple[int, int | None]], seen: dict[int, Outcome], end: int
+) -> bool:
+    """Whether the capacities agree with a curve that ends at ``end``: none lies above it, and
+    every state reached at or below it has one."""
+    for state, (_, level) in capacities.items():
+        if level is None and any(n <= end and state in f.reached for n, f in seen.items()):
+            return False
+        if level is not None and level > end:
+            return False
+    return True
+
+
+def _scan(
+    lattice: Lattice, states: tuple[str, ...], look: Callable[[int], Outcome | None]
+) -> tuple[dict[int, Outcome], set[int]]:
+    """The scan levels run upward from ``start`` until every state is reached, an analysis
+    ended in a failure or the next level would pass ``max``; and the level wanted next."""
+    scanned: dict[int, Outcome] = {}
+    reached: set[str] = set()
     for n in range(0, lattice.count, lattice.stride):
-        found = reaches(n)
+        found = look(n)
         if found is None:
-            wanted.add(n)
+            return scanned, {n}
+        scanned[n] = found
+        reached |= found.reached
+        if found.ended_by or reached.issuperset(states):
             break
-        visited.add(n)
-        scanned.append((n, found))
-        reached_so_far |= found
-        if reached_so_far.issuperset(states):
-            break
+    return scanned, set()
+
+
+def _bisect(
+    lattice: Lattice,
+    tolerance: float,
+    states: tuple[str, ...],
+    scanned: dict[int, Outcome],
+    end: int | None,
+    seen: dict[int, Outcome],
+    look: Callable[[int], Outcome | None],
+) -> tuple[dict[str, tuple[int, int | None]], set[int]]:
+    """Each state's capacity on the curve up to ``end``: bisection between the last scan level
+    below the first level that reaches it and that level; and the levels wanted next."""
+    points = {n: found for n, found in scanned.items() if end is None or n < end}
+    if end is not None:
+        points[end] = seen[end]
     capacities: dict[str, tuple[int, int | None]] = {}
+    wanted: set[int] = set()
     for state in states:
-        first = next((n for n, found in scanned if state in found), None)
+        first = min((n for n, found in points.items() if state in found.reached), default=None)
         if first is None:
             capacities[state] = (-1, None)
             continue
-        below, level = first - lattice.stride, first
+        below, level = (first - 1) // lattice.stride * lattice.stride, first
         while (
             below >= 0
             and level - below > 1
             and (lattice.level(level) - lattice.level(below) > tolerance * lattice.level(level))
         ):
             middle = (below + level) // 2
-            found = reaches(middle)
+            found = look(middle)
             if found is None:
                 wanted.add(middle)
                 break
-            visited.add(middle)
-            below, level = (below, middle) if state in found else (middle, level)
+            below, level = (below, middle) if state in found.reached else (middle, level)
         capacities[state] = (max(below, -1), level)
-    return Walk(frozenset(wanted), frozenset(visited), capacities)
+    return capacities, wanted

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 
 from ..core.quantities import ABUTMENT, PIER1_OVERTURNING, PIER2_OVERTURNING, check_limit_state
+from .ida import Outcome
 
 if TYPE_CHECKING:
     import h5py
@@ -63,6 +64,19 @@ class Verdict(NamedTuple):
         if self.status == "error":
             return frozenset()
         return frozenset(name for name in names if bool(reached(name, self._asdict())))
+
+    def outcome(self, names: Iterable[str]) -> Outcome:
+        """What the IDA rule needs: the states among ``names`` reached, and the failure limit
+        state that ended the analysis, whether or not it is among ``names``."""
+        ended_by = "" if self.status == "error" else ENDED_BY.get(self.failure_mode, "")
+        return Outcome(self.reaches(names), ended_by)
+
+
+ENDED_BY = {
+    ABUTMENT: "abutment_failure", PIER1_OVERTURNING: "overturning",
+    PIER2_OVERTURNING: "overturning",
+}  # fmt: skip
+"""The limit state of each failure mode, which ends an analysis."""
 
 
 def stored_verdicts(file: h5py.File) -> dict[tuple[str, str], Verdict]:

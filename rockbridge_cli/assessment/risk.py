@@ -198,14 +198,17 @@ def _risk(item: Fragility, intensity: dict, curve: HazardCurve, years: float) ->
 
 
 def _bound(item: Fragility, intensity: dict, curve: HazardCurve) -> tuple[float | None, str]:
-    """The bound on λ_LS of a limit state without a fit: ``<`` λ_IM(highest level) where no
-    record reaches it, ``>`` λ_IM(lowest level) where every record does at the lowest."""
+    """The bound on λ_LS of a limit state without a fit: ``<`` λ_IM(level) where no record
+    reaches it, at the highest level run or, where a failure ended a record's curve first, the
+    lowest level such a curve ended at; ``>`` λ_IM(lowest level) where every record reaches it
+    at the lowest."""
     if item.measure != intensity["measure"] or not item.capacities:
         return None, ""
     lowest, highest = levels_range(intensity)
     capacities = list(item.capacities.values())
     if all(capacity is None for capacity in capacities):
-        return float(curve.rate(highest)), "<"
+        ends = [level for _, level in item.unreachable.values()]
+        return float(curve.rate(min([highest, *ends]))), "<"
     if all(capacity is not None and capacity <= lowest for capacity in capacities):
         return float(curve.rate(lowest)), ">"
     return None, ""

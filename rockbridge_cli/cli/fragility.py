@@ -50,7 +50,7 @@ def fragility(
     state at the first level or never); 90 % interval of the median by a bootstrap over the
     records. The run stores the same in RESULTS (/fragility). An IDA's capacities convert exactly
     to any other intensity measure (--measure): nothing is run again."""
-    from ..assessment.fragility import design_level, fragilities
+    from ..assessment.fragility import design_level, fragilities, unreachable_note
 
     if compare_measures:
         _compare(results, period or 1.0, period_range or (0.2, 3.0), as_json, csv_file)
@@ -79,6 +79,9 @@ def fragility(
     click.echo(f"measure: {found[0].measure if found else '-'}"
                + (f"; design level {design[1]:g}" if design else ""))  # fmt: skip
     click.echo(table_text(headers, rows))
+    for item in found:
+        if note := unreachable_note(item):
+            click.echo(f"{item.bridge}  {note}")
 
 
 def _compare(

@@ -37,7 +37,8 @@ def risk(
     2002), the return period 1/λ, the probability in T years 1 − exp(−λT), and their 90 %
     interval from the bootstrap over the records. Beyond its range the curve goes on as the
     power laws of its end segments; 'beyond' is the share of λ that comes from there. '<' marks
-    an upper bound (no record reaches the state up to the highest level run)."""
+    an upper bound (no record reaches the state up to the highest level run, or up to where a
+    failure ended its curve)."""
     from ..assessment.hazard import read_hazard_curve
     from ..assessment.risk import risk_table, risks
 

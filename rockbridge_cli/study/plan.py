@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 
-from ..assessment.ida import Lattice, Walk, walk
+from ..assessment.ida import Lattice, Outcome, Walk, walk
 from ..assessment.limit_states import Verdict
 from ..config.intensity import Intensity, intensity_of
 from ..config.study import Study
@@ -57,11 +57,11 @@ class Plan:
     def walk(self, curve: Cell, verdicts: Mapping[tuple[str, str], Verdict]) -> Walk:
         """Where one curve stands, given the verdicts so far."""
 
-        def reaches(n: int) -> frozenset[str] | None:
+        def outcome(n: int) -> Outcome | None:
             verdict = verdicts.get(self.grid.ids(self.cell(curve, n)))
-            return None if verdict is None else verdict.reaches(self.states)
+            return None if verdict is None else verdict.outcome(self.states)
 
-        return walk(self.lattice, self.tolerance, self.states, reaches)
+        return walk(self.lattice, self.tolerance, self.states, outcome)
 
     def cell(self, curve: Cell, n: int) -> Cell:
         """The analysis of a curve at lattice index ``n``; its index orders the results by
