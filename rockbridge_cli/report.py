@@ -303,7 +303,9 @@ def _risk_section(found: list, intensity: dict, hazard: HazardCurve, years: floa
     its probability in ``years``."""
     from .assessment.risk import risk_table, risks_of
 
-    headers, rows = risk_table(risks_of(found, intensity, hazard, years), years)
+    rates = risks_of(found, intensity, hazard, years)
+    headers, rows = risk_table(rates, years)
+    notes = "".join(f"<li>{_text(f'{r.bridge}: {r.note}')}</li>" for r in rates if r.note)
     return (
         f"<h2>Risk at the site of {_text(Path(hazard.source).name)}</h2>\n<p>Hazard curve: "
         f"{_text(hazard.describe())}; beyond its range it goes on as the power laws of its end "
@@ -312,7 +314,9 @@ def _risk_section(found: list, intensity: dict, hazard: HazardCurve, years: floa
         f"least one occurrence in {years:g} years, 1 − exp(−λ·{years:g}); the 5–95 % intervals "
         "are those of the bootstrap over the records. &lt; marks an upper bound: no record "
         "reaches the state up to the highest level run, or up to where a failure ended its "
-        "curve.</p>\n" + _table(headers, rows, text_columns=(0, 1))
+        "curve.</p>\n"
+        + _table(headers, rows, text_columns=(0, 1))
+        + (f'<ul class="note">{notes}</ul>' if notes else "")
     )
 
 

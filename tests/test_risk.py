@@ -123,9 +123,9 @@ def test_475_years_are_ten_percent_in_50():
     assert poisson_probability(1.0 / 475.0, 50.0) == pytest.approx(-math.expm1(-50 / 475))
 
 
-def fragility(median, beta, capacities, draws=()):
+def fragility(median, beta, capacities, draws=(), unreachable=None):
     return Fragility("b", "abutment_failure", "pga_g", median, beta, None, [], [], capacities,
-                     draws)  # fmt: skip
+                     draws, unreachable or {})  # fmt: skip
 
 
 def test_the_interval_is_the_bootstrap_draws_percentiles():
@@ -152,6 +152,15 @@ def test_a_state_no_record_reaches_is_bounded_by_the_hazard_at_the_top():
     always = fragility(None, None, {"R1": 0.5, "R2": 0.5})
     (item,) = risks_of([always], {"measure": "pga_g", "levels": [0.5, 1.0]}, curve)
     assert item.bound == ">" and item.rate == pytest.approx(K0 * 0.5**-K, rel=1e-5)
+    ended = fragility(None, None, {"R1": None, "R2": None}, unreachable={"R2": ("x", 2.0)})
+    (item,) = risks_of([ended], {"measure": "pga_g", "ida": scan}, curve)
+    assert item.bound == "<" and item.rate == pytest.approx(K0 * 2.0**-K, rel=1e-5)  # R2's end
+    both = {"R1": ("overturning", 2.0), "R2": ("overturning", 1.5)}
+    unreachable = fragility(None, None, {"R1": None, "R2": None}, unreachable=both)
+    (item,) = risks_of([unreachable], {"measure": "pga_g", "ida": scan}, curve)
+    assert item.rate is None and item.note == (
+        "abutment_failure: unreachable — a pier overturns first on 2/2 records"
+    )
     unresolved = fragility(0.8, None, {"R1": 0.6, "R2": 1.0})
     (item,) = risks_of([unresolved], {"measure": "pga_g", "levels": [0.6, 1.0]}, curve)
     assert item.bound == "" and item.rate == pytest.approx(K0 * 0.8**-K, rel=1e-5)
@@ -179,10 +188,9 @@ def test_a_studys_risk_is_cornells_of_its_fits(ida):
     assert [(r.bridge, r.limit_state) for r in result] == list(found)
     for item in result:
         fit = found[item.bridge, item.limit_state]
-        if fit.median is None:  # no pier overturns before its abutment fails, which ends the
-            assert (item.limit_state, item.bound) == ("overturning", "<")  # curves: λ below the
-            ends = found[item.bridge, "abutment_failure"].capacities.values()  # hazard's at the
-            assert item.rate == pytest.approx(K0 * min(ends) ** -K, rel=1e-5)  # lowest end
+        if fit.median is None:  # no pier can overturn before its abutment fails, which ends
+            assert (item.limit_state, item.rate) == ("overturning", None)  # every curve
+            assert item.note.startswith("overturning: unreachable")
             continue
         expected = cornell(K0, K, fit.median, fit.beta or 0.0)
         assert item.rate == pytest.approx(float(expected), rel=1e-5)
@@ -198,8 +206,10 @@ def test_the_command_prints_the_table_and_the_rows(ida, tmp_path):
     assert result.exit_code == 0, result.output
     lines = result.output.splitlines()
     assert lines[0].startswith(f"hazard: {EXAMPLE}: pga_g [g], 0.05–5 g, 18 points")
-    assert "P in 50 yr [%]" in lines[1] and len(lines) == 2 + 2 * 3
-    assert any(" overturning " in line and "< " in line for line in lines)
+    assert "P in 50 yr [%]" in lines[1] and len(lines) == 2 + 2 * 3 + 2
+    assert lines[-1] == (
+        "studied-hbar2.00  overturning: unreachable — the abutment fails first on 2/2 records"
+    )
     rows = json.loads(invoke("risk", ida, "--hazard", EXAMPLE, "--json", "--years", 10).output)
     expected = {(r.bridge, r.limit_state): r for r in risks(ida, read_hazard_curve(EXAMPLE))}
     for row in rows:
@@ -224,7 +234,8 @@ def test_the_report_shows_the_risk_table(ida, tmp_path):
     assert "<h2>Risk at the site of example-site-pga.csv</h2>" in text
     section = text.split("<h2>Risk at the site")[1].split("</table>")[0]
     assert section.count("<tr>") == 1 + 2 * 3  # the header, two bridges × three states
-    assert "&lt; " in section  # the overturning bound
+    notes = text.split("<h2>Risk at the site")[1].split("</ul>")[0]
+    assert "overturning: unreachable — the abutment fails first on 2/2 records" in notes
 
 
 def test_a_report_without_fragilities_refuses_a_hazard_curve(tmp_path):

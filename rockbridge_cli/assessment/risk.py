@@ -22,7 +22,8 @@ The return period is 1/λ_LS and the probability of at least one occurrence in T
 over the fragility's bootstrap resamplings of the records (`Fragility.draws`, each a (θ, β)).
 
 A limit state that no record reaches within the levels run has no fit; its frequency is then at
-most the hazard's rate at the highest level run (reported as a bound, ``<``); one that every
+most the hazard's rate at the highest level run (reported as a bound, ``<``), unless a failure
+ended every record's IDA curve before it (unreachable: no frequency, a note); one that every
 record reaches at the lowest level is at least the rate there (``>``). A fit whose β the levels do
 not resolve is taken as a certain capacity at its median: λ_LS = λ_IM(θ).
 """
@@ -40,7 +41,7 @@ from scipy.special import log_ndtr
 from ..errors import InputError
 from ..motions.intensity import MEASURES
 from ..results.reading import open_results
-from .fragility import Fragility, fragilities
+from .fragility import Fragility, fragilities, unreachable_note
 from .hazard import HazardCurve
 from .ida import Lattice
 
@@ -60,6 +61,8 @@ class Risk:
     rate_90 : 5 % and 95 % bootstrap percentiles of λ_LS [1/year]; None without draws
     beyond : share of λ_LS from the curve's extensions beyond its range [-]; None without a fit
     years : T of ``probability`` [years]
+    note : why the state cannot be observed on some records ("" if it can on all;
+        `fragility.unreachable_note`)
     """
 
     bridge: str
@@ -70,6 +73,7 @@ class Risk:
     rate_90: tuple[float, float] | None
     beyond: float | None
     years: float
+    note: str = ""
 
     @property
     def return_period(self) -> float | None:
@@ -98,7 +102,7 @@ class Risk:
             "return_period": self.return_period, "years": self.years,
             "probability": self.probability,
             "probability_90": list(self.probability_90) if self.probability_90 else None,
-            "beyond": self.beyond,
+            "beyond": self.beyond, "note": self.note,
         }  # fmt: skip
 
 
@@ -182,7 +186,7 @@ def risks_of(
 def _risk(item: Fragility, intensity: dict, curve: HazardCurve, years: float) -> Risk:
     def made(rate: float | None, bound: str = "", interval=None, beyond=None) -> Risk:
         return Risk(item.bridge, item.limit_state, item.measure, rate, bound, interval, beyond,
-                    years)  # fmt: skip
+                    years, unreachable_note(item))  # fmt: skip
 
     if item.median is None:
         return made(*_bound(item, intensity, curve))
@@ -200,13 +204,15 @@ def _risk(item: Fragility, intensity: dict, curve: HazardCurve, years: float) ->
 def _bound(item: Fragility, intensity: dict, curve: HazardCurve) -> tuple[float | None, str]:
     """The bound on λ_LS of a limit state without a fit: ``<`` λ_IM(level) where no record
     reaches it, at the highest level run or, where a failure ended a record's curve first, the
-    lowest level such a curve ended at; ``>`` λ_IM(lowest level) where every record reaches it
-    at the lowest."""
+    lowest level such a curve ended at; none where that is every record's; ``>`` λ_IM(lowest
+    level) where every record reaches it at the lowest."""
     if item.measure != intensity["measure"] or not item.capacities:
         return None, ""
     lowest, highest = levels_range(intensity)
     capacities = list(item.capacities.values())
     if all(capacity is None for capacity in capacities):
+        if len(item.unreachable) == len(capacities):
+            return None, ""  # a failure ends every curve first: nothing bounds it
         ends = [level for _, level in item.unreachable.values()]
         return float(curve.rate(min([highest, *ends]))), "<"
     if all(capacity is not None and capacity <= lowest for capacity in capacities):

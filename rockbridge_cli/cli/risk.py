@@ -52,6 +52,9 @@ def risk(
         return
     click.echo(f"hazard: {hazard}: {curve.describe()}")
     click.echo(table_text(*risk_table(found, years)))
+    for item in found:
+        if item.note:
+            click.echo(f"{item.bridge}  {item.note}")
 
 
 def _columns(found: list) -> dict:
