@@ -22,10 +22,17 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from . import __version__
+from .assessment.levels import IDA_POINTER, record_count, summary_groups
 from .core.quantities import NO_FAILURE, ROUND_OFF
 from .errors import InputError
 from .paths import MARK, checked_output, replace_atomically
-from .results.reading import bridge_attributes, open_results, peak_columns, peak_units
+from .results.reading import (
+    bridge_attributes,
+    open_results,
+    peak_columns,
+    peak_units,
+    swept_values,
+)
 
 if TYPE_CHECKING:
     from .assessment.hazard import HazardCurve
@@ -103,6 +110,7 @@ def write_report(
         }
         inputs = _records_table(file["records"])
         kept = bool(json.loads(attributes.get("histories", "[]")))
+        swept = list(dict.fromkeys(f for values in swept_values(file).values() for f in values))
     intensity = json.loads(attributes.get("intensity", "null"))
     records = list(dict.fromkeys(columns["record"]))
     if record is not None and record not in records:
@@ -110,34 +118,21 @@ def write_report(
     if hazard is not None and intensity is None:
         reason = "the study has no intensity section: no fragility to integrate with the hazard"
         raise InputError(results, [("", reason)])
-    chosen = record or (records[0] if records and kept and not _is_ida(intensity) else None)
+    chosen = record or (_default_record(records) if kept and not _is_ida(intensity) else None)
     title = _description(attributes) or Path(str(attributes.get("study_file", results))).stem
     parts = [
         f"<h1>{_text(title)}</h1>",
         f'<p class="note">{_text(results.name)}: {len(columns["bridge"])} analyses of '
-        f"{len(bridges)} bridges under {len(records)} records, written by rockbridge "
-        f"{_text(attributes.get('rockbridge_version', '?'))} on "
+        f"{len(bridges)} bridges under {record_count(columns)} records{_levels(intensity, columns)}"
+        f", written by rockbridge {_text(attributes.get('rockbridge_version', '?'))} on "
         f"{_text(attributes.get('finished', attributes.get('created', '?')))}</p>",
         _provenance(attributes),
         inputs,
-        _summary(columns, bridges),
+        _summary(columns, bridges, intensity),
     ]
     with tempfile.TemporaryDirectory() as folder:
         figure = _figure_maker(Path(folder))
-        if not _is_ida(intensity):
-            from .plots.peaks import plot_peaks
-
-            parts.append(_section("Peaks per record (Fig. 9)", figure(plot_peaks, results),
-                                  "One marker per bridge and record; right: the means over the "
-                                  "records. (A) with the end-joint gap (dotted) and the "
-                                  "abutment–backfill failure (dashed)."))  # fmt: skip
-        if chosen is not None:
-            from .plots.history import plot_history
-
-            parts.append(_section(f"Response histories under {chosen} (Fig. 10)",
-                                  figure(plot_history, results, chosen),
-                                  "Ground motion with each bridge's onset of rocking, then the "
-                                  "responses; × marks a pounding on the backwall."))  # fmt: skip
+        parts += _figures(results, figure, intensity, swept, chosen)
         if intensity is not None:
             parts.append(_intensity_section(results, intensity, figure, hazard, years))
     parts += [
@@ -161,6 +156,74 @@ def write_report(
     finally:
         temporary.unlink(missing_ok=True)
     return output
+
+
+PAPER_RECORD = "AR07"
+"""The record of the paper's Fig. 10: the history figure's default where the study has it."""
+
+MAX_SWEPT = 3
+"""Swept fields drawn at most (one figure each)."""
+
+
+def _default_record(records: list[str]) -> str | None:
+    """The record of the history figure: the paper's (`PAPER_RECORD`, or a scaled copy of it),
+    else the first."""
+    paper = [r for r in records if r.split("+", 1)[0] == PAPER_RECORD]
+    return next(iter(paper + records), None)
+
+
+def _levels(intensity: dict | None, columns: dict[str, np.ndarray]) -> str:
+    """How the analyses scale the records: " at N levels of pga_g", " in an IDA of pga_g"."""
+    if not intensity:
+        return ""
+    if _is_ida(intensity):
+        return f" in an IDA of {intensity['measure']}"
+    return f" at {len(set(columns['intensity'].tolist()))} levels of {intensity['measure']}"
+
+
+def _figures(
+    results: Path, figure: Callable[..., str], intensity: dict | None, swept: list[str],
+    chosen: str | None,
+) -> list[str]:  # fmt: skip
+    """Fig. 9 (a study without a sweep and without an IDA), or the swept fields' figures; then
+    Fig. 10 under ``chosen``."""
+    parts = []
+    if swept:
+        parts += [_sweep_section(results, figure, intensity, field) for field in swept[:MAX_SWEPT]]
+    elif not _is_ida(intensity):
+        from .plots.peaks import plot_peaks
+
+        parts.append(_section("Peaks per record (Fig. 9)", figure(plot_peaks, results),
+                              "One marker per bridge and record; right: the means over the "
+                              "records. (A) with the end-joint gap (dotted) and the "
+                              "abutment–backfill failure (dashed)."))  # fmt: skip
+    if chosen is not None:
+        from .plots.history import plot_history
+
+        parts.append(_section(f"Response histories under {chosen} (Fig. 10)",
+                              figure(plot_history, results, chosen),
+                              "Ground motion with each bridge's onset of rocking, then the "
+                              "responses; × marks a pounding on the backwall."))  # fmt: skip
+    return parts
+
+
+def _sweep_section(
+    results: Path, figure: Callable[..., str], intensity: dict | None, field: str
+) -> str:
+    """One swept field's figure: the median capacity of the abutment's failure (or of the study's
+    first limit state) in an intensity study, else the median peak deck displacement."""
+    from .plots.sweep import plot_sweep
+
+    if intensity is None:
+        quantity, what = "u_deck_max", "the median over the records of the peak deck displacement"
+    else:
+        states = (intensity.get("ida") or {}).get("limit_states") or ["abutment_failure"]
+        quantity = "abutment_failure" if "abutment_failure" in states else states[0]
+        what = f"the median capacity of {quantity.replace('_', ' ')} (90 % interval)"
+    return _section(f"Against {field}", figure(plot_sweep, results, field=field,
+                                               quantity=quantity),
+                    f"Each bridge file's variants: {what} against the swept {field}; one line "
+                    "per bridge file and value of the other swept fields.")  # fmt: skip
 
 
 def _description(attributes: dict[str, Any]) -> str:
@@ -217,12 +280,25 @@ def _provenance(attributes: dict[str, Any]) -> str:
     return f"<h2>Provenance</h2>\n<dl>{rows}</dl>"
 
 
-def _summary(columns: dict[str, np.ndarray], bridges: dict[str, dict]) -> str:
-    """Per bridge: analyses that ran, the backfill's demand/capacity ratio (largest and mean over
-    the records) and the failures by mode."""
+def _summary(
+    columns: dict[str, np.ndarray], bridges: dict[str, dict], intensity: dict | None
+) -> str:
+    """Per bridge (and intensity level, in a multiple-stripe study): analyses that ran, the
+    backfill's demand/capacity ratio (largest and mean over the records) and the failures by
+    mode; an IDA's pointer to its capacities."""
+    heading = (
+        "<h2>Demand and capacity</h2>\n<p>The paper's demand/capacity ratio is the backfill's "
+        "deformation over its capacity, max(0, |u<sub>deck</sub>| − u<sub>jo</sub>)/u<sub>ab"
+        "</sub>: 0 while the end joint stays open, 100 % at abutment failure (docs/model.md §8)."
+    )
+    try:
+        groups = summary_groups(columns, intensity)
+    except ValueError:
+        pointer = IDA_POINTER.split(":")[0]
+        return f"{heading} Here {_text(pointer)}: their capacities are under Fragility.</p>"
     rows = []
-    for bridge, attributes in bridges.items():
-        mine = columns["bridge"] == bridge
+    for group in groups[:MAX_ROWS]:
+        mine = group.rows
         ratio = columns["dcr_backfill"][mine]
         ratio = ratio[np.isfinite(ratio)]
         modes = columns["failure_mode"][mine]
@@ -230,19 +306,20 @@ def _summary(columns: dict[str, np.ndarray], bridges: dict[str, dict]) -> str:
             m: int(np.sum(modes == m)) for m in dict.fromkeys(modes) if m not in ("", NO_FAILURE)
         }
         rows.append([
-            attributes["name"],
+            bridges[group.bridge]["name"] if group.bridge in bridges else group.bridge,
+            *([] if group.level is None else [_number(group.level)]),
             f"{int(np.sum(columns['status'][mine] == 'ok'))}/{int(np.sum(mine))}",
             f"{100 * ratio.max():.1f} %" if ratio.size else "-",
             f"{100 * ratio.mean():.1f} %" if ratio.size else "-",
             ", ".join(f"{n} {m}" for m, n in failed.items()) or "none",
         ])  # fmt: skip
-    headers = ["bridge", "ran ok", "backfill d/c, largest", "backfill d/c, mean", "failures"]
-    return (
-        "<h2>Demand and capacity</h2>\n<p>The paper's demand/capacity ratio is the backfill's "
-        "deformation over its capacity, max(0, |u<sub>deck</sub>| − u<sub>jo</sub>)/u<sub>ab"
-        "</sub>: 0 while the end joint stays open, 100 % at abutment failure (docs/model.md §8)."
-        f"</p>\n{_table(headers, rows, text_columns=(0, 4))}"
-    )
+    level = [] if intensity is None else [f"level [{intensity['measure']}]"]
+    headers = ["bridge", *level, "ran ok", "backfill d/c, largest", "backfill d/c, mean",
+               "failures"]  # fmt: skip
+    more = f'<p class="note">{len(groups) - MAX_ROWS} more rows.</p>' if (
+        len(groups) > MAX_ROWS) else ""  # fmt: skip
+    per = " Each row is one intensity level: the records scaled to it." if level else ""
+    return f"{heading}{per}</p>\n{_table(headers, rows, text_columns=(0, len(headers) - 1))}{more}"
 
 
 def _intensity_section(
@@ -271,10 +348,25 @@ def _intensity_section(
         f"<p>{margin}</p>" if margin else "",
         _table(["bridge", "limit state", "median", "β", "median, 5–95 %"]
                + (["median / design"] if design else []), rows, text_columns=(0, 1)),
+        _unreachable(found),
         _efficiency_section(results) if _is_ida(intensity) else "",
         "" if hazard is None else _risk_section(found, intensity, hazard, years),
     ]  # fmt: skip
     return "\n".join(part for part in parts if part)
+
+
+def _unreachable(found: list) -> str:
+    """The limit states a failure kept some IDA curves from reaching, one line each."""
+    from .assessment.fragility import unreachable_note
+
+    notes = [f"{item.bridge}: {unreachable_note(item)}" for item in found if item.unreachable]
+    if not notes:
+        return ""
+    items = "".join(f"<li>{_text(note)}</li>" for note in notes)
+    return (
+        '<p class="note">A failure ends an analysis, so on a curve that ended in one, the states '
+        f"not reached by then cannot be observed:</p><ul>{items}</ul>"
+    )
 
 
 def _efficiency_section(results: Path) -> str:

@@ -29,6 +29,7 @@ from rockbridge_cli.config.study import load_study
 from rockbridge_cli.core.quantities import check_limit_state
 from rockbridge_cli.core.summary import summarize
 from rockbridge_cli.errors import InputError
+from rockbridge_cli.report import write_report
 from rockbridge_cli.results import read_peaks
 from rockbridge_cli.study.run import run_study
 
@@ -262,6 +263,19 @@ def test_no_level_runs_above_a_failure_and_overturning_is_unreachable(ida_run):
     rows = json.loads(invoke("fragility", study.output, "--json").output)
     overturning = [row for row in rows if row["limit_state"] == "overturning"]
     assert all(row["median"] is None and len(row["unreachable"]) == 2 for row in overturning)
+
+
+def test_the_report_of_an_ida_counts_records_and_points_to_the_capacities(ida_run, tmp_path):
+    """An IDA's levels differ by record: the page counts its 2 records (not its analyses' scaled
+    ids), gives no demand/capacity table over all levels at once, and says which states a
+    failure kept from being observed."""
+    study, _ = ida_run
+    text = write_report(study.output, tmp_path / "r.html").read_text(encoding="utf-8")
+    analyses = len(read_peaks(study.output))
+    assert f"{analyses} analyses of 2 bridges under 2 records in an IDA of pga_g" in text
+    demand = text.split("<h2>Demand and capacity</h2>")[1].split("<h2>")[0]
+    assert "IDA&#x27;s levels differ by record" in demand and "<table>" not in demand
+    assert "studied-hbar1.00: overturning: unreachable — the abutment fails first on 2/2" in text
 
 
 def test_a_capacity_agrees_with_plain_runs_just_below_and_above(ida_run, tmp_path):

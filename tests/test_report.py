@@ -16,7 +16,7 @@ import h5py
 import numpy as np
 import pytest
 from click.testing import CliRunner
-from studies import BRIDGES, REPO, SLENDER_BLOCK, write_study
+from studies import BRIDGES, REPO, SLENDER_BLOCK, write_records, write_study
 
 from rockbridge_cli.cli import main
 from rockbridge_cli.config.study import load_study
@@ -169,11 +169,42 @@ def test_a_study_with_stripes_gets_its_fragility(tmp_path):
     )
     study = load_study(write_study(tmp_path, extra=extra))
     run_study(study, workers=1)
-    parsed = Page(write_report(study.output, tmp_path / "r.html").read_text(encoding="utf-8"))
+    text = write_report(study.output, tmp_path / "r.html").read_text(encoding="utf-8")
+    parsed = Page(text)
     assert any(h.startswith("Fragility") for h in parsed.headings)
     assert len(parsed.images) == 2  # Fig. 9 of the scaled records and the fragility curves
     fits = next(t for t in parsed.tables if t[0][:2] == ["bridge", "limit state"])
     assert len(fits) - 1 == 2 * 4  # two bridges × the four default limit states
+    assert "8 analyses of 2 bridges under 2 records at 2 levels of pga_g" in text
+    summary = next(t for t in parsed.tables if "backfill d/c, largest" in t[0])
+    assert summary[0][:3] == ["bridge", "level [pga_g]", "ran ok"]
+    assert [row[1:3] for row in summary[1:]] == [["0.2", "2/2"], ["0.6", "2/2"]] * 2
+    peaks = read_peaks(study.output)
+    for row, ((_, level), rows) in zip(summary[1:], peaks.groupby(["bridge", "intensity"]),
+                                       strict=True):  # fmt: skip
+        assert float(row[1]) == level
+        assert row[3] == f"{100 * rows['dcr_backfill'].max():.1f} %"
+
+
+def test_a_sweep_is_drawn_against_its_field_and_fig10_is_under_ar07(tmp_path):
+    """A sweep's variants get a figure against the swept field instead of Fig. 9, and the history
+    figure is under the paper's record, AR07, where the study has it (not the first record)."""
+    for name, source in (("AR01", "R1"), ("AR07", "R2")):
+        write_records(tmp_path, (source,))
+        (tmp_path / f"{source}.txt").rename(tmp_path / f"{name}.txt")
+    study_file = tmp_path / "sweep.yaml"
+    study_file.write_text(
+        f"bridges: [{(BRIDGES / 'studied-hbar1.25.yaml').as_posix()}]\n"
+        "records: {files: [{path: AR01.txt}, {path: AR07.txt}]}\n"
+        "sweep: {fields: {abutments.gap: [0.06, 0.12, 0.24]}}\n"
+        "fidelity: fast\noutput: {path: sweep.h5}\n", encoding="utf-8",
+    )  # fmt: skip
+    study = load_study(study_file)
+    run_study(study, workers=1)
+    parsed = Page(write_report(study.output, tmp_path / "r.html").read_text(encoding="utf-8"))
+    assert "Against abutments.gap" in parsed.headings
+    assert "Peaks per record (Fig. 9)" not in parsed.headings
+    assert "Response histories under AR07 (Fig. 10)" in parsed.headings
 
 
 def test_the_command_writes_beside_the_results_and_never_over_them(study):

@@ -7,6 +7,8 @@ the definition (one at a time: the sum of the lists' lengths; grid: their produc
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 import yaml
@@ -121,3 +123,37 @@ def test_units_of_swept_fields():
     assert field_unit("abutments.stiffness") == "N/m"
     assert field_unit("abutments.pounding.restitution") == "-"
     assert field_unit("piers.heights.1") == "m"
+
+
+def test_a_peak_per_swept_value_is_taken_at_one_intensity_level(tmp_path):
+    """A median over the records at 0.2 g and 0.8 g at once mixes two stripes: the figure asks
+    for one (--level), and an IDA, whose levels differ by record, points to its capacities."""
+    stripes = (
+        "sweep: {fields: {abutments.gap: [0.06, 0.24]}}\nfidelity: fast\n"
+        "output: {histories: none}\nintensity: {measure: pga_g, levels: [0.2, 0.8]}\n"
+    )
+    study = load_study(write_study(tmp_path, bridges=("studied-hbar1.25",), extra=stripes))
+    ran = invoke("run", study.path, "--workers", 1)
+    assert ran.exit_code == 0, ran.output
+    assert "peaks, largest over the records at each level:" in ran.output
+    assert re.search(r"studied-hbar1.25\+abutments.gap_0.06 +0.8 +2/2", ran.output)  # per level
+    args = ("plot", "sweep", study.output, "--field", "abutments.gap", "-o", "s.png")
+    refused = invoke(*args)
+    assert refused.exit_code == 2
+    assert "taken at one intensity level: choose one with --level (0.2, 0.8 g)" in refused.output
+    assert "0.5 is not one" in invoke(*args, "--level", 0.5).output
+    drawn = invoke(*args, "--level", 0.8)
+    assert drawn.exit_code == 0, drawn.output
+    ida = ("sweep: {fields: {abutments.gap: [0.06, 0.24]}}\nfidelity: fast\n"
+           "output: {path: ida.h5, histories: none}\n"
+           "intensity: {measure: pga_g, ida: {start: 0.3, step: 0.6, max: 0.9, tolerance: 0.5,"
+           " limit_states: [gap_closure]}}\n")  # fmt: skip
+    path = write_study(tmp_path, bridges=("studied-hbar1.25",), extra=ida, name="ida.yaml")
+    ran = invoke("run", path, "--workers", 1)
+    assert "peaks: an IDA's levels differ by record" in ran.output
+    output = tmp_path / "ida.h5"
+    refused = invoke("plot", "sweep", output, "--field", "abutments.gap")
+    assert refused.exit_code == 2 and "an IDA's levels differ by record" in refused.output
+    capacity = invoke("plot", "sweep", output, "--field", "abutments.gap", "--quantity",
+                      "gap_closure", "-o", "c.png")  # fmt: skip
+    assert capacity.exit_code == 0, capacity.output

@@ -9,6 +9,7 @@ from pathlib import Path
 import click
 
 from ..core.fidelity import PRESETS
+from ..motions.intensity import MEASURES
 from . import main, plot
 from .output import echo_json, export_csv, figure_option, shown, table_text
 
@@ -172,8 +173,7 @@ def run(
         f"{report.solve_time_s:.2f} s solving "
         f"(summed over the {report.ran} analyses run now)"
     )
-    click.echo("peaks, largest over the records:")
-    click.echo(_bridge_table(_peak_columns(report.output)))
+    click.echo(_bridge_table(report.output))
     problems = sum(counts.values()) - counts.get("ok", 0)
     if problems:
         click.echo(
@@ -277,31 +277,39 @@ def _pairs(pairs: list[tuple[str, str]], shown: int = 5) -> str:
     return text + (f" and {len(pairs) - shown} more" if len(pairs) > shown else "")
 
 
-def _bridge_table(columns: dict) -> str:
-    """Per bridge: analyses ok / all, the largest of each peak and of the backfill's
-    demand/capacity ratio, and how many analyses ended in a failure of the bridge."""
+def _bridge_table(results: Path) -> str:
+    """Per bridge (and intensity level, in a multiple-stripe study): analyses ok / all, the
+    largest of each peak and of the backfill's demand/capacity ratio over the records, and how
+    many analyses ended in a failure of the bridge; an IDA's pointer to its capacities."""
+    import json
+
     import numpy as np
 
+    from ..assessment.levels import summary_groups
     from ..core.quantities import NO_FAILURE
+    from ..results.reading import open_results, peak_columns
 
-    headers = ["bridge", "ok", *(header for _, header, _ in _DISPLAY), "backfill d/c", "failures"]
+    with open_results(results) as file:
+        columns = peak_columns(file)
+        intensity = json.loads(file.attrs.get("intensity", "null"))
+    try:
+        groups = summary_groups(columns, intensity)
+    except ValueError as exc:
+        return f"peaks: {str(exc).replace('RESULTS', str(results))}"
+    level = [] if intensity is None else [f"level [{MEASURES[intensity['measure']].unit}]"]
+    headers = ["bridge", *level, "ok", *(header for _, header, _ in _DISPLAY), "backfill d/c",
+               "failures"]  # fmt: skip
     rows = []
-    for bridge in dict.fromkeys(columns["bridge"]):
-        mine = columns["bridge"] == bridge
+    for group in groups:
+        mine = group.rows
         ok = f"{int(np.sum(columns['status'][mine] == 'ok'))}/{int(np.sum(mine))}"
         largest = _scaled([_largest(columns[name][mine]) for name, _, _ in _DISPLAY], 1.0)
         largest = [value * scale for value, (_, _, scale) in zip(largest, _DISPLAY, strict=True)]
         failed = np.isin(columns["failure_mode"][mine], ("", NO_FAILURE), invert=True)
-        rows.append([bridge, ok, *largest, _largest(columns["dcr_backfill"][mine]),
-                     int(np.sum(failed))])  # fmt: skip
-    return table_text(headers, rows)
-
-
-def _peak_columns(results: Path) -> dict:
-    from ..results.reading import open_results, peak_columns
-
-    with open_results(results) as file:
-        return peak_columns(file)
+        rows.append([group.bridge, *([] if group.level is None else [group.level]), ok, *largest,
+                     _largest(columns["dcr_backfill"][mine]), int(np.sum(failed))])  # fmt: skip
+    heading = "peaks, largest over the records" + (" at each level" if level else "")
+    return f"{heading}:\n{table_text(headers, rows)}"
 
 
 def _largest(values) -> float:
@@ -347,13 +355,20 @@ def plot_peaks(results: Path, output: Path | None) -> None:
     help="A peak-table column (median over the records), or a limit state (median capacity; a "
     "study with an intensity section).",
 )  # fmt: skip
+@click.option(
+    "--level", type=float, default=None,
+    help="The intensity level of a peak in a study with intensity levels (its median is over "
+    "the records at one level) [the measure's unit].",
+)  # fmt: skip
 @figure_option("<results stem>-sweep-<field>.png beside RESULTS")
-def plot_sweep(results: Path, field: str, quantity: str, output: Path | None) -> None:
+def plot_sweep(
+    results: Path, field: str, quantity: str, level: float | None, output: Path | None
+) -> None:
     """A peak or a capacity of RESULTS (a study with a sweep section) against a swept field."""
     from ..plots.sweep import plot_sweep as draw
 
     target = output or results.with_name(f"{results.stem}-sweep-{field}.png")
-    click.echo(f"Figure: {draw(results, target, field, quantity)}")
+    click.echo(f"Figure: {draw(results, target, field, quantity, level)}")
 
 
 @plot.command("history")

@@ -1,16 +1,19 @@
 """A peak or a capacity against a swept bridge field (`config.sweep`): per bridge, the median over
-the records with the 16–84 % band of a peak, or the median capacity of a limit state with its 90 %
-interval; one line per bridge file (and, in a grid, per value of the other swept fields)."""
+the records with the 16–84 % band of a peak (in a multiple-stripe study, at one intensity level),
+or the median capacity of a limit state with its 90 % interval; one line per bridge file (and, in
+a grid, per value of the other swept fields)."""
 
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
 import numpy as np
 from matplotlib.figure import Figure
 
 from ..assessment.fragility import fragilities_of
+from ..assessment.levels import IDA_POINTER, levels_of
 from ..core.quantities import check_limit_state
 from ..errors import InputError
 from ..motions.intensity import MEASURES
@@ -20,7 +23,11 @@ from .ida import QUANTITY_SCALE
 
 
 def plot_sweep(
-    results: str | Path, output: str | Path, field: str, quantity: str = "u_deck_max"
+    results: str | Path,
+    output: str | Path,
+    field: str,
+    quantity: str = "u_deck_max",
+    level: float | None = None,
 ) -> Path:
     """Draw ``quantity`` against the swept ``field``.
 
@@ -31,12 +38,16 @@ def plot_sweep(
     quantity
         A numeric peak column (median over the records), or a limit state (median capacity, for
         a study with an intensity section).
+    level
+        The intensity level of a peak in a multiple-stripe study [the measure's unit]: the
+        records' median is taken at one level, never over all at once.
 
     Raises
     ------
     InputError
-        ``field`` is not swept, or ``quantity`` is neither a peak column nor, with an intensity
-        section, a limit state.
+        ``field`` is not swept, ``quantity`` is neither a peak column nor, with an intensity
+        section, a limit state; or a peak is asked of an IDA, or of stripes without one of
+        their levels.
 
     Returns
     -------
@@ -59,6 +70,12 @@ def plot_sweep(
         reason = f"not a peak column{' or a limit state' if intensity else ''}: {quantity!r}"
         raise InputError(results, [("quantity", reason)])
     ok = columns["status"] != "error"
+    if level is not None and (capacity or intensity is None):
+        reason = "--level picks the stripe of a peak in a study with intensity levels"
+        raise InputError(results, [("level", reason)])
+    if not capacity and intensity is not None:
+        rows, level = _at_level(results, columns, intensity, quantity, level)
+        ok &= rows
     columns = {name: values[ok] for name, values in columns.items()}
     bridges = [b for b in dict.fromkeys(columns["bridge"]) if field in varies.get(b, ())]
     lines: dict[tuple, list[tuple[float, float, float, float]]] = {}
@@ -92,12 +109,43 @@ def plot_sweep(
                           linewidth=0)  # fmt: skip
     what = f"capacity: {quantity.replace('_', ' ')}" if capacity else quantity
     band = "median, 90 % interval" if capacity else "median over the records, 16–84 %"
+    if level is not None:
+        band += f", at {intensity['measure']} = {level:g} {unit_of(intensity)}"
     axes.set_title(band, fontsize="medium")
     axes.set_xlabel(f"{field} [{units.get(field, '-')}]")
     axes.set_ylabel(f"{what} [{unit}]")
     axes.grid(True, color="0.9", linewidth=0.5)
     axes.legend(frameon=False, fontsize="small")
     return save(figure, output)
+
+
+def unit_of(intensity: dict) -> str:
+    """The unit of a study's intensity measure."""
+    return MEASURES[intensity["measure"]].unit
+
+
+def _at_level(
+    results: str | Path, columns: dict, intensity: dict, quantity: str, level: float | None
+) -> tuple[np.ndarray, float]:
+    """The rows of a multiple-stripe study at ``level``, and the level as stored.
+
+    Raises
+    ------
+    InputError
+        The study is an IDA, or ``level`` is not one of the stripes'.
+    """
+    if intensity.get("ida"):
+        reason = f"{quantity!r} per swept value: {IDA_POINTER}; or a limit state's capacity"
+        raise InputError(results, [("quantity", reason)])
+    levels = levels_of(columns)
+    near = [x for x in levels if level is not None and math.isclose(x, level, rel_tol=1e-9)]
+    if not near:
+        listed = ", ".join(f"{x:g}" for x in levels)
+        said = "" if level is None else f"{level:g} is not one; "
+        reason = (f"a median over the records is taken at one intensity level: {said}choose one "
+                  f"with --level ({listed} {unit_of(intensity)})")  # fmt: skip
+        raise InputError(results, [("level", reason)])
+    return columns["intensity"] == near[0], near[0]
 
 
 def _is_limit_state(name: str) -> bool:
