@@ -14,6 +14,7 @@ from rockbridge_cli import __version__
 from rockbridge_cli.config.study import load_study
 from rockbridge_cli.core.quantities import EVENT_NAMES, HISTORY_UNITS, PEAK_UNITS
 from rockbridge_cli.errors import InputError
+from rockbridge_cli.records.files import read_record
 from rockbridge_cli.results import (
     EVENT_COLUMNS,
     FORMAT,
@@ -24,6 +25,7 @@ from rockbridge_cli.results import (
     read_history,
     read_peaks,
 )
+from rockbridge_cli.results.reading import ground_motion
 from rockbridge_cli.study.run import run_study
 
 
@@ -220,6 +222,45 @@ def test_format_2_is_still_read(done, tmp_path):
             read_events(older, bridge, "R2"), read_events(path, bridge, "R2")
         )
     pd.testing.assert_frame_equal(read_peaks(older), read_peaks(path))
+
+
+def test_a_scaled_record_is_its_base_record_and_a_factor(tmp_path):
+    """A stripe of a record holds its factor and links to the record's samples as read, stored
+    once for every level (format 4); the ground motion read back is the motion analysed, the
+    factor times the file's samples (`read_record`), bit for bit. A format-3 file, which stored a
+    scaled copy per level, reads back the same."""
+    extra = ("intensity: {measure: pga_g, levels: [0.2, 0.4, 0.8]}\n"
+             "fidelity: fast\noutput: {path: stripes.h5}\n")  # fmt: skip
+    study = load_study(write_study(tmp_path, extra=extra))
+    run_study(study, workers=1)
+    peaks = read_peaks(study.output)
+    with h5py.File(study.output, "r") as file:
+        assert file.attrs["format_version"] == 4
+        groups = [file["records"][r] for r in ("R1+0.2g", "R1+0.4g", "R1+0.8g")]
+        assert all("acceleration" not in g and g.attrs["base_record"] == "R1" for g in groups)
+        assert len({g["base_acceleration"].id for g in groups}) == 1  # one dataset, linked
+        samples = {node["base_acceleration"].id for node in file["records"].values()}
+        assert len(samples) == 2  # once per record as read
+        for row in peaks[peaks["bridge"] == STUDIED[0]].itertuples():
+            node = file["records"][row.record]
+            assert node.attrs["scale"] == row.scale
+            step, motion = ground_motion(file, study.output, row.bridge, row.record)
+            as_read = read_record(tmp_path / f"{row.base_record}.txt").acceleration
+            np.testing.assert_array_equal(motion, row.scale * as_read)
+            assert abs(motion).max() == pytest.approx(row.intensity * 9.80665, rel=1e-12)
+    older = tmp_path / "format3.h5"
+    older.write_bytes(study.output.read_bytes())
+    with h5py.File(older, "r+") as file:
+        file.attrs["format_version"] = 3
+        for node in file["records"].values():
+            node["acceleration"] = node.attrs["scale"] * node["base_acceleration"][()]
+            del node["base_acceleration"]
+        for row in peaks.itertuples():
+            with h5py.File(study.output, "r") as new:
+                expected = ground_motion(new, study.output, row.bridge, row.record)[1]
+            np.testing.assert_array_equal(
+                ground_motion(file, older, row.bridge, row.record)[1], expected
+            )
 
 
 def test_truncated_file_is_an_input_error(done, tmp_path):

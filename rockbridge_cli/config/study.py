@@ -219,6 +219,8 @@ class StudyRecord:
     base : id of the record before scaling (the same id without an intensity section)
     level : the intensity level it is scaled to, in the study's measure; NaN without
     scale : the factor applied to the file's samples [-]
+    as_read : a scaled record's record before scaling (``record`` is ``scale`` times it); None
+        for a record as read
     """
 
     id: str
@@ -229,6 +231,7 @@ class StudyRecord:
     base: str = ""
     level: float = float("nan")
     scale: float = 1.0
+    as_read: Record | None = None
 
 
 @dataclass(frozen=True)
@@ -503,7 +506,7 @@ def _scaled(records: list[StudyRecord], intensity: Intensity) -> list[StudyRecor
             digest = hashlib.sha256(f"{item.digest} x{scale!r}".encode()).hexdigest()
             scaled.append(StudyRecord(
                 scaled_id(item.id, level, intensity.measure), item.source, record, item.error,
-                digest, base=item.id, level=level, scale=scale,
+                digest, base=item.id, level=level, scale=scale, as_read=item.record,
             ))  # fmt: skip
     return scaled
 

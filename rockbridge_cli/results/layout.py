@@ -3,7 +3,9 @@
 ::
 
     /                          study, versions, timestamps, config hash, fidelity knobs
-    /records/<record>          acceleration [m/s2], time step, PGA, source file
+    /records/<record>          acceleration [m/s2], time step, PGA, source file; a scaled
+                               record: base_record, scale and base_acceleration, the base's
+                               samples as read (one dataset for all its levels)
     /bridges/<bridge>          bridge config, model constants and summarize() values
     /peaks/<column>            one row per analysis that ran, in the study's order: status,
                                peaks, counts, timings
@@ -25,8 +27,10 @@
 The kind of an event is a CF flag (§3.5): ``/events/kind`` holds int8 codes, its attributes
 ``flag_values`` and ``flag_meanings`` name them (`core.quantities.EVENT_NAMES`, in order).
 
-Format 2 stored the kinds as variable-length strings, 40 bytes an event and most of the file;
-the readers read it as well. Format 1 (before the study layer wrote in one streaming pass) also
+Format 3 stored each scaled record of a multiple-stripe study as a scaled copy of its samples (a
+study of 4 records at 8 levels held 32 copies); format 4 stores the record as read once and each
+level's factor. Format 2 stored the kinds as variable-length strings, 40 bytes an event and most
+of the file; the readers read both. Format 1 (before the study layer wrote in one streaming pass) also
 kept the scalar results and the events of each analysis in attributes and datasets of its own
 group; the readers refuse it.
 """
@@ -41,10 +45,11 @@ import numpy as np
 from ..core.quantities import EVENT_NAMES, FAILURE_MODES, NO_FAILURE, PEAK_UNITS
 
 FORMAT = "rockbridge-results"
-FORMAT_VERSION = 3
+FORMAT_VERSION = 4
 
-READABLE_VERSIONS = (2, 3)
-"""Formats the readers read: 2 differs only in its event kinds (strings)."""
+READABLE_VERSIONS = (2, 3, 4)
+"""Formats the readers read: 3 stored a scaled copy of each stripe's record, 2 also its event
+kinds as strings."""
 
 STATUSES = {
     "ok": "the analysis ran to the end of the record or to a failure of the bridge",

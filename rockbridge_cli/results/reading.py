@@ -167,7 +167,7 @@ def ground_motion(
 ) -> tuple[float, np.ndarray]:
     """The ground motion of one analysis of an open results file: the time step [s] and the
     acceleration from t = 0 [m/s²], scaled by the analysis's factor where an IDA scales the
-    stored record per analysis.
+    stored record per analysis, or by the record's where stripes store their records as read.
 
     Raises
     ------
@@ -175,14 +175,16 @@ def ground_motion(
         No such analysis, or its record was not read.
     """
     row = _row(file, path, bridge, record)
-    node, scale = file.get(f"records/{record}"), 1.0
+    node, scale, samples = file.get(f"records/{record}"), 1.0, "acceleration"
     if node is None and "base_record" in file["peaks"]:  # an IDA's: the base record × scale
         node = file.get(f"records/{file['peaks/base_record'].asstr()[row]}")
         scale = float(file["peaks/scale"][row])
-    if node is None or "acceleration" not in node:
+    elif node is not None and "base_acceleration" in node:  # stripes' (format 4): × its scale
+        scale, samples = float(node.attrs["scale"]), "base_acceleration"
+    if node is None or samples not in node:
         reason = "no ground motion (the record was not read)"
         raise InputError(path, [(f"records/{record}", reason)])
-    return float(node.attrs["time_step"]), scale * node["acceleration"][()]
+    return float(node.attrs["time_step"]), scale * node[samples][()]
 
 
 def read_history(path: str | Path, bridge: str, record: str) -> pd.DataFrame:

@@ -322,7 +322,9 @@ def _recorded(record: Record) -> bool:
 def _write_records(group: h5py.Group, study: Study) -> None:
     """One group per record, named by its id. The ids of one file name one group (HDF5 hard
     links: its description is written once), and files of the same content share their samples
-    (a hard link too)."""
+    (a hard link too). A record an intensity section scales holds its factor (``scale``) and its
+    base record's samples as read (``base_acceleration``, one dataset for every level, linked),
+    not a scaled copy."""
     described: dict[tuple[str, str], h5py.Group] = {}
     written: dict[str, h5py.Dataset] = {}
     pulses: dict[tuple[str, str], dict[str, float]] = {}  # by record as read: once per record
@@ -339,20 +341,29 @@ def _write_records(group: h5py.Group, study: Study) -> None:
             continue
         base = (item.source, item.base or item.id)
         if base not in pulses and item.record is not None and _recorded(item.record):
-            record = item.record
-            pulses[base] = pulse_provenance(record.acceleration / (item.scale or 1.0),
-                                            record.time_step)  # fmt: skip
+            record = item.as_read or item.record
+            pulses[base] = pulse_provenance(record.acceleration, record.time_step)
         node = described[key] = _describe_record(group, item, spectral, pulses.get(base, {}))
-        if item.digest in written:
-            node["acceleration"] = written[item.digest]
-        elif item.record is not None:
-            dataset = written[item.digest] = node.create_dataset(
-                "acceleration", data=item.record.acceleration, **COMPRESSION
-            )
-            dataset.attrs["units"] = "m/s2"
-            dataset.attrs["description"] = (
-                "ground acceleration, positive to the right, from t = 0 at time_step"
-            )
+        samples = item.record if item.as_read is None else item.as_read
+        name = "acceleration" if item.as_read is None else "base_acceleration"
+        digest = item.digest if item.as_read is None else f"{item.source} as read"
+        if digest in written:
+            node[name] = written[digest]
+        elif samples is not None:
+            written[digest] = _write_samples(node, name, samples.acceleration)
+
+
+def _write_samples(node: h5py.Group, name: str, acceleration: np.ndarray) -> h5py.Dataset:
+    """A record's samples, ``acceleration`` (as analysed) or ``base_acceleration`` (as read, of
+    a record scaled by the group's ``scale``)."""
+    dataset = node.create_dataset(name, data=acceleration, **COMPRESSION)
+    dataset.attrs["units"] = "m/s2"
+    dataset.attrs["description"] = (
+        "ground acceleration, positive to the right, from t = 0 at time_step"
+        + ("" if name == "acceleration" else "; of the record as read: the group's scale times "
+           "it is the motion analysed")
+    )  # fmt: skip
+    return dataset
 
 
 def _describe_record(
@@ -368,6 +379,8 @@ def _describe_record(
     period range and damping) as attributes."""
     node = group.create_group(item.id)
     node.attrs.update({"source": item.source, "sha256": item.digest, "error": item.error})
+    if item.as_read is not None:
+        node.attrs.update({"base_record": item.base, "scale": item.scale})
     record = item.record
     if record is not None:
         node.attrs.update(
@@ -389,6 +402,7 @@ def _describe_record(
             node,
             {"time_step": "s", "n_samples": "-", "duration": "s", "pga": "m/s2",
              "file_units": "-", "standard_gravity": "m/s2",
+             **({"scale": "-"} if item.as_read is not None else {}),
              **{key: PROVENANCE[key] for key in provenance},
              **{name: MEASURES[name].unit for name in measures}},
         )  # fmt: skip
