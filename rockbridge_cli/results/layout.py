@@ -30,9 +30,9 @@ The kind of an event is a CF flag (§3.5): ``/events/kind`` holds int8 codes, it
 Format 3 stored each scaled record of a multiple-stripe study as a scaled copy of its samples (a
 study of 4 records at 8 levels held 32 copies); format 4 stores the record as read once and each
 level's factor. Format 2 stored the kinds as variable-length strings, 40 bytes an event and most
-of the file; the readers read both. Format 1 (before the study layer wrote in one streaming pass) also
-kept the scalar results and the events of each analysis in attributes and datasets of its own
-group; the readers refuse it.
+of the file; the readers read both. Format 1 (before the study layer wrote in one streaming
+pass) also kept the scalar results and the events of each analysis in attributes and datasets of
+its own group; the readers refuse it.
 """
 
 from __future__ import annotations
