@@ -23,7 +23,7 @@ multiple-stripe study and the IDA of the paper's bridges (``rockbridge run``, th
 ``rockbridge fragility``), each in a fresh process.
 
     python benchmarks/bench_study.py [--sizes 30 300 3000 10000] [--workers 1 2]
-                                     [--fidelity default] [--histories none all]
+                                     [--fidelity default] [--histories none all] [--bridges 3]
                                      [--bundled paper-stripes paper-ida] [--repeat 1]
 """
 
@@ -69,21 +69,31 @@ print(json.dumps({
 """
 
 
-def write_study(folder: Path, analyses: int, histories: str, fidelity: str) -> Path:
-    """A study of the three studied bridges × ``analyses / 3`` record entries."""
-    entries = max(1, analyses // len(BRIDGES))
-    lines = ["bridges:"] + [f"  - {path}" for path in BRIDGES] + ["records:", "  files:"]
+def write_study(
+    folder: Path, analyses: int, histories: str, fidelity: str, bridges: int = len(BRIDGES)
+) -> Path:
+    """A study of ``bridges`` bridges × ``analyses / bridges`` record entries: the three studied
+    bridges, each swept over ``bridges / 3`` end-joint gaps (0.06–0.24 m) beyond three."""
+    variants = max(1, round(bridges / len(BRIDGES)))
+    entries = max(1, analyses // (variants * len(BRIDGES)))
+    lines = ["bridges:"] + [f"  - {path}" for path in BRIDGES]
+    if variants > 1:
+        lines += [f"sweep: {{fields: {{abutments.gap: {{start: 0.06, stop: 0.24, count: "
+                  f"{variants}}}}}}}"]  # fmt: skip
+    lines += ["records:", "  files:"]
     lines += [f"    - {{path: {RECORDS[i % len(RECORDS)]}, id: R{i:05d}}}" for i in range(entries)]
     lines += [f"fidelity: {fidelity}", f"output: {{path: {folder / 'out.h5'}, histories: "
               f"{histories}}}"]  # fmt: skip
-    path = folder / f"study-{analyses}-{histories}.yaml"
+    path = folder / f"study-{analyses}-{histories}-{bridges}.yaml"
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
     return path
 
 
-def measure(analyses: int, histories: str, workers: int, fidelity: str) -> dict:
+def measure(
+    analyses: int, histories: str, workers: int, fidelity: str, bridges: int = len(BRIDGES)
+) -> dict:
     with tempfile.TemporaryDirectory() as folder:
-        study = write_study(Path(folder), analyses, histories, fidelity)
+        study = write_study(Path(folder), analyses, histories, fidelity, bridges)
         done = subprocess.run(
             [sys.executable, "-c", ROW, str(study), str(workers)],
             capture_output=True, text=True, check=True,
@@ -116,6 +126,8 @@ def main() -> None:
     parser.add_argument("--workers", type=int, nargs="+", default=[1, 2])
     parser.add_argument("--histories", nargs="+", default=["none", "all"])
     parser.add_argument("--fidelity", default="default")
+    parser.add_argument("--bridges", type=int, default=len(BRIDGES), help="bridges of each "
+                        "study: the three studied, each swept over gaps beyond three")  # fmt: skip
     parser.add_argument("--bundled", nargs="*", default=["paper-stripes", "paper-ida"])
     parser.add_argument("--repeat", type=int, default=1, help="runs of each row, interleaved; "
                         "the table gives their medians")  # fmt: skip
@@ -123,7 +135,8 @@ def main() -> None:
 
     measure(3, "none", 1, options.fidelity)  # compile the kernels into numba's cache
     machine = f"{platform.machine()}, {os.cpu_count()} CPUs, Python {platform.python_version()}"
-    print(f"machine: {machine}; fidelity {options.fidelity}; histories at 0.01 s")
+    print(f"machine: {machine}; fidelity {options.fidelity}; histories at 0.01 s; "
+          f"{options.bridges} bridges")  # fmt: skip
     print(
         f"{'N':>6} {'hist':>4} {'wrk':>3} | {'e2e':>7} {'solve':>7} {'over':>7} "
         f"{'parent':>7} {'worker':>7} {'ceiling':>7} | {'load':>6} {'total':>7} | "
@@ -135,7 +148,8 @@ def main() -> None:
             runs: dict[int, list[dict]] = {workers: [] for workers in options.workers}
             for _ in range(options.repeat):  # interleaved: a drift of the host's speed hits all
                 for workers in options.workers:
-                    runs[workers].append(measure(analyses, histories, workers, options.fidelity))
+                    runs[workers].append(measure(analyses, histories, workers, options.fidelity,
+                                                 options.bridges))  # fmt: skip
             for workers, rows in runs.items():
                 row = {key: statistics.median(r[key] for r in rows) for key in rows[0]}
                 n = row["n"]

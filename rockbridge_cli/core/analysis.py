@@ -14,6 +14,7 @@ from ._jit import jit
 from .bridge import Bridge
 from .geometry import Model, kind
 from .kinematics import EXACT, Displacements, Kinematics, displacements, simplified
+from .memo import BoundedCache
 from .quantities import EVENT_NAMES, HISTORY_UNITS, PEAK_NAMES, SIGNIFICANT_RATE
 from .solver import (
     EVENT_KIND,
@@ -32,6 +33,23 @@ from .solver import (
     integrate,
 )
 from .tables import tabulated
+
+TABLE_BYTES = 32 * 2**20
+"""What a process keeps of bridges' tabulated kinematics [bytes]: 14 bridges' tables of 2.3 MB.
+A study's cells, and so a worker's batches, go bridge by bridge, so a table is used while it is
+new; a sweep of a thousand bridges then keeps a worker at the same memory as three bridges do
+(the entries' count, `functools.lru_cache`'s bound, let 256 tables grow a worker by 590 MB)."""
+
+
+def _build_tables(model: Model) -> Kinematics:
+    """The tables of a bridge, built without `tables.tabulated`'s own cache (which bounds the
+    number of bridges, not their bytes)."""
+    return getattr(tabulated, "__wrapped__", tabulated)(model)
+
+
+_TABLES: BoundedCache[Model, Kinematics] = BoundedCache(
+    _build_tables, TABLE_BYTES, lambda kinematics: kinematics.table.nbytes
+)
 
 
 @dataclass
@@ -261,7 +279,7 @@ def _histories(
 def _kinematics(model: Model, name: str) -> Kinematics:
     """The kinematics a fidelity preset names: exact, tabulated or simplified (the paper's)."""
     if name == "tabulated":
-        return tabulated(model)
+        return _TABLES(model)
     return simplified(model) if name == "simplified" else EXACT
 
 
