@@ -9,7 +9,7 @@ import os
 import pandas as pd
 import pytest
 from click.testing import CliRunner
-from studies import REPO, STUDIED, write_study
+from studies import BRIDGES, REPO, STUDIED, write_study
 
 from rockbridge_cli.cli import main
 from rockbridge_cli.cli.progress import ProgressDisplay
@@ -83,11 +83,27 @@ def test_other_settings_from_the_command_line(tmp_path):
     assert result.exit_code == 0, result.output
     assert (tmp_path / "f.h5").exists()
     refused = invoke("run", study, "-o", tmp_path / "f.h5")  # the default fidelity: another study
-    assert_user_error(refused, "f.h5: holds results of a different study", "--overwrite")
+    assert_user_error(refused, "f.h5: holds results of a different study", "--overwrite",
+                      "fidelity.preset: fast → default")  # fmt: skip
     rerun = invoke("run", study, "-o", tmp_path / "f.h5", "--overwrite", "--workers", "1")
     assert rerun.exit_code == 0 and "(4 run now, 0 already done)" in rerun.output
     recomputed = invoke("run", study, "-o", tmp_path / "f.h5", "--no-resume")
     assert "(4 run now, 0 already done)" in recomputed.output
+
+
+def test_a_refused_output_names_what_changed(tmp_path):
+    """The file holds another study: the refusal names the fields that differ (a tail, a bridge's
+    gap of 0.20 → 0.21 m), not only that something does."""
+    bridge = (BRIDGES / "studied-hbar1.25.yaml").read_text(encoding="utf-8")
+    (tmp_path / "b.yaml").write_text(bridge.replace("gap: 0.12", "gap: 0.20"), encoding="utf-8")
+    study = write_study(tmp_path, bridges=(), bridge_files=(tmp_path / "b.yaml",),
+                        extra="fidelity: fast\noutput: {histories: none}\n")  # fmt: skip
+    assert invoke("run", study, "-o", tmp_path / "f.h5").exit_code == 0
+    tail = invoke("run", study, "-o", tmp_path / "f.h5", "--tail", "2")
+    assert_user_error(tail, "different study or different inputs (fidelity.knobs.tail: 0 → 2)")
+    (tmp_path / "b.yaml").write_text(bridge.replace("gap: 0.12", "gap: 0.21"), encoding="utf-8")
+    gap = invoke("run", study, "-o", tmp_path / "f.h5")
+    assert_user_error(gap, "(bridge b: abutments.gap: 0.2 → 0.21)")
 
 
 def test_bad_inputs(tmp_path):

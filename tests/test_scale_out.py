@@ -213,6 +213,7 @@ def test_merge_refuses_what_it_cannot_trust(small_parts, tmp_path):
     assert invoke("run", study, "--fidelity", "fast", "--shard", "2/2", "-o", other).exit_code == 0
     mixed = invoke("merge", tmp_path / "y.h5", first, other)
     assert mixed.exit_code == 2 and "config_hash differs" in mixed.output
+    assert "(fidelity.preset: default → fast; fidelity.knobs" in mixed.output  # what differs
     with h5py.File(second, "a") as file:
         file.attrs["numpy_version"] = "0.0.1"
     flagged = invoke("merge", tmp_path / "z.h5", first, second)

@@ -22,6 +22,7 @@ import h5py
 
 from ..assessment.fragility import store as store_fragilities
 from ..assessment.limit_states import stored_verdicts
+from ..config.changes import summary
 from ..errors import InputError
 from ..paths import checked_output, replace_atomically
 from ..results.packing import AnalysisResult
@@ -125,9 +126,12 @@ def _check(parts: list[Path], files: list[h5py.File]) -> list[str]:
     for path, file in zip(parts[1:], files[1:], strict=True):
         for name in MUST_AGREE:
             if file.attrs.get(name) != first.get(name):
-                reason = (f"{name} differs from {parts[0]}'s ({file.attrs.get(name)} ≠ "
-                          f"{first.get(name)}): parts must come from the same study and the same "
-                          "rockbridge")  # fmt: skip
+                what = f"{file.attrs.get(name)} ≠ {first.get(name)}"
+                if name == "config_hash":  # name the fields that differ, not the hashes
+                    what = summary(json.loads(first.get("config", "{}")),
+                                   json.loads(file.attrs.get("config", "{}")))  # fmt: skip
+                reason = (f"{name} differs from {parts[0]}'s ({what}): parts must come from the "
+                          "same study and the same rockbridge")  # fmt: skip
                 raise InputError(path, [("", reason)])
     flags = []
     for name in SHOULD_AGREE:

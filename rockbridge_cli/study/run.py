@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 import heapq
+import json
 import math
 import os
 import time
@@ -27,6 +28,7 @@ import h5py
 import numpy as np
 
 from ..assessment.limit_states import Verdict, stored_verdicts
+from ..config.changes import summary
 from ..core.quantities import NO_FAILURE
 from ..core.summary import summarize_all
 from ..cpus import usable_cpus
@@ -167,7 +169,7 @@ def run_study(
         if overwrite:
             remove_journal(output)
             output.unlink(missing_ok=True)
-        earlier = _stored_in_output(output, grid.config_hash, shard)
+        earlier = _stored_in_output(output, study, shard)
         journal = Journal(output, scope)
         try:
             if not resume:  # recompute everything; what is stored stays until it is replaced
@@ -321,27 +323,30 @@ def _earlier_results(output: Path, grid: Grid) -> Iterator[Iterator[tuple[int, A
 
 
 def _stored_in_output(
-    output: Path, config_hash: str, shard: tuple[int, int] | None
+    output: Path, study: Study, shard: tuple[int, int] | None
 ) -> dict[tuple[str, str], Verdict]:
     """The verdict of each analysis an earlier results file of the same study (and shard) holds.
 
     Raises
     ------
     InputError
-        The file cannot be read, belongs to another study, or holds another shard.
+        The file cannot be read, belongs to another study (the message names what differs), or
+        holds another shard.
     """
     if not output.exists():
         return {}
     hint = "rerun with --overwrite to replace it, or choose another output"
     try:
         with open_results(output) as file:
-            same = file.attrs.get("config_hash") == config_hash
+            same = file.attrs.get("config_hash") == study.config_hash
             stored_shard = stored_shard_of(file)
             stored = stored_verdicts(file) if same and stored_shard == shard else {}
+            config = json.loads(file.attrs.get("config", "{}")) if not same else {}
     except InputError as exc:  # unreadable or not a results file
         raise InputError(output, [("", f"{exc.problems[0][1]}; {hint}")]) from None
     if not same:
-        reason = f"holds results of a different study or different inputs; {hint}"
+        changed = summary(config, study.resolved())
+        reason = f"holds results of a different study or different inputs ({changed}); {hint}"
         raise InputError(output, [("", reason)])
     if stored_shard != shard:
         which = "the whole study" if stored_shard is None else f"shard {shard_label(stored_shard)}"
