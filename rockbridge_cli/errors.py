@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import difflib
+from collections.abc import Iterable
 from pathlib import Path
 
 
@@ -29,3 +31,17 @@ class InputError(Exception):
         lines = [f"{self.source}: {len(self.problems)} problems"]
         lines += [f"  {where + ': ' if where else ''}{reason}" for where, reason in self.problems]
         return "\n".join(lines)
+
+
+def nearest(word: str, choices: Iterable[str], what: str, shown: int = 3) -> str:
+    """What to say of a mistyped id: the few closest ``choices`` (difflib's ratio), or, where
+    none is close, the first few, with how many there are: ``nearest: AR01, AR10 (of 140
+    records)``. Never the whole list: a file may hold ten thousand ids."""
+    unique = list(dict.fromkeys(choices))
+    close = difflib.get_close_matches(word, unique, n=shown, cutoff=0.6)
+    if close:
+        return f"nearest: {', '.join(close)} (of {len(unique)} {what})"
+    if not unique:
+        return f"there are no {what}"
+    more = ", …" if len(unique) > shown else ""
+    return f"the {len(unique)} {what}: {', '.join(unique[:shown])}{more}"

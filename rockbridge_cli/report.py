@@ -24,7 +24,7 @@ import numpy as np
 from . import __version__
 from .assessment.levels import IDA_POINTER, record_count, summary_groups
 from .core.quantities import NO_FAILURE, ROUND_OFF
-from .errors import InputError
+from .errors import InputError, nearest
 from .paths import MARK, checked_output, replace_atomically
 from .results.reading import (
     bridge_attributes,
@@ -114,7 +114,9 @@ def write_report(
     intensity = json.loads(attributes.get("intensity", "null"))
     records = list(dict.fromkeys(columns["record"]))
     if record is not None and record not in records:
-        raise InputError(results, [("", f"no record {record}; the file has {', '.join(records)}")])
+        raise InputError(
+            results, [("", f"no record {record}; {nearest(record, records, 'records')}")]
+        )
     if hazard is not None and intensity is None:
         reason = "the study has no intensity section: no fragility to integrate with the hazard"
         raise InputError(results, [("", reason)])

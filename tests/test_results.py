@@ -141,7 +141,7 @@ def test_readers(done):
 
 def test_unknown_analysis(done):
     _, path = done
-    with pytest.raises(InputError, match="no analysis studied-hbar1.00/R9; the file has"):
+    with pytest.raises(InputError, match="no analysis studied-hbar1.00/R9: no record R9 under"):
         read_history(path, "studied-hbar1.00", "R9")
 
 
@@ -157,6 +157,33 @@ def test_histories_kept_as_asked(tmp_path):
     assert len(read_events(none.output, "studied-hbar1.00", "R1")) > 0  # events are kept
     pd.testing.assert_series_equal(
         read_peaks(none.output)["u_deck_max"], read_peaks(some.output)["u_deck_max"]
+    )
+
+
+def test_a_mistyped_id_gets_the_nearest_not_every_pair(tmp_path):
+    """A file of 10 000 analyses (1000 bridges × 10 records): a mistyped record or bridge id is
+    answered with the closest ids (difflib's ratio ≥ 0.6: AR1 → AR01, AR10), not with a list of
+    every bridge/record pair (656 KB on such a file)."""
+    path = tmp_path / "many.h5"
+    bridges = [f"bridge+abutments.gap_{0.06 + 1e-4 * i:.4f}" for i in range(1000)]
+    records = [f"AR{k:02d}" for k in range(1, 11)]
+    with h5py.File(path, "w") as file:
+        file.attrs.update({"format": FORMAT, "format_version": 4})
+        strings = h5py.string_dtype()
+        file["peaks/bridge"] = np.array([b for b in bridges for _ in records], dtype=strings)
+        file["peaks/record"] = np.array(records * len(bridges), dtype=strings)
+    with pytest.raises(InputError) as record:
+        read_history(path, bridges[5], "AR1")
+    message = str(record.value)
+    assert f"no record AR1 under {bridges[5]}; nearest: AR10, AR01" in message  # equal ratios
+    assert "(of 10 records)" in message and len(message) < 300
+    with pytest.raises(InputError) as bridge:
+        read_history(path, "brige+abutments.gap_0.0600", "AR01")
+    assert (
+        "no bridge brige+abutments.gap_0.0600; nearest: bridge+abutments.gap_0.0600"
+        in str(bridge.value)
+        and "(of 1000 bridges)" in str(bridge.value)
+        and len(str(bridge.value)) < 400
     )
 
 

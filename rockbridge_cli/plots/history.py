@@ -65,10 +65,8 @@ def plot_history(
         chosen = list(bridges) or list(table)
         unknown = [b for b in chosen if b not in table]
         if unknown:
-            raise InputError(
-                results,
-                [("", f"no bridge {', '.join(unknown)}; the file has {', '.join(table)}")],
-            )
+            why = f"no bridge {unknown[0]}; {nearest(unknown[0], table, 'bridges')}"
+            raise InputError(results, [("", why)])
         histories = {b: history_arrays(file, results, b, record) for b in chosen}
         events = {b: event_arrays(file, results, b, record) for b in chosen}
         time_step, ground = ground_motion(file, results, chosen[0], record)

@@ -16,7 +16,7 @@ import h5py
 import numpy as np
 
 from ..core.quantities import HISTORY_UNITS
-from ..errors import InputError
+from ..errors import InputError, nearest
 from .layout import COUNT_COLUMNS, EVENT_COLUMNS, FORMAT, FORMAT_VERSION, READABLE_VERSIONS
 from .packing import AnalysisResult
 
@@ -266,11 +266,12 @@ def _row(file: h5py.File, path: str | Path, bridge: str, record: str) -> int:
     bridges, records = file["peaks/bridge"].asstr()[()], file["peaks/record"].asstr()[()]
     found = np.flatnonzero((bridges == bridge) & (records == record))
     if not found.size:
-        pairs = [f"{b}/{r}" for b, r in zip(bridges, records, strict=True)]
-        raise InputError(
-            path,
-            [("", f"no analysis {bridge}/{record}; the file has {', '.join(pairs) or 'none'}")],
-        )
+        if bridge not in bridges:
+            why = f"no bridge {bridge}; {nearest(bridge, bridges.tolist(), 'bridges')}"
+        else:
+            mine = records[bridges == bridge].tolist()
+            why = f"no record {record} under {bridge}; {nearest(record, mine, 'records')}"
+        raise InputError(path, [("", f"no analysis {bridge}/{record}: {why}")])
     return int(found[0])
 
 
