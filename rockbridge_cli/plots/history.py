@@ -18,7 +18,7 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
 from ..core.quantities import FAILURE_EVENTS, STANDARD_GRAVITY
-from ..errors import InputError
+from ..errors import InputError, nearest
 from ..results.reading import (
     bridge_attributes,
     event_arrays,
