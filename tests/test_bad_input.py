@@ -362,3 +362,28 @@ def test_the_python_api_checks_its_arguments(tmp_path):
     with pytest.raises(TypeError, match="real accelerations"):
         analyze(bridge, np.array([0.0, 1.0j, 0.0]), 0.01)
     assert not (tmp_path / "out.h5").exists()
+
+
+def test_a_file_of_another_kind_is_named_for_what_it_is(tmp_path):
+    """Swapped arguments, a bridge given to run, a study given to describe, a results file given
+    to run: each is told what the file is and what takes it, not read as a malformed one."""
+    bridge, record = tmp_path / "b.yaml", tmp_path / "r.txt"
+    bridge.write_text(BRIDGE)
+    record.write_text("# units: m/s2\n0.0 0.0\n0.01 0.5\n0.02 -0.3\n0.03 0.0\n")
+    refused(invoke("analyze", record, bridge), "r.txt: a record file where the bridge goes",
+            "(the arguments are swapped)")  # fmt: skip
+    refused(invoke("run", bridge), "b.yaml: this is a bridge file, not a study file")
+    refused(invoke("analyze", bridge, bridge), "this is a bridge file, not a record file")
+    study = tmp_path / "s.yaml"
+    study.write_text(f"bridges: [{bridge.name}]\nrecords: {{files: [{{path: {record.name}}}]}}\n")
+    refused(invoke("describe", study), "s.yaml: this is a study file, not a bridge file",
+            "(a study file is for rockbridge run STUDY)")  # fmt: skip
+    refused(invoke("run", record), "r.txt: this is a record file, not a study file")
+    refused(invoke("generate-records", study), "this is a study file, not a record-set config")
+    results = tmp_path / "out.h5"
+    with h5py.File(results, "w"):
+        pass
+    refused(invoke("run", results), "out.h5: this is a results file, not a study file")
+    broken = tmp_path / "broken.yaml"  # a malformed bridge is still told what is wrong with it
+    broken.write_text(BRIDGE.replace("width: 2.6", "width: -2.6"))
+    refused(invoke("describe", broken), "piers.width")

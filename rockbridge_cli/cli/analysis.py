@@ -57,12 +57,17 @@ def analyze(
     Exits 1 if the integrator stopped before the end of the record (its peaks are then NaN).
     """
     from ..config.bridge import load_bridge  # pydantic: loaded on use
+    from ..config.kinds import expecting, file_kind
     from ..config.plausibility import bridge_warnings, record_warnings
     from ..core.analysis import analyze as run_analysis  # the compiled core: loaded on use
     from ..records.files import read_record
 
+    if file_kind(bridge) == "record" and file_kind(record) == "bridge":
+        swapped = "a record file where the bridge goes: rockbridge analyze BRIDGE RECORD"
+        raise InputError(bridge, [("", f"{swapped} (the arguments are swapped)")])
     config = load_bridge(bridge)
-    motion = read_record(record, units=units, time_step=time_step)
+    with expecting(record, "record"):
+        motion = read_record(record, units=units, time_step=time_step)
     _check_work(record, motion, fidelity, tail)
     warnings = [f"{bridge}: {w}" for w in bridge_warnings(config)]
     for warning in warnings + [f"{record}: {w}" for w in record_warnings(motion)]:

@@ -33,11 +33,13 @@ def generate_records(config: Path, out: Path | None, with_plot: bool) -> None:
     Writes one text file per record and manifest.json, then prints the EN 1998-1 §3.2.3.1.2
     compliance report.
     """
+    from ..config.kinds import expecting
     from ..config.loading import load
     from ..config.records import RecordSetConfig
     from ..records.sets import generate_record_set
 
-    settings = load(RecordSetConfig, config)
+    with expecting(config, "record set"):
+        settings = load(RecordSetConfig, config)
     folder = out if out is not None else Path("records") / config.stem
     report = generate_record_set(settings, folder, config_name=config.stem)
     click.echo(format_report(report))

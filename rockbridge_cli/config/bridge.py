@@ -17,6 +17,7 @@ from ..core import geometry
 from ..core.bridge import Bridge
 from ..core.geometry import Model
 from . import loading
+from .kinds import expecting
 from .loading import StrictModel
 
 MAX_DASHPOT_RATE = 1e5
@@ -219,6 +220,8 @@ def load_bridge(path: str | Path) -> BridgeConfig:
     Raises
     ------
     InputError
-        Naming the file, the field path, the value and the reason for every problem.
+        Naming the file, the field path, the value and the reason for every problem; or naming
+        the kind of file it is, where it is another (`kinds`).
     """
-    return loading.load(BridgeConfig, path)
+    with expecting(path, "bridge"):
+        return loading.load(BridgeConfig, path)

@@ -42,6 +42,7 @@ from ..records.files import MAX_RECORD_BYTES, Record, read_manifest, read_record
 from . import loading
 from .bridge import BridgeConfig, load_bridge
 from .intensity import Intensity, intensity_of, scaled_id
+from .kinds import expecting
 from .loading import ID_PATTERN, StrictModel
 from .plausibility import bridge_warnings, record_warnings, scale_warning
 from .records import Records
@@ -323,9 +324,9 @@ def load_study(
         the message names the file and the dotted field path.
     """
     path = Path(path)
-    return study_from_data(
-        loading.read_yaml(path), path, path.read_text(encoding="utf-8"), preset, output
-    )
+    with expecting(path, "study"):
+        data = loading.read_yaml(path)
+        return study_from_data(data, path, path.read_text(encoding="utf-8"), preset, output)
 
 
 def single_analysis(
