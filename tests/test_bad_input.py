@@ -137,6 +137,12 @@ def test_implausible_bridge_values_are_warnings_not_errors(tmp_path, change, war
     [
         ("0.0 350.0 -200.0 0.0", "m/s2", "peak 35.69 g is not an earthquake's"),  # cm/s² as m/s²
         ("0.0 0.003 -0.002 0.0", "m/s2", "peak 0.0003059 g is not an earthquake's"),  # g as m/s²
+        (
+            "0.0 0.51 -0.3 0.0",
+            "m/s2",
+            "peak 0.052 g, weaker than most records that make a "
+            "bridge rock: if the file's numbers are in g, it peaks at 0.51 g",
+        ),  # g as m/s²
         ("0.0 3.0 -2.0 0.0", "m/s2 10", "time step 10 s is not a ground motion's"),  # ms as s
         ("0.0 3.0 -2.0 0.0", "m/s2 5e-5", "time step 5e-05 s is not a ground motion's"),
     ],
@@ -157,6 +163,17 @@ def test_implausible_records_are_warned_about_once(tmp_path, values, unit, warni
 
     with h5py.File(tmp_path / "o.h5", "r") as file:
         assert any(warning in w for w in json.loads(file.attrs["warnings"]))
+
+
+def test_analyze_prints_the_pga_and_warns_of_g_read_as_metres(tmp_path):
+    """A 0.51 g record whose file says m/s²: 0.51/9.80665 = 0.052 g, printed, and warned of."""
+    (tmp_path / "b.yaml").write_text(BRIDGE)
+    record = tmp_path / "r.txt"
+    record.write_text("".join(f"{0.01 * i:.2f} {v}\n" for i, v in enumerate((0, 0.51, -0.3, 0))))
+    result = invoke("analyze", tmp_path / "b.yaml", record, "--units", "m/s2")
+    assert result.exit_code == 0, result.output
+    assert "peak 0.052 g, weaker than most records" in result.output
+    assert "r (0.03 s, PGA 0.052 g)" in result.output
 
 
 def test_a_time_column_that_does_not_start_at_zero_is_noticed(tmp_path):

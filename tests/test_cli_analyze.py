@@ -149,3 +149,48 @@ def test_the_symmetric_deck_does_not_rotate_in_print():
     assert line.split()[2] == "0", line
     data = json.loads(invoke("analyze", symmetric, RECORD, "--json").output)
     assert 0.0 <= data["theta_deck_max"] < 1e-12
+
+
+FRAME = """\
+piers: {width: 2.6, heights: [26.0, 20.8]}
+deck: {depth: 1.7, area: 6.0}
+spans: {side: 38.0, central: 60.0}
+"""
+"""The h̄ = 1.25 bridge without abutments: a rocking frame."""
+
+
+def test_a_record_that_ends_while_the_bridge_rocks_hints_at_a_tail(tmp_path):
+    """A 0.45 g half-sine pulse of 2 s period, cut at 2 s, leaves the frame rotating towards
+    overturning (`test_solver`'s test: it overturns 0.44 s after the record): analyze says so and
+    suggests --tail; with the tail, the failure is seen and nothing is suggested."""
+    (tmp_path / "frame.yaml").write_text(FRAME)
+    t = np.arange(0.0, 2.0 + 0.005, 0.01)
+    pulse = np.where((t >= 0.5) & (t <= 1.5), 0.45 * 9.81 * np.sin(np.pi * (t - 0.5)), 0.0)
+    record = tmp_path / "pulse.txt"
+    record.write_text("# units: m/s2\n" + "".join(f"{a:.2f} {b:.17g}\n" for a, b in zip(t, pulse)))
+    cut = invoke("analyze", tmp_path / "frame.yaml", record)
+    assert cut.exit_code == 0, cut.output
+    assert "failure                            none" in cut.output
+    assert "note: the bridge still rocks as the record ends (θ1 up to" in cut.output
+    assert "--tail 20 runs on with the ground at rest" in cut.output
+    tailed = invoke("analyze", tmp_path / "frame.yaml", record, "--tail", "20")
+    assert "failure                            overturning" in tailed.output
+    assert "note:" not in tailed.output
+    quiet = invoke("analyze", BRIDGE, RECORD)  # the bundled records end with the bridge near rest
+    assert "note:" not in quiet.output
+
+
+def test_json_states_units_and_the_solve_without_the_set_up():
+    """Every number of --json has its unit (SI, as the peak table's); the solve time is the
+    integration's alone, the one-time set-up (loading kernels, building tables) apart."""
+    data = json.loads(invoke("analyze", BRIDGE, RECORD, "--json").output)
+    units = data["units"]
+    assert units["u_deck_max"] == "m" and units["theta1_max"] == "rad"
+    assert units["solve_time_s"] == units["setup_time_s"] == units["t_onset"] == "s"
+    assert units["record_pga"] == "m/s2"
+    assert data["record_pga"] == pytest.approx(read_record(RECORD).peak_acceleration, rel=1e-15)
+    numbers = {k for k, v in data.items() if isinstance(v, (int, float)) and k != "units"}
+    assert numbers <= set(units)
+    assert data["setup_time_s"] > 0.0 and "set-up" not in data.get("status", "")
+    text = invoke("analyze", BRIDGE, RECORD).output
+    assert "set-up, once per process" in text and "solve time" in text

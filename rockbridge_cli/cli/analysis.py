@@ -56,10 +56,62 @@ def analyze(
 
     Exits 1 if the integrator stopped before the end of the record (its peaks are then NaN).
     """
+    config, motion = _inputs(bridge, record, units, time_step, fidelity, tail)
+    setup = _set_up(config, motion, fidelity)
+    if output is None:
+        from ..core.analysis import analyze as run_analysis  # the compiled core: loaded on use
+
+        with held():  # Ctrl-C stops the command once the compiled integrator has returned
+            response = run_analysis(
+                config.to_bridge(), motion.acceleration, motion.time_step, fidelity, tail=tail
+            )
+        summary = response.peak_row()
+        times, theta1, mode = (response.time, response.histories["theta1"],
+                               response.histories["mode"])  # fmt: skip
+    else:  # the same analysis, through the study runner, so that the file has run's layout
+        from ..config.study import single_analysis
+        from ..results import read_history
+        from ..study.run import run_study
+
+        study = single_analysis(bridge, record, units, time_step, fidelity, output, tail)
+        report = run_study(study, workers=1, overwrite=overwrite)
+        summary = {**report.peaks.iloc[0].to_dict(), "fidelity": fidelity}
+        if summary["status"] == "error":
+            raise click.ClickException(f"the analysis could not run: {summary['message']}")
+        summary["output"] = str(report.output)
+        stored = read_history(report.output, str(summary["bridge"]), str(summary["record"]))
+        times, theta1, mode = (stored.index.to_numpy(), stored["theta1"].to_numpy(),
+                               stored["mode"].to_numpy())  # fmt: skip
+    summary.update(setup_time_s=setup, record_pga=motion.peak_acceleration)
+    if as_json:
+        data = {**summary, "bridge": config.label(bridge.stem), "record": motion.name}
+        echo_json({**data, "units": _units(data)})
+    else:
+        label = f"{motion.name} ({motion.duration:g} s, PGA {motion.peak_acceleration / G:.3g} g)"
+        echo_table(_rows(config.label(bridge.stem), label, summary))
+    if summary["status"] == "ok" and (hint := _tail_hint(config, summary, times, theta1, mode,
+                                                         tail)):  # fmt: skip
+        click.echo(f"note: {hint}", err=True)
+    if summary["status"] != "ok":
+        reason = summary.get("message") or summary["status"]
+        click.echo(f"error: the integrator stopped early ({reason}); no peak is known", err=True)
+        ctx.exit(1)
+
+
+G = 9.80665
+"""Standard gravity, the g a record's PGA is printed in [m/s²]."""
+
+TAIL_HINT_ALPHA = 0.25
+"""A bridge still rocking at the end of its record, with θ1 in the last second at this fraction
+of α1 or more, gets a hint of ``--tail``: its motion after the record is not analysed."""
+
+
+def _inputs(bridge: Path, record: Path, units, time_step, fidelity: str, tail: float):
+    """The bridge config and the record, checked, with their plausibility warnings printed; a
+    record and a bridge given the other way round are named so."""
     from ..config.bridge import load_bridge  # pydantic: loaded on use
     from ..config.kinds import expecting, file_kind
     from ..config.plausibility import bridge_warnings, record_warnings
-    from ..core.analysis import analyze as run_analysis  # the compiled core: loaded on use
     from ..records.files import read_record
 
     if file_kind(bridge) == "record" and file_kind(record) == "bridge":
@@ -72,31 +124,55 @@ def analyze(
     warnings = [f"{bridge}: {w}" for w in bridge_warnings(config)]
     for warning in warnings + [f"{record}: {w}" for w in record_warnings(motion)]:
         click.echo(f"warning: {warning}", err=True)
-    if output is None:
-        with held():  # Ctrl-C stops the command once the compiled integrator has returned
-            response = run_analysis(
-                config.to_bridge(), motion.acceleration, motion.time_step, fidelity, tail=tail
-            )
-        summary = response.peak_row()
-    else:  # the same analysis, through the study runner, so that the file has run's layout
-        from ..config.study import single_analysis
-        from ..study.run import run_study
+    return config, motion
 
-        study = single_analysis(bridge, record, units, time_step, fidelity, output, tail)
-        report = run_study(study, workers=1, overwrite=overwrite)
-        summary = {**report.peaks.iloc[0].to_dict(), "fidelity": fidelity}
-        if summary["status"] == "error":
-            raise click.ClickException(f"the analysis could not run: {summary['message']}")
-        summary["output"] = str(report.output)
-    if as_json:
-        echo_json({**summary, "bridge": config.label(bridge.stem), "record": motion.name})
-    else:
-        label = f"{motion.name} ({motion.duration:g} s)"
-        echo_table(_rows(config.label(bridge.stem), label, summary))
-    if summary["status"] != "ok":
-        reason = summary.get("message") or summary["status"]
-        click.echo(f"error: the integrator stopped early ({reason}); no peak is known", err=True)
-        ctx.exit(1)
+
+def _set_up(config, motion, fidelity: str) -> float:
+    """What an analysis costs once per process, before its solve: loading the compiled kernels
+    and building the bridge's tables, timed by analysing two samples of rest [s]."""
+    import time
+
+    import numpy as np
+
+    from ..core.analysis import analyze as run_analysis
+
+    started = time.perf_counter()
+    with held():
+        run_analysis(config.to_bridge(), np.zeros(2), motion.time_step, fidelity)
+    return time.perf_counter() - started
+
+
+def _tail_hint(config, summary: dict, times, theta1, mode, tail: float) -> str:
+    """A hint of ``--tail`` where the bridge still rocks, strongly, as the record (and its
+    tail) ends; "" otherwise."""
+    import numpy as np
+
+    from ..core.quantities import NO_FAILURE
+
+    alpha = config.to_bridge().model.alpha1
+    if summary["failure_mode"] != NO_FAILURE or not len(mode) or mode[-1] == 0:
+        return ""
+    last = float(np.nanmax(np.abs(theta1[times >= times[-1] - 1.0])))
+    if last < TAIL_HINT_ALPHA * alpha:
+        return ""
+    after = f"its {tail:g} s tail" if tail else "the record"
+    return (
+        f"the bridge still rocks as {after} ends (θ1 up to {last / alpha:.2f} α1 in its last "
+        f"second): what follows is not analysed; --tail {max(20.0, 2 * tail):g} runs on with the "
+        "ground at rest until it rests or fails"
+    )
+
+
+def _units(data: dict) -> dict[str, str]:
+    """The unit of each number of ``analyze --json`` (SI)."""
+    from ..results.layout import PEAK_COLUMNS
+
+    extra = {"setup_time_s": "s", "record_pga": "m/s2"}
+    return {
+        key: extra.get(key) or PEAK_COLUMNS[key][0]
+        for key, value in data.items()
+        if (key in extra or key in PEAK_COLUMNS) and not isinstance(value, str)
+    }
 
 
 def _check_work(path: Path, motion, fidelity: str, tail: float) -> None:
@@ -138,6 +214,11 @@ def _rows(bridge: str, record: str, s: dict) -> list[tuple[str, str]]:
         ("overturning demand/capacity", _ratio(s["dcr_overturning"], "|u_pier|/B")),
         ("status", s["status"]),
         ("solve time", f"{s['solve_time_s'] * 1e3:.1f} ms ({s['steps']} steps)"),
+        (
+            "set-up, once per process",
+            f"{s['setup_time_s'] * 1e3:.0f} ms (loading the compiled "
+            "kernels, building the bridge's tables)",
+        ),
     ]
     if "output" in s:
         rows.append(("results", s["output"]))

@@ -22,6 +22,10 @@ RECORD_PGA_G = (0.001, 5.0)
 """Peak ground accelerations outside this range [g] are not earthquake records (the largest
 recorded are about 4 g)."""
 
+WEAK_PGA_G = 0.1
+"""A record in m/s² that peaks below this [g] rocks few bridges (their onsets are 0.1–0.35 g):
+where its numbers would be a record's in g (0.05–5), they may be in g."""
+
 GAP_M = 1.0
 """End-joint gaps above this [m] are not bridge expansion joints (they are 0.01–0.3 m)."""
 
@@ -104,10 +108,14 @@ def record_warnings(record: Record) -> list[str]:
     found = list(record.metadata.get("notices", ()))
     pga = record.peak_acceleration / STANDARD_GRAVITY
     low, high = RECORD_PGA_G
+    unit = record.metadata.get("file_units", "m/s2")
     if math.isfinite(pga) and not low <= pga <= high:
-        unit = record.metadata.get("file_units", "m/s2")
         found.append(f"peak {pga:.4g} g is not an earthquake's ({low:g}–{high:g} g): is the "
                      f"file really in {unit}?")  # fmt: skip
+    elif unit == "m/s2" and pga < WEAK_PGA_G and 0.05 <= record.peak_acceleration <= high:
+        found.append(f"peak {pga:.3g} g, weaker than most records that make a bridge rock: if "
+                     f"the file's numbers are in g, it peaks at {record.peak_acceleration:.3g} g "
+                     "(say units: g, --units g)")  # fmt: skip
     low, high = TIME_STEP_S
     if not low <= record.time_step <= high:
         found.append(f"time step {record.time_step:g} s is not a ground motion's ({low:g}–"
