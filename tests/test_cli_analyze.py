@@ -167,7 +167,8 @@ def test_a_record_that_ends_while_the_bridge_rocks_hints_at_a_tail(tmp_path):
     t = np.arange(0.0, 2.0 + 0.005, 0.01)
     pulse = np.where((t >= 0.5) & (t <= 1.5), 0.45 * 9.81 * np.sin(np.pi * (t - 0.5)), 0.0)
     record = tmp_path / "pulse.txt"
-    record.write_text("# units: m/s2\n" + "".join(f"{a:.2f} {b:.17g}\n" for a, b in zip(t, pulse)))
+    lines = [f"{a:.2f} {b:.17g}\n" for a, b in zip(t, pulse, strict=True)]
+    record.write_text("# units: m/s2\n" + "".join(lines))
     cut = invoke("analyze", tmp_path / "frame.yaml", record)
     assert cut.exit_code == 0, cut.output
     assert "failure                            none" in cut.output
