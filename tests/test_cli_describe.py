@@ -229,3 +229,23 @@ def test_describe_frame(cli, tmp_path):
     assert data["model"] == "asymmetric-frame"
     assert data["eta_pn"] == data["eta_frame_pn"] and data["pounding_ratio"] == 1.0
     assert "abutment" not in data["capacities"]
+
+
+def test_describe_prints_what_the_model_has(cli, tmp_path):
+    """A block has no deck, pier 2, ratios or abutments; a frame has no abutments (no q, no
+    pounding, no seat impulses: one η). The block's row gives Housner's R and α: a 0.4 m × 4 m
+    block has R = √(0.2² + 2²) = 2.010 m and α = atan(0.1) = 0.0997 rad."""
+    block = tmp_path / "block.yaml"
+    block.write_text("piers:\n  width: 0.4\n  heights: [4.0]\n")
+    text = cli(block).stdout
+    for absent in ("m_pier2", "h_bar", "gamma", "q ", "pounding", "eta bridge", "eta frame"):
+        assert absent not in text, absent
+    assert "R, alpha" in text and "2.01 m, 0.0997 rad" in text and "eta p→n / n→p" in text
+    frame = tmp_path / "frame.yaml"
+    frame.write_text(BRIDGE_TEXT.format(left=26.0, right=13.0).split("abutments:")[0])
+    text = cli(frame).stdout
+    for absent in ("\nq ", "pounding", "eta bridge", "eta frame", "dcr_backfill"):
+        assert absent not in text, absent
+    assert "gamma = m_deck/(m1 + m2)" in text and "eta p→n / n→p" in text
+    bridge = cli(CONFIGS / "studied-hbar1.25.yaml").stdout
+    assert "pounding ratio" in bridge and "eta frame" in bridge and "\nq " in bridge

@@ -38,21 +38,41 @@ def describe(bridge: Path, as_json: bool) -> None:
 
 
 def _rows(name: str, s: dict) -> list[tuple[str, str]]:
+    """The table of ``describe``: the quantities the model has (a block has no deck, pier 2,
+    ratios or abutments; a frame no abutments, so no q, pounding or seat impulses)."""
+    block, bridge = s["model"] == "single-block", s["model"].endswith("-bridge")
     mirrored = "  (tall pier on the right: analysed mirrored)" if s["mirrored"] else ""
-    masses = ", ".join(_number(s[k], ".4g") for k in ("m_pier1", "m_pier2", "m_deck"))
-    ratios = ", ".join(_number(s[k], ".4g") for k in ("h_bar", "b_bar", "L_bar"))
-    rows = [
-        ("bridge", name),
-        ("model", s["model"] + mirrored),
-        ("m_pier1, m_pier2, m_deck", f"{masses} kg"),
-        ("h_bar, b_bar, L_bar", ratios),
-        ("gamma = m_deck/(m1 + m2)", _number(s["gamma"], ".4f")),
-        ("q", _number(s["q"], ".4f", 1e6, " ·10⁻³ m/kN")),
-        ("onset ug_min p / n", f"{s['ug_min_p_g']:.4f} g / {s['ug_min_n_g']:.4f} g"),
-        ("eta bridge p→n / n→p", f"{s['eta_pn']:.4f} / {s['eta_np']:.4f}"),
-        ("eta frame  p→n / n→p", f"{s['eta_frame_pn']:.4f} / {s['eta_frame_np']:.4f}"),
-        ("pounding ratio", f"{s['pounding_ratio']:.4f}"),
-    ]
+    rows = [("bridge" if bridge else "structure", name), ("model", s["model"] + mirrored)]
+    if block:
+        rows += [
+            ("mass", f"{s['m_pier1']:.4g} kg"),
+            ("R, alpha", f"{s['R1']:.4g} m, {s['alpha1']:.4f} rad"),
+        ]
+    else:
+        masses = ", ".join(_number(s[k], ".4g") for k in ("m_pier1", "m_pier2", "m_deck"))
+        ratios = ", ".join(_number(s[k], ".4g") for k in ("h_bar", "b_bar", "L_bar"))
+        rows += [
+            ("m_pier1, m_pier2, m_deck", f"{masses} kg"),
+            ("h_bar, b_bar, L_bar", ratios),
+            ("gamma = m_deck/(m1 + m2)", _number(s["gamma"], ".4f")),
+        ]
+    if bridge:
+        rows.append(("q", _number(s["q"], ".4f", 1e6, " ·10⁻³ m/kN")))
+    rows.append(("onset ug_min p / n", f"{s['ug_min_p_g']:.4f} g / {s['ug_min_n_g']:.4f} g"))
+    if bridge:
+        rows += [
+            ("eta bridge p→n / n→p", f"{s['eta_pn']:.4f} / {s['eta_np']:.4f}"),
+            ("eta frame  p→n / n→p", f"{s['eta_frame_pn']:.4f} / {s['eta_frame_np']:.4f}"),
+            ("pounding ratio", f"{s['pounding_ratio']:.4f}"),
+        ]
+    else:
+        rows.append(("eta p→n / n→p", f"{s['eta_pn']:.4f} / {s['eta_np']:.4f}"))
+    return rows + _limits(s)
+
+
+def _limits(s: dict) -> list[tuple[str, str]]:
+    """The rows of the restitution used, the capacities and what the ratios divide by."""
+    rows = []
     if s["rocking_restitution"] is not None:
         rows.append(("eta used (config)", f"{s['rocking_restitution']:.4f} in both directions"))
     elif min(s["eta_pn"], s["eta_np"]) <= 0.0:
