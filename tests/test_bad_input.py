@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import os
+from pathlib import Path
 
 import h5py
 import numpy as np
@@ -404,3 +405,21 @@ def test_a_file_of_another_kind_is_named_for_what_it_is(tmp_path):
     broken = tmp_path / "broken.yaml"  # a malformed bridge is still told what is wrong with it
     broken.write_text(BRIDGE.replace("width: 2.6", "width: -2.6"))
     refused(invoke("describe", broken), "piers.width")
+
+
+def test_readme_says_what_a_study_does_with_a_missing_or_unreadable_record(tmp_path):
+    """README's sentence and the behaviour agree: a missing record file stops the study before
+    it starts (exit 2), an unreadable one fails only its own analyses (exit 1, the others run)."""
+    readme = " ".join((Path(__file__).parents[1] / "README.md").read_text().split())
+    assert "a record file that is missing stops the study before it starts (exit 2" in readme
+    assert "while one that exists but cannot be read (malformed, NaN" in readme
+    (tmp_path / "b.yaml").write_text(BRIDGE)
+    (tmp_path / "good.txt").write_text("# units: m/s2\n0.0 0.0\n0.01 1.0\n0.02 0.0\n")
+    (tmp_path / "bad.txt").write_text("# units: m/s2\n0.0 0.0\n0.01 nan\n0.02 0.0\n")
+    study = tmp_path / "s.yaml"
+    study.write_text("bridges: [b.yaml]\nrecords: {files: [{path: good.txt}, {path: bad.txt}]}\n"
+                     "fidelity: fast\noutput: {path: o.h5, histories: none}\n")  # fmt: skip
+    unreadable = invoke("run", study, "--workers", 1)
+    assert unreadable.exit_code == 1 and "1 ok" in unreadable.output
+    (tmp_path / "bad.txt").unlink()
+    refused(invoke("run", study, "--overwrite"), "record file not found: bad.txt")
