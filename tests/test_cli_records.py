@@ -248,3 +248,17 @@ def test_plot_record_marks_the_design_ground_displacement(tmp_path):
     text = (tmp_path / "set.svg").read_text(encoding="utf-8")
     assert "10 records" in text and "20.3 cm (EN 1998-1 §3.2.2.4)" in text
     assert "EN 1998-1 §3.2.2.4" not in (tmp_path / "plain.svg").read_text(encoding="utf-8")
+
+
+def test_plot_record_names_each_record_once(tmp_path):
+    """Each record is drawn in the three panels, and named once in the legend (not three times)."""
+    import re
+
+    import matplotlib
+
+    with matplotlib.rc_context({"svg.fonttype": "none"}):
+        result = run("plot", "record", BUNDLED / "AR01.txt", BUNDLED / "AR07.txt",
+                     "-o", tmp_path / "two.svg")  # fmt: skip
+    assert result.exit_code == 0, result.output
+    texts = re.findall(r"<text[^>]*>([^<]*)</text>", (tmp_path / "two.svg").read_text())
+    assert texts.count("AR01") == 1 and texts.count("AR07") == 1

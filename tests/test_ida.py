@@ -409,3 +409,21 @@ def test_the_censored_fit_recovers_a_known_lognormal():
     assert median == pytest.approx(1.2, rel=2e-3) and beta == pytest.approx(0.45, rel=5e-3)
     dropped = fit_capacities(coded[np.isfinite(coded) & (coded > 0)], 0.5, 2.0)
     assert abs(dropped[1] - 0.45) > 0.1  # leaving the censored records out would be biased
+
+
+def test_the_ida_figure_of_one_bridge_keeps_its_legend_inside(tmp_path, monkeypatch):
+    """One bridge, one panel: the legend of three limit states fits the figure's width."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from rockbridge_cli.plots import ida as figures
+
+    path = write_study(tmp_path, bridges=("studied-hbar1.25",), records=("R1",), extra=IDA)
+    study = load_study(path, output=tmp_path / "one.h5")
+    run_study(study, workers=1)
+    drawn = []
+    monkeypatch.setattr(figures, "save", lambda figure, output: drawn.append(figure) or output)
+    figures.plot_ida(study.output, tmp_path / "one.png")
+    canvas = FigureCanvasAgg(drawn[0])
+    canvas.draw()
+    box = drawn[0].legends[0].get_window_extent(canvas.get_renderer())
+    assert 0.0 <= box.x0 and box.x1 <= drawn[0].bbox.width

@@ -20,6 +20,10 @@ from .common import check_format, panel_label, save, style
 QUANTITY_SCALE = {"m": (1e3, "mm"), "rad": (1e3, "mrad")}
 """Units drawn in thousandths."""
 
+PANEL_WIDTH, MIN_WIDTH = 4.0, 6.0
+"""Width of a bridge's panel, and of the figure at least, so that one bridge's legend (two
+entries a row) fits [in]."""
+
 
 def plot_ida(results: str | Path, output: str | Path, quantity: str = "u_deck_max") -> Path:
     """Draw the IDA curves of a results file with an IDA (or stripes) section.
@@ -58,7 +62,7 @@ def plot_ida(results: str | Path, output: str | Path, quantity: str = "u_deck_ma
                   for f in fragilities_of(columns, intensity, bootstrap=0)}  # fmt: skip
     states = list(dict.fromkeys(state for _, state in capacities))
     bridges = list(dict.fromkeys(columns["bridge"]))
-    figure = Figure(figsize=(4.0 * len(bridges), 4.5), layout="constrained")
+    figure = Figure(figsize=(max(PANEL_WIDTH * len(bridges), MIN_WIDTH), 4.5), layout="constrained")
     panels = np.atleast_1d(figure.subplots(1, len(bridges), sharex=True, sharey=True))
     for axes, bridge, letter in zip(panels, bridges, "ABCDEFGHIJKLMNOPQRSTUVWXYZ", strict=False):
         mine = {name: values[columns["bridge"] == bridge] for name, values in columns.items()}
@@ -91,6 +95,6 @@ def plot_ida(results: str | Path, output: str | Path, quantity: str = "u_deck_ma
         for handle, label in zip(*axes.get_legend_handles_labels(), strict=True)
     }
     figure.legend(labelled.values(), labelled.keys(), loc="outside upper center",
-                  ncols=min(len(labelled), 4), frameon=False,
+                  ncols=min(len(labelled), 2 * len(bridges), 4), frameon=False,
                   title="capacity (first level reaching it); x: the bridge failed")  # fmt: skip
     return save(figure, output)

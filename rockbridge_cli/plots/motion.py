@@ -67,11 +67,12 @@ def plot_record_motion(
         axes.grid(True, color="0.9", linewidth=0.5)
         panel_label(axes, letter)
     panels[-1].set_xlabel("time t [s]")
-    handles, labels = [], []
-    for axes in panels:
-        more = axes.get_legend_handles_labels()
-        handles += more[0]
-        labels += more[1]
-    figure.legend(handles, labels, loc="outside upper center", ncols=legend_columns(len(labels)),
-                  frameon=False, fontsize="small")  # fmt: skip
+    labelled = {  # each record is drawn in every panel: one entry each
+        label: handle
+        for axes in panels
+        for handle, label in zip(*axes.get_legend_handles_labels(), strict=True)
+    }
+    figure.legend(labelled.values(), labelled.keys(), loc="outside upper center",
+                  ncols=legend_columns(len(labelled)), frameon=False,
+                  fontsize="small")  # fmt: skip
     return save(figure, output)
