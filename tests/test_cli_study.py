@@ -52,6 +52,7 @@ def test_run_peaks_and_figures(tmp_path):
 
     table = invoke("peaks", output)
     assert table.exit_code == 0 and "u_deck [mm]" in table.output
+    assert "significant impacts" in table.output.splitlines()[0]  # n_impacts_significant, named
     assert len(table.output.strip().splitlines()) == 5  # header + 4 analyses
 
     csv = invoke("peaks", output, "--csv", "-")

@@ -208,7 +208,7 @@ def peaks(results: Path, csv_file: str | None, as_json: bool) -> None:
         echo_json({"units": units, "rows": rows})
         return
     shown = [("bridge", "bridge", 1), ("record", "record", 1), *_DISPLAY,
-             ("t_onset", "onset [s]", 1), ("n_impacts_significant", "impacts", 1),
+             ("t_onset", "onset [s]", 1), ("n_impacts_significant", "significant impacts", 1),
              ("n_poundings", "poundings", 1), ("failure_mode", "failure", 1),
              ("dcr_backfill", "backfill d/c", 1), ("status", "status", 1)]  # fmt: skip
     table = zip(*(_scaled(columns[name], scale) for name, _, scale in shown), strict=True)
