@@ -338,14 +338,32 @@ def test_recheck_runs_near_a_capacity_again_at_reference(tmp_path):
     peaks = run_study(study, workers=1).peaks.set_index(["bridge", "record"])
     for bridge in study.bridges:
         strong, weak = peaks.loc[(bridge.id, "strong")], peaks.loc[(bridge.id, "R2")]
-        assert strong["failure_mode"] == "abutment" and strong["rechecked"] == 1
-        assert weak["failure_mode"] == "none" and weak["rechecked"] == 0
         record = study.records[1].record
         reference = analyze(
             bridge.config.to_bridge(), record.acceleration, record.time_step, "reference"
         )
+        fast = analyze(bridge.config.to_bridge(), record.acceleration, record.time_step, "fast")
+        changed = fast.failure_mode != reference.failure_mode  # 2: the verdict changed
+        assert strong["failure_mode"] == "abutment" and strong["rechecked"] == 1 + changed
+        assert weak["failure_mode"] == "none" and weak["rechecked"] == 0
         assert strong["u_deck_max"] == reference.peaks["u_deck"][0]
         assert strong["failure_time"] == reference.failure_time
+
+
+def test_the_recheck_line_names_the_verdicts_that_changed():
+    """The run's summary counts the analyses run again (``rechecked`` ≥ 1) and names those whose
+    verdict changed (2), or says none did."""
+    from rockbridge_cli.cli.study import _rechecks
+
+    columns = {"bridge": np.array(["b", "b", "b"]), "record": np.array(["R1", "R2", "R3"]),
+               "failure_mode": np.array(["none", "abutment", "none"]),
+               "rechecked": np.array([0, 1, 2])}  # fmt: skip
+    line = _rechecks(columns, recheck=True)
+    assert "recheck: 2 of 3 analyses ran again" in line
+    assert line.endswith("1 verdict changed: b/R3 (now none)")
+    columns["rechecked"] = np.array([0, 1, 1])
+    assert _rechecks(columns, recheck=True).endswith("; no verdict changed")
+    assert _rechecks({**columns, "rechecked": np.zeros(3)}, recheck=False) == ""
 
 
 def test_what_is_called_runs_on_a_worker_once_the_pool_runs(tmp_path):

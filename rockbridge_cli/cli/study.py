@@ -292,10 +292,12 @@ def _bridge_table(results: Path) -> str:
     with open_results(results) as file:
         columns = peak_columns(file)
         intensity = json.loads(file.attrs.get("intensity", "null"))
+        recheck = bool(json.loads(file.attrs.get("knobs", "{}")).get("recheck", False))
+    rechecked = _rechecks(columns, recheck)
     try:
         groups = summary_groups(columns, intensity)
     except ValueError as exc:
-        return f"peaks: {str(exc).replace('RESULTS', str(results))}"
+        return f"peaks: {str(exc).replace('RESULTS', str(results))}{rechecked}"
     level = [] if intensity is None else [f"level [{MEASURES[intensity['measure']].unit}]"]
     headers = ["bridge", *level, "ok", *(header for _, header, _ in _DISPLAY), "backfill d/c",
                "failures"]  # fmt: skip
@@ -309,7 +311,24 @@ def _bridge_table(results: Path) -> str:
         rows.append([group.bridge, *([] if group.level is None else [group.level]), ok, *largest,
                      _largest(columns["dcr_backfill"][mine]), int(np.sum(failed))])  # fmt: skip
     heading = "peaks, largest over the records" + (" at each level" if level else "")
-    return f"{heading}:\n{table_text(headers, rows)}"
+    return f"{heading}:\n{table_text(headers, rows)}{rechecked}"
+
+
+def _rechecks(columns: dict, recheck: bool) -> str:
+    """How many analyses ``--recheck`` ran again at ``reference``, and which changed verdict
+    (peak column ``rechecked``: 1, 2 where the failure mode changed), as a line ("" without)."""
+    import numpy as np
+
+    counts = columns["rechecked"]
+    if not recheck and not (counts > 0).any():
+        return ""
+    changed = np.flatnonzero(counts == 2)
+    verdicts = "no verdict changed" if not changed.size else (
+        f"{changed.size} verdict{'s' * (changed.size > 1)} changed: " + _pairs(
+            [(columns["bridge"][i], f"{columns['record'][i]} (now {columns['failure_mode'][i]})")
+             for i in changed]))  # fmt: skip
+    return (f"\nrecheck: {int(np.sum(counts > 0))} of {counts.size} analyses ran again at the "
+            f"reference preset (a failure, or within 5 % of a capacity); {verdicts}")  # fmt: skip
 
 
 def _largest(values) -> float:

@@ -127,7 +127,8 @@ def _peak_columns() -> dict[str, tuple[str, str]]:
             "-",
             "1 where the analysis ended in a failure or near a capacity and was run "
             "again at the reference preset (fidelity.recheck), whose results the row "
-            "holds; 0 otherwise; -1 without results",
+            "holds; 2 where, moreover, the reference's failure mode differs from the "
+            "study's preset's (the verdict changed); 0 otherwise; -1 without results",
         ),
     )
     return columns

@@ -80,7 +80,8 @@ def analyse(grid: Grid, cell: Cell) -> AnalysisResult:
 
     With ``grid.recheck``, an analysis at a cheaper preset that ends in a failure of the bridge,
     or within `fidelity.RECHECK_MARGIN` of a capacity, is run again at ``reference``, and the
-    result is that one (``rechecked`` = 1): a cheap preset's verdict can be wrong near a limit.
+    result is that one (``rechecked`` = 1, or 2 where its failure mode differs from the cheaper
+    preset's): a cheap preset's verdict can be wrong near a limit.
     """
     bridge, record = grid.bridges[cell.bridge], grid.record_of(cell)
     result = _analyse(grid, bridge, record)
@@ -99,13 +100,15 @@ def _analyse(grid: Grid, bridge: BridgeCase, record: RecordCase) -> AnalysisResu
             bridge.bridge, record.acceleration, record.time_step, grid.preset,
             histories=bool(grid.keep), **grid.overrides,
         )  # fmt: skip
-        rechecked = grid.recheck and grid.preset != "reference" and _near_a_limit(response)
-        if rechecked:
+        rechecked = 0
+        if grid.recheck and grid.preset != "reference" and _near_a_limit(response):
             keep = {k: v for k, v in grid.overrides.items() if k in RECHECK_KEEPS}
+            verdict = response.failure_mode
             response = analyze(
                 bridge.bridge, record.acceleration, record.time_step, "reference",
                 histories=bool(grid.keep), **keep,
             )  # fmt: skip
+            rechecked = 1 + (response.failure_mode != verdict)  # 2: the verdict changed
     except Exception as exc:  # one failed analysis must not stop the others
         return AnalysisResult.failed(
             bridge.id, record.id, f"{type(exc).__name__}: {exc}", time.perf_counter() - start
@@ -113,7 +116,7 @@ def _analyse(grid: Grid, bridge: BridgeCase, record: RecordCase) -> AnalysisResu
     result = AnalysisResult.from_response(
         bridge.id, record.id, response, grid.keep, time.perf_counter() - start
     )
-    result.values["rechecked"] = int(rechecked)
+    result.values["rechecked"] = rechecked
     return result
 
 
