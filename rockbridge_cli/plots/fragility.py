@@ -51,10 +51,13 @@ def plot_fragility(
                 axes.plot(x, norm.cdf(np.log(x / item.median) / item.beta),
                           color=look["color"], linestyle=look["linestyle"])  # fmt: skip
         axes.set_title(state.replace("_", " "))
-        reached = (c for f in found if f.limit_state == state for c in f.capacities.values())
-        if all(capacity is None for capacity in reached):
-            axes.text(0.5, 0.5, "reached by no record\nat the levels run", ha="center",
-                      va="center", transform=axes.transAxes, color="0.4")  # fmt: skip
+        mine = [f for f in found if f.limit_state == state]
+        if all(c is None for f in mine for c in f.capacities.values()):
+            unreachable = all(len(f.unreachable) == len(f.capacities) for f in mine)
+            why = ("unreachable: a failure ends\nevery curve first" if unreachable else
+                   "reached by no record\nat the levels run")  # fmt: skip
+            axes.text(0.5, 0.5, why, ha="center", va="center", transform=axes.transAxes,
+                      color="0.4")  # fmt: skip
         axes.set_xscale("log")
         axes.xaxis.set_major_formatter(PLAIN)  # 0.1, 1 rather than 10⁻¹, 10⁰
         axes.set_ylim(-0.03, 1.03)

@@ -11,31 +11,32 @@ mailed, archived or opened offline; the layout reflows to a phone's width and pr
 from __future__ import annotations
 
 import base64
-import html
 import json
 import os
 import tempfile
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import __version__
-from .assessment.levels import IDA_POINTER, record_count, summary_groups
-from .core.quantities import NO_FAILURE, ROUND_OFF
-from .errors import InputError, nearest
-from .paths import MARK, checked_output, replace_atomically
-from .results.reading import (
+from .. import __version__
+from ..assessment.levels import IDA_POINTER, record_count, summary_groups
+from ..core.quantities import NO_FAILURE
+from ..errors import InputError, nearest
+from ..paths import MARK, checked_output, replace_atomically
+from ..results.reading import (
     bridge_attributes,
     open_results,
     peak_columns,
     peak_units,
     swept_values,
 )
+from .inputs import record_sets, records_table
+from .markup import MAX_ROWS, cell, escaped, number, table_html
 
 if TYPE_CHECKING:
-    from .assessment.hazard import HazardCurve
+    from ..assessment.hazard import HazardCurve
 
 TABLE_COLUMNS = (
     "bridge", "record", "u_deck_max", "v_deck_max", "theta_deck_max", "theta1_max", "theta2_max",
@@ -45,9 +46,6 @@ TABLE_COLUMNS = (
 
 DISPLAY_UNITS = {"m": ("mm", 1e3), "rad": ("mrad", 1e3)}
 """SI units shown in smaller ones, with the factor."""
-
-MAX_ROWS = 500
-"""Rows of the peak table shown at most; the page says how many more the file holds."""
 
 STYLE = """
 body { font: 16px/1.45 system-ui, -apple-system, "Segoe UI", Roboto, sans-serif; color: #111;
@@ -108,7 +106,7 @@ def write_report(
         sources = {
             name: str(file["records"][name].attrs.get("source", "")) for name in file["records"]
         }
-        inputs = _records_table(file["records"])
+        inputs = records_table(file["records"])
         kept = bool(json.loads(attributes.get("histories", "[]")))
         swept = list(dict.fromkeys(f for values in swept_values(file).values() for f in values))
     intensity = json.loads(attributes.get("intensity", "null"))
@@ -123,11 +121,11 @@ def write_report(
     chosen = record or (_default_record(records) if kept and not _is_ida(intensity) else None)
     title = _description(attributes) or Path(str(attributes.get("study_file", results))).stem
     parts = [
-        f"<h1>{_text(title)}</h1>",
-        f'<p class="note">{_text(results.name)}: {len(columns["bridge"])} analyses of '
+        f"<h1>{escaped(title)}</h1>",
+        f'<p class="note">{escaped(results.name)}: {len(columns["bridge"])} analyses of '
         f"{len(bridges)} bridges under {record_count(columns)} records{_levels(intensity, columns)}"
-        f", written by rockbridge {_text(attributes.get('rockbridge_version', '?'))} on "
-        f"{_text(attributes.get('finished', attributes.get('created', '?')))}</p>",
+        f", written by rockbridge {escaped(attributes.get('rockbridge_version', '?'))} on "
+        f"{escaped(attributes.get('finished', attributes.get('created', '?')))}</p>",
         _provenance(attributes),
         inputs,
         _summary(columns, bridges, intensity),
@@ -140,14 +138,14 @@ def write_report(
     parts += [
         _peak_table(columns, units),
         _failures(columns),
-        _record_sets(attributes, sources),
+        record_sets(attributes, sources),
         _warnings(attributes),
     ]
     page = (
         '<!DOCTYPE html>\n<html lang="en">\n<head>\n<meta charset="utf-8">\n'
         f'<meta name="generator" content="{MARK} {__version__}">\n'
         '<meta name="viewport" content="width=device-width, initial-scale=1">\n'
-        f"<title>{_text(title)}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n"
+        f"<title>{escaped(title)}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n"
         + "\n".join(part for part in parts if part)
         + "\n</body>\n</html>\n"
     )
@@ -193,14 +191,14 @@ def _figures(
     if swept:
         parts += [_sweep_section(results, figure, intensity, field) for field in swept[:MAX_SWEPT]]
     elif not _is_ida(intensity):
-        from .plots.peaks import plot_peaks
+        from ..plots.peaks import plot_peaks
 
         parts.append(_section("Peaks per record (Fig. 9)", figure(plot_peaks, results),
                               "One marker per bridge and record; right: the means over the "
                               "records. (A) with the end-joint gap (dotted) and the "
                               "abutment–backfill failure (dashed)."))  # fmt: skip
     if chosen is not None:
-        from .plots.history import plot_history
+        from ..plots.history import plot_history
 
         parts.append(_section(f"Response histories under {chosen} (Fig. 10)",
                               figure(plot_history, results, chosen),
@@ -214,7 +212,7 @@ def _sweep_section(
 ) -> str:
     """One swept field's figure: the median capacity of the abutment's failure (or of the study's
     first limit state) in an intensity study, else the median peak deck displacement."""
-    from .plots.sweep import plot_sweep
+    from ..plots.sweep import plot_sweep
 
     if intensity is None:
         quantity, what = "u_deck_max", "the median over the records of the peak deck displacement"
@@ -258,8 +256,8 @@ def _figure_maker(folder: Path) -> Callable[..., str]:
 
 def _section(heading: str, image: str, caption: str) -> str:
     return (
-        f"<h2>{_text(heading)}</h2>\n<figure>{image}"
-        f"<figcaption>{_text(caption)}</figcaption></figure>"
+        f"<h2>{escaped(heading)}</h2>\n<figure>{image}"
+        f"<figcaption>{escaped(caption)}</figcaption></figure>"
     )
 
 
@@ -278,7 +276,7 @@ def _provenance(attributes: dict[str, Any]) -> str:
         ("complete", f"{attributes.get('n_complete', '-')} of {attributes.get('n_analyses', '-')} "
                      "analyses"),
     ]  # fmt: skip
-    rows = "".join(f"<dt>{_text(k)}</dt><dd>{_text(v)}</dd>" for k, v in items)
+    rows = "".join(f"<dt>{escaped(k)}</dt><dd>{escaped(v)}</dd>" for k, v in items)
     return f"<h2>Provenance</h2>\n<dl>{rows}</dl>"
 
 
@@ -297,7 +295,7 @@ def _summary(
         groups = summary_groups(columns, intensity)
     except ValueError:
         pointer = IDA_POINTER.split(":")[0]
-        return f"{heading} Here {_text(pointer)}: their capacities are under Fragility.</p>"
+        return f"{heading} Here {escaped(pointer)}: their capacities are under Fragility.</p>"
     rows = []
     for group in groups[:MAX_ROWS]:
         mine = group.rows
@@ -309,7 +307,7 @@ def _summary(
         }
         rows.append([
             bridges[group.bridge]["name"] if group.bridge in bridges else group.bridge,
-            *([] if group.level is None else [_number(group.level)]),
+            *([] if group.level is None else [number(group.level)]),
             f"{int(np.sum(columns['status'][mine] == 'ok'))}/{int(np.sum(mine))}",
             f"{100 * ratio.max():.1f} %" if ratio.size else "-",
             f"{100 * ratio.mean():.1f} %" if ratio.size else "-",
@@ -321,22 +319,24 @@ def _summary(
     more = f'<p class="note">{len(groups) - MAX_ROWS} more rows.</p>' if (
         len(groups) > MAX_ROWS) else ""  # fmt: skip
     per = " Each row is one intensity level: the records scaled to it." if level else ""
-    return f"{heading}{per}</p>\n{_table(headers, rows, text_columns=(0, len(headers) - 1))}{more}"
+    return (
+        f"{heading}{per}</p>\n{table_html(headers, rows, text_columns=(0, len(headers) - 1))}{more}"
+    )
 
 
 def _intensity_section(
     results: Path, intensity: dict, figure: Callable[..., str], hazard: HazardCurve | None,
     years: float,
 ) -> str:  # fmt: skip
-    from .assessment.fragility import fragilities
-    from .plots.fragility import plot_fragility
-    from .plots.ida import plot_ida
+    from ..assessment.fragility import fragilities
+    from ..plots.fragility import plot_fragility
+    from ..plots.ida import plot_ida
 
     found = fragilities(results)
     design = intensity.get("design")
-    rows = [[item.bridge, item.limit_state, _number(item.median), _number(item.beta),
+    rows = [[item.bridge, item.limit_state, number(item.median), number(item.beta),
              "-" if item.median_90 is None else f"{item.median_90[0]:.3g}–{item.median_90[1]:.3g}"]
-            + ([_number(None if item.median is None else item.median / design)] if design else [])
+            + ([number(None if item.median is None else item.median / design)] if design else [])
             for item in found]  # fmt: skip
     measure = intensity["measure"]
     margin = (f"The design level is {design:g} ({measure}); the last column is each median's "
@@ -348,7 +348,7 @@ def _intensity_section(
         _section(f"Fragility ({measure})", figure(plot_fragility, results, found=found),
                  "Share of the records reaching each limit state, and the fitted lognormal."),
         f"<p>{margin}</p>" if margin else "",
-        _table(["bridge", "limit state", "median", "β", "median, 5–95 %"]
+        table_html(["bridge", "limit state", "median", "β", "median, 5–95 %"]
                + (["median / design"] if design else []), rows, text_columns=(0, 1)),
         _unreachable(found),
         _efficiency_section(results) if _is_ida(intensity) else "",
@@ -359,12 +359,12 @@ def _intensity_section(
 
 def _unreachable(found: list) -> str:
     """The limit states a failure kept some IDA curves from reaching, one line each."""
-    from .assessment.fragility import unreachable_note
+    from ..assessment.fragility import unreachable_note
 
     notes = [f"{item.bridge}: {unreachable_note(item)}" for item in found if item.unreachable]
     if not notes:
         return ""
-    items = "".join(f"<li>{_text(note)}</li>" for note in notes)
+    items = "".join(f"<li>{escaped(note)}</li>" for note in notes)
     return (
         '<p class="note">A failure ends an analysis, so on a curve that ended in one, the states '
         f"not reached by then cannot be observed:</p><ul>{items}</ul>"
@@ -373,13 +373,13 @@ def _unreachable(found: list) -> str:
 
 def _efficiency_section(results: Path) -> str:
     """β of the IDA's capacities in each intensity measure (`assessment.efficiency`)."""
-    from .assessment.efficiency import compare
+    from ..assessment.efficiency import compare
 
     rows = compare(results)
     measures = list(dict.fromkeys(row.measure for row in rows))
     beta = {(row.bridge, row.limit_state, row.measure): row.beta for row in rows}
     cases = list(dict.fromkeys((row.bridge, row.limit_state) for row in rows))
-    table = [[*case, *(_number(beta[case + (m,)]) for m in measures)] for case in cases]
+    table = [[*case, *(number(beta[case + (m,)]) for m in measures)] for case in cases]
     table = [row for row in table if any(cell != "-" for cell in row[2:])]
     text = (
         "β of the capacities converted to each measure (Sa at 1 s, AvgSa over 0.2–3 s): the "
@@ -387,7 +387,7 @@ def _efficiency_section(results: Path) -> str:
         "intensity grows as the square of a record's factor: compare half its β. rockbridge "
         "fragility RESULTS --compare-measures adds the trends with magnitude and distance."
     )
-    return f"<h2>Which intensity measure</h2>\n<p>{_text(text)}</p>\n" + _table(
+    return f"<h2>Which intensity measure</h2>\n<p>{escaped(text)}</p>\n" + table_html(
         ["bridge", "limit state", *measures], table, text_columns=(0, 1)
     )
 
@@ -395,21 +395,21 @@ def _efficiency_section(results: Path) -> str:
 def _risk_section(found: list, intensity: dict, hazard: HazardCurve, years: float) -> str:
     """Each limit state's annual frequency at the site of the hazard curve, its return period and
     its probability in ``years``."""
-    from .assessment.risk import risk_table, risks_of
+    from ..assessment.risk import risk_table, risks_of
 
     rates = risks_of(found, intensity, hazard, years)
     headers, rows = risk_table(rates, years)
-    notes = "".join(f"<li>{_text(f'{r.bridge}: {r.note}')}</li>" for r in rates if r.note)
+    notes = "".join(f"<li>{escaped(f'{r.bridge}: {r.note}')}</li>" for r in rates if r.note)
     return (
-        f"<h2>Risk at the site of {_text(Path(hazard.source).name)}</h2>\n<p>Hazard curve: "
-        f"{_text(hazard.describe())}; beyond its range it goes on as the power laws of its end "
+        f"<h2>Risk at the site of {escaped(Path(hazard.source).name)}</h2>\n<p>Hazard curve: "
+        f"{escaped(hazard.describe())}; beyond its range it goes on as the power laws of its end "
         "segments. λ is the mean annual frequency of each limit state, ∫ P(LS | im) |dλ<sub>IM"
         "</sub>(im)| (Cornell et al. 2002), the return period 1/λ and P the probability of at "
         f"least one occurrence in {years:g} years, 1 − exp(−λ·{years:g}); the 5–95 % intervals "
         "are those of the bootstrap over the records. &lt; marks an upper bound: no record "
         "reaches the state up to the highest level run, or up to where a failure ended its "
         "curve.</p>\n"
-        + _table(headers, rows, text_columns=(0, 1))
+        + table_html(headers, rows, text_columns=(0, 1))
         + (f'<ul class="note">{notes}</ul>' if notes else "")
     )
 
@@ -424,7 +424,7 @@ def _peak_table(columns: dict[str, np.ndarray], units: dict[str, str]) -> str:
         scales.append(scale)
     count = len(columns["bridge"])
     rows = [
-        [_cell(columns[name][i], scale) for name, scale in zip(shown, scales, strict=True)]
+        [cell(columns[name][i], scale) for name, scale in zip(shown, scales, strict=True)]
         for i in range(min(count, MAX_ROWS))
     ]
     more = f'<p class="note">{count - MAX_ROWS} more rows in the results file.</p>' if (
@@ -433,7 +433,7 @@ def _peak_table(columns: dict[str, np.ndarray], units: dict[str, str]) -> str:
     return (
         '<h2>Peak table</h2>\n<p class="note">Largest values over each analysis; the results '
         "file has every column (rockbridge peaks RESULTS).</p>\n"
-        f"{_table(headers, rows, text_columns=texts)}{more}"
+        f"{table_html(headers, rows, text_columns=texts)}{more}"
     )
 
 
@@ -444,166 +444,19 @@ def _failures(columns: dict[str, np.ndarray]) -> str:
     messages = columns.get("message", np.full(failed.size, ""))
     rows = [
         [columns["bridge"][i], columns["record"][i], columns["failure_mode"][i],
-         _cell(columns["failure_time"][i], 1.0), columns["status"][i], messages[i] or "-"]
+         cell(columns["failure_time"][i], 1.0), columns["status"][i], messages[i] or "-"]
         for i in np.flatnonzero(failed)
     ]  # fmt: skip
     headers = ["bridge", "record", "failure", "at [s]", "status", "message"]
-    return f"<h2>Failures</h2>\n{_table(headers, rows, text_columns=(0, 1, 2, 4, 5))}"
-
-
-RECORD_COLUMNS = (
-    ("source", "source"), ("file units", "file_units"), ("dt [s]", "time_step"),
-    ("duration [s]", "duration"), ("PGA [g]", "pga_g"), ("PGV [m/s]", "pgv"),
-    ("earthquake", "earthquake"), ("year", "year"), ("M", "magnitude"), ("station", "station"),
-    ("R_rup [km]", "distance_rrup_km"), ("T_p [s]", "pulse_period_s"),
-    ("pulse PI", "pulse_indicator"),
-)  # fmt: skip
-"""The columns of the table of input records: heading, attribute of ``/records/<id>``. T_p is
-the period of the record's velocity pulse, "-" without one, and PI Shahi & Baker's indicator
-(> 0 for a pulse; `motions.pulse_identification`)."""
-
-
-def _records_table(group: Any) -> str:
-    """The records the study read, as read: where from, units, sampling, peaks and, for recorded
-    motions, their provenance (columns that no record has are left out; scaled copies of a
-    record, an intensity study's, are one row: their source's)."""
-    rows, seen = [], set()
-    for name in group:
-        attrs = group[name].attrs
-        source = str(attrs.get("source", ""))
-        if source in seen:
-            continue
-        seen.add(source)
-        scaled = "+" in name  # a stripe's scaled copy: its peaks are the level's, not the record's
-        rows.append({key: attrs.get(key) for _, key in RECORD_COLUMNS}
-                    | {"id": name.split("+")[0]}
-                    | ({"pga_g": None, "pgv": None} if scaled else {}))  # fmt: skip
-    shown = [(head, key) for head, key in RECORD_COLUMNS if any(r[key] is not None for r in rows)]
-    table = [
-        [row["id"], *(_record_cell(row[key]) for _, key in shown)]
-        for row in rows[:MAX_ROWS]
-    ]  # fmt: skip
-    more = f'<p class="note">{len(rows) - MAX_ROWS} more records in the file.</p>' if (
-        len(rows) > MAX_ROWS) else ""  # fmt: skip
-    texts = (0, *(i + 1 for i, (_, key) in enumerate(shown) if key in TEXT_RECORD_KEYS))
-    return "<h2>Input records</h2>\n" + _table(["record", *(h for h, _ in shown)], table,
-                                                 text_columns=texts) + more  # fmt: skip
-
-
-TEXT_RECORD_KEYS = {"source", "file_units", "earthquake", "station"}
-
-
-def _record_cell(value: Any) -> str:
-    """An attribute of a record as a cell: numbers to 3 digits, "-" where absent or NaN."""
-    if isinstance(value, float):
-        return _number(value) if np.isfinite(value) else "-"
-    return "-" if value is None else str(value)
-
-
-def _record_sets(attributes: dict[str, Any], sources: dict[str, str]) -> str:
-    """The EN 1998-1 §3.2.3.1.2 check of each generated record set the study read, from the
-    set's manifest (found from the record sources, relative to the study file)."""
-    study_folder = Path(str(attributes.get("study_file", "."))).parent
-    folders = dict.fromkeys((study_folder / source).parent for source in sources.values() if source)
-    parts = []
-    for folder in folders:
-        try:
-            manifest = json.loads((folder / "manifest.json").read_text(encoding="utf-8"))
-            parts.append(_compliance(folder.name, manifest))
-        except (OSError, ValueError, KeyError, TypeError):  # not a generated set, or unreadable
-            continue
-    if not parts:
-        return ""
-    return "<h2>Record sets: EN 1998-1 §3.2.3.1.2</h2>\n" + "\n".join(parts)
-
-
-def _compliance(name: str, manifest: dict[str, Any]) -> str:
-    target, check, verdict = manifest["target"], manifest["compliance"], manifest["check"]
-    low, high = verdict["band_s"]
-    surface = target["surface_pga_m_s2"]
-    dg = target.get("ground_displacement_m")  # sets made before it was recorded lack it
-
-    def motion(r: dict[str, Any]) -> list[str]:
-        if dg is None or "pgd_m" not in r:
-            return ["-", "-", "-"]
-        return [f"{100 * r['pgv_m_s']:.1f}", f"{100 * r['pgd_m']:.1f}", f"{r['pgd_m'] / dg:.2f}"]
-
-    rows = [
-        [r["name"], f"{r['pga_m_s2'] / surface:.4f}", f"{r['min_ratio']:.3f}",
-         f"{r['max_ratio']:.3f}", *motion(r), f"{r['d5_95_s']:.1f}"]
-        for r in manifest["records"]
-    ]  # fmt: skip
-    rows.append(["mean", "", f"{manifest['mean']['min_ratio']:.3f}",
-                 f"{manifest['mean']['max_ratio']:.3f}", "", "", "", ""])  # fmt: skip
-    headers = ["record", "PGA/(a_g·S)", "spectrum/target, min", "max", "PGV [cm/s]", "PGD [cm]",
-               "PGD/d_g", "D5–95 [s]"]  # fmt: skip
-    displacement = "" if dg is None else (
-        f"<p>EN 1998-1 §3.2.2.4 design ground displacement d<sub>g</sub> = 0.025·a<sub>g</sub>·S·"
-        f"T<sub>C</sub>·T<sub>D</sub> = {100 * dg:.1f} cm; PGD is the peak of the doubly "
-        "integrated record, from rest.</p>")  # fmt: skip
-
-    def said(ok: bool | None) -> str:
-        return "unknown" if ok is None else ("yes" if ok else '<span class="bad">NO</span>')
-
-    checks = [
-        ("(4)a at least 3 records", check["count_ok"]),
-        ("(4)b mean zero-period value ≥ a<sub>g</sub>·S", check["zero_period_ok"]),
-        (f"(4)c mean ≥ 90 % of the target over {low:g}–{high:g} s", check["mean_ok"]),
-        ("(3) stationary part ≥ 10 s (not required of recorded motions, §3.2.3.1.3)",
-         check["stationary_ok"]),
-    ]  # fmt: skip
-    if check.get("tolerance") is not None:  # scaled records have none
-        checks.append((f"every record within ±{check['tolerance']:.0%} of the target (the set's "
-                       "tolerance, rockbridge)", check["records_ok"]))  # fmt: skip
-    items = "".join(f"<li>{label}: {said(ok)}</li>" for label, ok in checks)
-    overall = "compliant" if check["compliant"] else '<span class="bad">NOT compliant</span>'
-    return (
-        f"<h3>{_text(name)}: EN 1998-1 type {_text(target['spectrum_type'])}, ground "
-        f"{_text(target['ground_type'])}, a<sub>g</sub>·S = {surface:.4g} m/s²</h3>\n"
-        + _table(headers, rows, text_columns=(0,))
-        + f"\n{displacement}<ul>{items}</ul>\n<p>Overall: {overall}.</p>"
-    )
+    return f"<h2>Failures</h2>\n{table_html(headers, rows, text_columns=(0, 1, 2, 4, 5))}"
 
 
 def _warnings(attributes: dict[str, Any]) -> str:
     warnings = json.loads(attributes.get("warnings", "[]"))
     if not warnings:
         return ""
-    items = "".join(f"<li>{_text(w)}</li>" for w in warnings)
+    items = "".join(f"<li>{escaped(w)}</li>" for w in warnings)
     return f"<h2>Warnings</h2>\n<ul>{items}</ul>"
-
-
-def _table(headers: Sequence[str], rows: Iterable[Sequence[Any]], text_columns=()) -> str:
-    def cell(tag: str, index: int, value: Any) -> str:
-        kind = ' class="text"' if index in text_columns else ""
-        return f"<{tag}{kind}>{_text(value)}</{tag}>"
-
-    head = "".join(cell("th", i, h) for i, h in enumerate(headers))
-    body = "".join(
-        "<tr>" + "".join(cell("td", i, v) for i, v in enumerate(row)) + "</tr>" for row in rows
-    )
-    table = f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
-    return f'<div class="scroll">{table}</div>'
-
-
-def _cell(value: Any, scale: float) -> str:
-    if isinstance(value, (float, np.floating)):
-        return "-" if not np.isfinite(value) else f"{_rounded(float(value)) * scale:.4g}"
-    if isinstance(value, (int, np.integer)):
-        return "-" if value < 0 else str(int(value))
-    return str(value)
-
-
-def _rounded(value: float) -> float:
-    return 0.0 if abs(value) < ROUND_OFF else value
-
-
-def _number(value: float | None) -> str:
-    return "-" if value is None else f"{value:.3g}"
-
-
-def _text(value: Any) -> str:
-    return html.escape(str(value))
 
 
 def _plain(value: Any) -> Any:
