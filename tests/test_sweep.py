@@ -144,6 +144,9 @@ def test_a_peak_per_swept_value_is_taken_at_one_intensity_level(tmp_path):
     assert "0.5 is not one" in invoke(*args, "--level", 0.5).output
     drawn = invoke(*args, "--level", 0.8)
     assert drawn.exit_code == 0, drawn.output
+    fig9 = invoke("plot", "peaks", study.output, "-o", "p.png")  # its means: one level's too
+    assert fig9.exit_code == 2 and "Fig. 9: a summary over the records" in fig9.output
+    assert invoke("plot", "peaks", study.output, "-o", "p.png", "--level", 0.2).exit_code == 0
     ida = ("sweep: {fields: {abutments.gap: [0.06, 0.24]}}\nfidelity: fast\n"
            "output: {path: ida.h5, histories: none}\n"
            "intensity: {measure: pga_g, ida: {start: 0.3, step: 0.6, max: 0.9, tolerance: 0.5,"

@@ -8,6 +8,7 @@ its capacities (`assessment.fragility`, ``rockbridge fragility``, ``rockbridge p
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -68,3 +69,27 @@ def levels_of(columns: dict[str, np.ndarray]) -> list[float]:
     """The intensity levels of a multiple-stripe study's peak table, in increasing order (empty
     without an intensity section)."""
     return sorted(set(columns["intensity"].tolist())) if "intensity" in columns else []
+
+
+def rows_at_level(
+    columns: dict[str, np.ndarray], intensity: dict[str, Any], level: float | None, unit: str
+) -> tuple[np.ndarray, float]:
+    """The rows of a multiple-stripe study at one of its levels, and that level as stored.
+
+    Raises
+    ------
+    ValueError
+        The study is an IDA (`IDA_POINTER`), or ``level`` is not one of the stripes' (the message
+        lists them).
+    """
+    if intensity.get("ida"):
+        raise ValueError(IDA_POINTER)
+    levels = levels_of(columns)
+    near = [x for x in levels if level is not None and math.isclose(x, level, rel_tol=1e-9)]
+    if not near:
+        listed = ", ".join(f"{x:g}" for x in levels)
+        said = "" if level is None else f"{level:g} is not one; "
+        raise ValueError(f"a summary over the records (a median, a mean) is taken at one "
+                         f"intensity level: {said}choose one with --level ({listed} "
+                         f"{unit})")  # fmt: skip
+    return columns["intensity"] == near[0], near[0]

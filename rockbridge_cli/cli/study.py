@@ -358,11 +358,15 @@ def _scaled(values, scale: float) -> list:
 @plot.command("peaks")
 @click.argument("results", type=click.Path(path_type=Path))
 @figure_option("<results stem>-peaks.png beside RESULTS")
-def plot_peaks(results: Path, output: Path | None) -> None:
+@click.option(
+    "--level", type=float, default=None,
+    help="The intensity level drawn, in a study with intensity levels [the measure's unit].",
+)  # fmt: skip
+def plot_peaks(results: Path, output: Path | None, level: float | None) -> None:
     """Peak responses per record, one marker per bridge (Figure 9 of the paper), from RESULTS."""
     from ..plots.peaks import plot_peaks as draw
 
-    figure = draw(results, output or results.with_name(f"{results.stem}-peaks.png"))
+    figure = draw(results, output or results.with_name(f"{results.stem}-peaks.png"), level)
     click.echo(f"Figure: {figure}")
 
 

@@ -9,12 +9,16 @@ bridge's mean over them.
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 
 import numpy as np
 from matplotlib.figure import Figure
 
+from ..assessment.levels import rows_at_level
+from ..errors import InputError
+from ..motions.intensity import MEASURES
 from ..results.reading import bridge_attributes, open_results, peak_columns
 from .common import (
     FAILURE_LINE,
@@ -48,7 +52,7 @@ MAX_LIMITS = 4
 """Bridges with different gaps whose limit lines are drawn at most."""
 
 
-def plot_peaks(results: str | Path, output: str | Path) -> Path:
+def plot_peaks(results: str | Path, output: str | Path, level: float | None = None) -> Path:
     """Draw Fig. 9 from a results file.
 
     Parameters
@@ -57,15 +61,31 @@ def plot_peaks(results: str | Path, output: str | Path) -> Path:
         The HDF5 results file (`rockbridge_cli.results`).
     output
         The figure file: .png, .pdf or .svg.
+    level
+        In a multiple-stripe study, the intensity level drawn [the measure's unit]: the means
+        are over the records at one level, never over all at once.
 
     Returns
     -------
     pathlib.Path
         The figure file.
+
+    Raises
+    ------
+    InputError
+        A study with stripes without one of its levels, or an IDA (whose levels differ by
+        record: ``rockbridge plot ida``).
     """
     output = check_format(output)
     with open_results(results) as file:
         peaks, bridges = peak_columns(file), bridge_attributes(file)
+        intensity = json.loads(file.attrs.get("intensity", "null"))
+    if intensity is not None:
+        try:
+            rows, _ = rows_at_level(peaks, intensity, level, MEASURES[intensity["measure"]].unit)
+        except ValueError as exc:
+            raise InputError(results, [("level", f"Fig. 9: {exc}")]) from None
+        peaks = {name: values[rows] for name, values in peaks.items()}
     records = list(dict.fromkeys(peaks["record"]))
     figure = Figure(figsize=(10.0, 9.6), layout="constrained")
     grid = figure.subplots(3, 2, sharex=True)

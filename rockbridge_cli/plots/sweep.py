@@ -6,14 +6,13 @@ a grid, per value of the other swept fields)."""
 from __future__ import annotations
 
 import json
-import math
 from pathlib import Path
 
 import numpy as np
 from matplotlib.figure import Figure
 
 from ..assessment.fragility import fragilities_of
-from ..assessment.levels import IDA_POINTER, levels_of
+from ..assessment.levels import rows_at_level
 from ..core.quantities import check_limit_state
 from ..errors import InputError
 from ..motions.intensity import MEASURES
@@ -74,7 +73,13 @@ def plot_sweep(
         reason = "--level picks the stripe of a peak in a study with intensity levels"
         raise InputError(results, [("level", reason)])
     if not capacity and intensity is not None:
-        rows, level = _at_level(results, columns, intensity, quantity, level)
+        try:
+            rows, level = rows_at_level(columns, intensity, level, unit_of(intensity))
+        except ValueError as exc:
+            where = "quantity" if intensity.get("ida") else "level"
+            also = "; or a limit state's capacity" if intensity.get("ida") else ""
+            reason = f"{quantity!r} per swept value: {exc}{also}"
+            raise InputError(results, [(where, reason)]) from None
         ok &= rows
     columns = {name: values[ok] for name, values in columns.items()}
     bridges = [b for b in dict.fromkeys(columns["bridge"]) if field in varies.get(b, ())]
@@ -122,30 +127,6 @@ def plot_sweep(
 def unit_of(intensity: dict) -> str:
     """The unit of a study's intensity measure."""
     return MEASURES[intensity["measure"]].unit
-
-
-def _at_level(
-    results: str | Path, columns: dict, intensity: dict, quantity: str, level: float | None
-) -> tuple[np.ndarray, float]:
-    """The rows of a multiple-stripe study at ``level``, and the level as stored.
-
-    Raises
-    ------
-    InputError
-        The study is an IDA, or ``level`` is not one of the stripes'.
-    """
-    if intensity.get("ida"):
-        reason = f"{quantity!r} per swept value: {IDA_POINTER}; or a limit state's capacity"
-        raise InputError(results, [("quantity", reason)])
-    levels = levels_of(columns)
-    near = [x for x in levels if level is not None and math.isclose(x, level, rel_tol=1e-9)]
-    if not near:
-        listed = ", ".join(f"{x:g}" for x in levels)
-        said = "" if level is None else f"{level:g} is not one; "
-        reason = (f"a median over the records is taken at one intensity level: {said}choose one "
-                  f"with --level ({listed} {unit_of(intensity)})")  # fmt: skip
-        raise InputError(results, [("level", reason)])
-    return columns["intensity"] == near[0], near[0]
 
 
 def _is_limit_state(name: str) -> bool:

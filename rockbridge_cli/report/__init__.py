@@ -185,15 +185,18 @@ def _figures(
     results: Path, figure: Callable[..., str], intensity: dict | None, swept: list[str],
     chosen: str | None,
 ) -> list[str]:  # fmt: skip
-    """Fig. 9 (a study without a sweep and without an IDA), or the swept fields' figures; then
-    Fig. 10 under ``chosen``."""
+    """Fig. 9 (a study without a sweep and without an IDA; with stripes, at their design level if
+    it is one of them), or the swept fields' figures; then Fig. 10 under ``chosen``."""
     parts = []
+    level = (intensity or {}).get("design")
     if swept:
         parts += [_sweep_section(results, figure, intensity, field) for field in swept[:MAX_SWEPT]]
-    elif not _is_ida(intensity):
+    elif not intensity or not _is_ida(intensity) and level in intensity["levels"]:
         from ..plots.peaks import plot_peaks
 
-        parts.append(_section("Peaks per record (Fig. 9)", figure(plot_peaks, results),
+        at = f" at {intensity['measure']} = {level:g}" if intensity else ""
+        parts.append(_section(f"Peaks per record{at} (Fig. 9)",
+                              figure(plot_peaks, results, level=level if intensity else None),
                               "One marker per bridge and record; right: the means over the "
                               "records. (A) with the end-joint gap (dotted) and the "
                               "abutment–backfill failure (dashed)."))  # fmt: skip
