@@ -23,7 +23,7 @@ from ..config.intensity import scaled_id
 from ..core.quantities import ABUTMENT, PIER1_OVERTURNING, PIER2_OVERTURNING
 from ..errors import InputError
 from ..results.reading import open_results, peak_columns
-from .ida import Lattice, walk
+from .ida import Lattice, Outcome, walk
 from .limit_states import Verdict
 
 REGIONS = (
@@ -101,14 +101,14 @@ def spectrum_of(columns: dict[str, np.ndarray], config: dict) -> OverturningSpec
     below = {state: np.full(len(records), np.nan) for state in states}
     for i, base in enumerate(records):
 
-        def reaches(n: int, base=base) -> frozenset[str] | None:
+        def outcome(n: int, base=base) -> Outcome | None:
             verdict = verdicts.get(scaled_id(base, lattice.level(n), "scale"))
-            return None if verdict is None else verdict.reaches(states)
+            return None if verdict is None else verdict.outcome(states)
 
         for j in range(len(amplitudes)):
             row = rows.get(scaled_id(base, lattice.level(j * lattice.stride), "scale"))
             regions[i, j] = NOT_RUN if row is None else _region(columns, row)
-        found = walk(lattice, ida["tolerance"], states, reaches).capacities
+        found = walk(lattice, ida["tolerance"], states, outcome).capacities
         for state, (low, high) in found.items():
             if high is not None:
                 boundaries[state][i] = lattice.level(high)
