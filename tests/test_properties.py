@@ -9,7 +9,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from rockbridge_cli.assessment.ida import Lattice, walk
+from rockbridge_cli.assessment.ida import Lattice, Outcome, walk
 from rockbridge_cli.core.bridge import Bridge
 from rockbridge_cli.core.geometry import single_block
 from rockbridge_cli.results.packing import AnalysisResult, Chunk, Packed
@@ -25,31 +25,39 @@ SETTINGS = settings(max_examples=60, deadline=None)
     scans=st.integers(1, 30),
     tolerance=st.floats(0.005, 0.2),
     thresholds=st.lists(st.floats(0.0, 40.0), min_size=1, max_size=3),
+    ending=st.booleans(),
 )
-def test_the_ida_rule_brackets_a_monotonic_threshold(start, step, scans, tolerance, thresholds):
+def test_the_ida_rule_brackets_a_monotonic_threshold(
+    start, step, scans, tolerance, thresholds, ending
+):
     """A curve that reaches state i at every level from x_i on: the rule, run round by round as
     a study runs it, reports as capacity the first lattice level at or above x_i, with the level
     below it under x_i and within ``tolerance`` of the capacity (or the lattice's resolution, the
     rule's definition); a threshold above the last scan level is not reached; one at or below
-    ``start`` is censored there (below = −1)."""
+    ``start`` is censored there (below = −1). With ``ending``, state 0 is a failure that ends
+    the analysis: the curve ends at its capacity, and a state not reached there is unreachable
+    (no capacity, whatever its threshold)."""
     depth = max(0, math.ceil(math.log2(step / (tolerance * start))))
     lattice = Lattice(start, step, depth, scans * 2**depth + 1)
     states = tuple(f"s{i}" for i in range(len(thresholds)))
-    done: dict[int, frozenset[str]] = {}
-
-    def reaches(n: int) -> frozenset[str] | None:
-        return done.get(n)
+    done: dict[int, Outcome] = {}
 
     for _ in range(10_000):  # rounds: run what the rule wants, until it wants nothing
-        found = walk(lattice, tolerance, states, reaches)
+        found = walk(lattice, tolerance, states, done.get)
         if not found.wanted:
             break
         for n in found.wanted:
             level = lattice.level(n)
-            done[n] = frozenset(s for s, x in zip(states, thresholds, strict=True) if level >= x)
+            hit = frozenset(s for s, x in zip(states, thresholds, strict=True) if level >= x)
+            done[n] = Outcome(hit, "s0" if ending and "s0" in hit else "")
     top = lattice.level(lattice.count - 1)
+    end = found.capacities["s0"][1] if ending else None
+    assert found.end == end
     for state, threshold in zip(states, thresholds, strict=True):
         below, n = found.capacities[state]
+        if end is not None and threshold > lattice.level(end):
+            assert n is None and found.unreachable(state)
+            continue
         if threshold > top:
             assert n is None
             continue
