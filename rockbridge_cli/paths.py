@@ -175,3 +175,36 @@ def replace_atomically(temporary: Path, target: Path) -> None:
             os.fsync(folder)
         finally:
             os.close(folder)
+
+
+def replace_folder(staging: Path, target: Path, keep: Callable[[Path], bool]) -> None:
+    """Swap a folder written in full beside ``target`` in for it, so that a reader finds the old
+    folder whole, or the new one, or none: never a mix of the two.
+
+    Parameters
+    ----------
+    staging
+        The new folder, on the same file system as ``target`` (its sibling).
+    target
+        The folder to replace; it may not exist yet.
+    keep
+        Whether an existing, non-empty ``target`` may be replaced (e.g. it is a record set);
+        otherwise the staging folder is removed and nothing changes.
+
+    Raises
+    ------
+    InputError
+        ``target`` exists and may not be replaced.
+    """
+    import shutil
+
+    if target.exists() and not (target.is_dir() and (not any(target.iterdir()) or keep(target))):
+        shutil.rmtree(staging)
+        raise InputError(target, [("", "holds files this would replace: give a new or empty "
+                                   "folder")])  # fmt: skip
+    old = target.with_name(f".{target.name}.old-{os.getpid()}")
+    if target.exists():
+        os.replace(target, old)  # a crash from here to the next line leaves no set, and the old
+    os.replace(staging, target)  # one aside: a study then refuses a missing manifest
+    if old.exists():
+        shutil.rmtree(old)

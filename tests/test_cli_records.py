@@ -60,7 +60,8 @@ def record_set_differences(made: Path, expected: Path) -> list[str]:
     ``SAMPLE_TOLERANCE`` of the PGA. Manifest: the same keys, texts, integers and verdicts;
     floats within 1e-8 relative (they are printed to 10 digits) or 1e-9 absolute (the final
     velocities and displacements are round-off, ~1e-16 m/s and ~1e-14 m). The manifest's
-    ``environment`` (library versions) may differ.
+    ``environment`` (library versions) may differ, and so may each file's ``sha256``, which
+    changes with the last printed digit that the samples are compared to within tolerance.
     """
     names = sorted(path.name for path in expected.iterdir())
     if sorted(path.name for path in made.iterdir()) != names:
@@ -83,6 +84,8 @@ def record_set_differences(made: Path, expected: Path) -> list[str]:
     manifests = [json.loads((folder / MANIFEST).read_text()) for folder in (made, expected)]
     for manifest in manifests:
         manifest.pop("environment", None)
+        for entry in manifest.get("records", []):
+            entry.pop("sha256", None)
     found += _json_differences(MANIFEST, *manifests)
     return found
 
@@ -262,3 +265,90 @@ def test_plot_record_names_each_record_once(tmp_path):
     assert result.exit_code == 0, result.output
     texts = re.findall(r"<text[^>]*>([^<]*)</text>", (tmp_path / "two.svg").read_text())
     assert texts.count("AR01") == 1 and texts.count("AR07") == 1
+
+
+def small_set(tmp_path: Path, seed: int, out: Path):
+    config = tmp_path / f"small-{seed}.yaml"
+    config.write_text(SMALL.replace("seed: 1", f"seed: {seed}"), encoding="utf-8")
+    return run("generate-records", config, "--out", out)
+
+
+def study_on(tmp_path: Path, folder: Path) -> Path:
+    study = tmp_path / "on-set.yaml"
+    study.write_text(
+        "bridges:\n  - {id: block, piers: {width: 1.3, heights: [13.0]}}\n"
+        f"records: {{set: {folder}}}\noutput: {{histories: none}}\n",
+        encoding="utf-8",
+    )
+    return study
+
+
+def test_a_set_changed_after_it_was_written_is_refused(tmp_path):
+    """The manifest keeps each file's SHA-256; a study refuses a file that differs (issue 32 #8:
+    a generator killed while replacing files one by one left a mix a study accepted)."""
+    assert small_set(tmp_path, 1, tmp_path / "set").exit_code == 0
+    from rockbridge_cli.config.study import load_study
+
+    assert len(load_study(study_on(tmp_path, tmp_path / "set")).records) == 3
+    path = tmp_path / "set" / "AR02.txt"
+    path.write_text(path.read_text().replace("e-", "e+", 1), encoding="utf-8")
+    result = run("run", study_on(tmp_path, tmp_path / "set"), "-o", tmp_path / "x.h5")
+    assert_user_error(result, "AR02.txt differs from the file the set was written with")
+    assert not (tmp_path / "x.h5").exists()
+
+
+def test_a_new_set_replaces_an_old_one_whole(tmp_path):
+    """Generated beside the old set and swapped in: every file of the folder is the new set's,
+    and nothing else of the parent folder is left behind."""
+    assert small_set(tmp_path, 1, tmp_path / "set").exit_code == 0
+    old = {p.name: p.read_bytes() for p in (tmp_path / "set").iterdir()}
+    assert small_set(tmp_path, 2, tmp_path / "set").exit_code == 0
+    new = {p.name: p.read_bytes() for p in (tmp_path / "set").iterdir()}
+    assert new.keys() == old.keys() and new["AR01.txt"] != old["AR01.txt"]
+    assert sorted(p.name for p in tmp_path.iterdir() if p.name.startswith(".")) == []
+
+
+def test_a_folder_of_other_files_is_not_replaced(tmp_path):
+    (tmp_path / "mine").mkdir()
+    (tmp_path / "mine" / "notes.txt").write_text("keep me", encoding="utf-8")
+    result = small_set(tmp_path, 1, tmp_path / "mine")
+    assert_user_error(result, "holds files that are not a record set")
+    assert [p.name for p in (tmp_path / "mine").iterdir()] == ["notes.txt"]
+
+
+def test_a_killed_generator_never_leaves_a_set_a_study_accepts_mixed(tmp_path):
+    """SIGKILL at staggered moments of a generator replacing a set: whatever is left is the old
+    set, the new one, or no set, and a study that accepts the folder reads files that all agree
+    with its manifest (it verifies their SHA-256)."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    from rockbridge_cli.config.study import load_study
+    from rockbridge_cli.errors import InputError
+
+    assert small_set(tmp_path, 1, tmp_path / "set").exit_code == 0
+    config = tmp_path / "small-2.yaml"
+    config.write_text(SMALL.replace("seed: 1", "seed: 2"), encoding="utf-8")
+    command = [sys.executable, "-c", "from rockbridge_cli.cli import main; main()",
+               "generate-records", str(config), "--out", str(tmp_path / "set")]  # fmt: skip
+    outcomes = set()
+    for delay in (0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 4.0):
+        process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        time.sleep(delay)
+        os.kill(process.pid, signal.SIGKILL)
+        process.wait()
+        try:
+            study = load_study(study_on(tmp_path, tmp_path / "set"))
+        except InputError:
+            outcomes.add("refused")
+            assert small_set(tmp_path, 1, tmp_path / "set").exit_code == 0  # start again
+            continue
+        manifest = json.loads((tmp_path / "set" / MANIFEST).read_text())
+        outcomes.add(manifest["seed"])
+        assert [r.id for r in study.records] == ["AR01", "AR02", "AR03"]
+        for record in study.records:  # every file of the seed the manifest states
+            assert record.record is not None and record.record.metadata["seed"] == manifest["seed"]
+    assert outcomes <= {1, 2, "refused"}

@@ -38,7 +38,13 @@ from ..core.fidelity import PRESETS, check_work, knobs
 from ..core.quantities import HISTORY_UNITS
 from ..errors import InputError
 from ..records.fema import read_fema_set
-from ..records.files import MAX_RECORD_BYTES, Record, read_manifest, read_record
+from ..records.files import (
+    MAX_RECORD_BYTES,
+    Record,
+    check_set_file,
+    read_manifest,
+    read_record,
+)
 from . import loading
 from .bridge import BridgeConfig, load_bridge
 from .intensity import Intensity, intensity_of, scaled_id
@@ -588,6 +594,8 @@ def _resolve_records(records: Records, study: Path) -> list[StudyRecord]:
     if records.record_set is not None:
         folder = records.record_set
         manifest = read_manifest(base / folder)
+        for index, entry in enumerate(manifest["records"]):  # the files the set was written with
+            check_set_file(base / folder, entry, index)
         files: list[tuple[str, Path, str | None, float | None]] = [
             (entry.get("name") or Path(entry["file"]).stem, folder / entry["file"], None, None)
             for entry in manifest["records"]

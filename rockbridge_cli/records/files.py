@@ -15,6 +15,7 @@ never guessed. Formats read by `read_record`:
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 import numbers
@@ -548,6 +549,26 @@ def read_manifest(folder: str | Path) -> dict[str, Any]:
     return manifest
 
 
+def check_set_file(folder: Path, entry: dict[str, Any], index: int) -> Path:
+    """A record file of a set, once it is there and, where the manifest gives its SHA-256 (sets
+    written since the manifest has them), has the bytes the set was written with: a file
+    changed, or left by a generator killed while it replaced the set, is refused.
+
+    Raises
+    ------
+    InputError
+        The file is missing or differs from the manifest.
+    """
+    path, field = folder / entry["file"], f"records[{index}].file"
+    if not path.is_file():
+        raise InputError(folder / MANIFEST, [(field, f"{entry['file']} not found")])
+    expected = entry.get("sha256")
+    if expected is not None and hashlib.sha256(path.read_bytes()).hexdigest() != expected:
+        why = f"{entry['file']} differs from the file the set was written with (its SHA-256)"
+        raise InputError(folder / MANIFEST, [(field, f"{why}: regenerate the set")])
+    return path
+
+
 def read_record_set(folder: str | Path) -> list[Record]:
     """Read every record of a set written by `sets.generate_record_set`, in manifest order.
 
@@ -558,12 +579,7 @@ def read_record_set(folder: str | Path) -> list[Record]:
     """
     folder = Path(folder)
     manifest = read_manifest(folder)
-    records = []
-    for index, entry in enumerate(manifest["records"]):
-        path = folder / entry["file"]
-        if not path.is_file():
-            raise InputError(
-                folder / MANIFEST, [(f"records[{index}].file", f"{entry['file']} not found")]
-            )
-        records.append(read_record(path))
-    return records
+    return [
+        read_record(check_set_file(folder, entry, index))
+        for index, entry in enumerate(manifest["records"])
+    ]

@@ -6,7 +6,9 @@ seeds, what the matching changed of each seed."""
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import json
+import os
 import re
 import time
 from dataclasses import dataclass
@@ -15,8 +17,9 @@ from pathlib import Path
 import numpy as np
 
 from ..config.records import FemaSet, RecordSetConfig
+from ..errors import InputError
 from ..motions import baseline, ec8, matching, seeds, spectra, spectral_fit
-from ..paths import writable
+from ..paths import replace_folder, writable
 from .fema import read_fema_set
 from .files import MANIFEST, PROVENANCE, Record, read_record, write_record
 from .manifest import build_manifest, checks_dense, record_header, round_floats
@@ -88,17 +91,21 @@ def generate_record_set(
     config
         the record-set config.
     folder
-        output folder (created if needed; files of the same names are replaced).
+        output folder: new, empty, or a record set, which the new set replaces whole (it is
+        written beside it and swapped in, so that a reader never finds a mix of the two).
     config_name
         name of the config (e.g. its file stem), stored in the manifest.
 
     Raises
     ------
     InputError
-        A seed cannot be read.
+        A seed cannot be read, or ``folder`` holds files that are not a record set.
     """
     started = time.perf_counter()
     folder = writable(folder, folder=True)
+    if any(folder.iterdir()) and not _is_set(folder):  # refused now, before the work
+        raise InputError(folder, [("", "holds files that are not a record set: give a new or "
+                                   "empty folder, or a record set to replace")])  # fmt: skip
     target = resolve_target(config)
     settings = match_settings(config, target)
     made = _matched_seeds(config, target, settings) if config.seeds is not None else _synthesised(
@@ -106,13 +113,18 @@ def generate_record_set(
     records = [record for record, _, _ in made]
     check = np.geomspace(*config.band, config.check_periods)
     summaries, compliance = _summarise(made, check, target, config)
+    staging = folder.with_name(f".{folder.name}.partial-{os.getpid()}")
+    staging.mkdir()
     for index, record in enumerate(records):
         header = record_header(config, target, index, record)
-        write_record(folder / f"{record.name}.txt", record, header)
+        write_record(staging / f"{record.name}.txt", record, header)
     manifest = round_floats(
         build_manifest(config, config_name, target, records, summaries, compliance)
     )
-    (folder / MANIFEST).write_text(json.dumps(manifest, indent=2) + "\n", encoding="utf-8")
+    for entry in manifest["records"]:  # a study verifies them (`files.check_set_file`)
+        entry["sha256"] = hashlib.sha256((staging / entry["file"]).read_bytes()).hexdigest()
+    (staging / MANIFEST).write_text(json.dumps(manifest, indent=2) + "\n", encoding="utf-8")
+    replace_folder(staging, folder, keep=_is_set)
     return RecordSetReport(
         folder,
         tuple(summaries),
@@ -124,6 +136,11 @@ def generate_record_set(
         spectral_fit.dense_periods(config.band, target.damping).size,
         checks_dense(config),
     )
+
+
+def _is_set(folder: Path) -> bool:
+    """Whether a folder holds a record set (its manifest), which a new set may replace."""
+    return (folder / MANIFEST).is_file()
 
 
 def match_settings(config: RecordSetConfig, target: TargetDefinition) -> matching.MatchSettings:
