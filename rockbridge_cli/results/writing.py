@@ -42,7 +42,8 @@ from .layout import (
 from .packing import EVENT_RECORD, NUMBERS, TEXTS, Chunk, Packed
 
 if TYPE_CHECKING:
-    from ..config.study import Study, StudyRecord
+    from ..config.study import Study
+    from ..config.study_records import StudyRecord
     from ..records.files import Record
 
 PEAK_ROWS = 4096
