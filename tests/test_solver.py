@@ -20,10 +20,11 @@ from rockbridge_cli.core import fidelity, impacts
 from rockbridge_cli.core.analysis import analyze, dcr_backfill
 from rockbridge_cli.core.bridge import Bridge
 from rockbridge_cli.core.dynamics import acceleration, coefficients
+from rockbridge_cli.core.events import WATCH_IMPACT, WATCH_TURNING, interpolated, locate, watched
 from rockbridge_cli.core.geometry import single_block
 from rockbridge_cli.core.kinematics import EXACT
 from rockbridge_cli.core.quantities import SIGNIFICANT_RATE
-from rockbridge_cli.core.schemes import take_step
+from rockbridge_cli.core.schemes import Ground, Segment, State, Step, take_step
 from rockbridge_cli.core.solver import (
     EVENT_KIND,
     EVENT_MODE,
@@ -31,12 +32,7 @@ from rockbridge_cli.core.solver import (
     EVENT_RATE_BEFORE,
     IMPACT,
     NO_ERROR,
-    WATCH_IMPACT,
-    WATCH_TURNING,
     Laws,
-    _interpolated,
-    _locate,
-    _watch,
     integrate,
 )
 
@@ -254,6 +250,7 @@ def test_default_converges_towards_reference():
     assert errors[2] <= errors[1] <= max(errors[0], 1e-12)
 
 
+@pytest.mark.skipif(not hasattr(integrate, "py_func"), reason="NUMBA_DISABLE_JIT: all plain")
 def test_compiled_and_plain_python_kernels_agree():
     """The compiled integrator and its plain-Python source give the same response."""
     bridge = studied_bridge(1.25)
@@ -276,9 +273,10 @@ def test_the_step_interpolant_is_exact_on_a_quintic():
     h = 0.01
     theta = np.polynomial.Polynomial(c)
     rate, accel = theta.deriv(), theta.deriv(2)
-    ends = (theta(0.0), rate(0.0), accel(0.0), theta(h), rate(h), accel(h))
+    start, end = State(theta(0.0), rate(0.0), accel(0.0)), State(theta(h), rate(h), accel(h))
+    step = Step(0, 0.0, h, start, end)
     for tau in np.linspace(0.0, h, 11):
-        value, slope = _interpolated(*ends, h, tau)
+        value, slope = interpolated(step, tau)
         assert value == pytest.approx(theta(tau), rel=1e-12, abs=1e-15)
         assert slope == pytest.approx(rate(tau), rel=1e-10, abs=1e-13)
 
@@ -287,32 +285,29 @@ def test_the_step_interpolant_is_exact_on_a_quintic():
 @pytest.mark.parametrize("watch", [WATCH_IMPACT, WATCH_TURNING])
 def test_an_event_is_located_just_past_it_within_the_tolerance(preset, watch):
     """A Housner block rocking in mode +1 towards its impact (θ1 = 0.01 rad, θ̇1 = −0.5 rad/s)
-    or towards its turning point (θ̇1 = +0.05 rad/s): `_locate` returns a step that ends past the
+    or towards its turning point (θ̇1 = +0.05 rad/s): `locate` returns a step that ends past the
     event by no more than the event tolerance, and no more than a tenth of it where Illinois is
     led by the estimate of the event time (every preset but the paper's bisection). The event is
-    the root of the very function `_locate` sees (the watched function after a re-step of length
+    the root of the very function `locate` sees (the watched function after a re-step of length
     τ), found here independently by 200 bisections."""
     block = single_block(B=1.0, H=5.0, density=2500.0, g=G)
     settings = fidelity.settings(fidelity.knobs(preset))
-    acc, dt, s, h = np.zeros(3), 1.0, 1.0, 0.2
-    y, w = (0.01, -0.5) if watch == WATCH_IMPACT else (0.01, 0.05)
+    segment, ground = Segment(block, 1.0, False), Ground(np.zeros(3), 1.0)
+    y, w, h = (0.01, -0.5, 0.2) if watch == WATCH_IMPACT else (0.01, 0.05, 0.2)
+    start = State(y, w, acceleration(block, 1.0, y, w, 0.0, False, EXACT))
 
     def after(tau):
-        y1, w1, _, _, f1 = take_step(
-            block, EXACT, s, False, acc, dt, 0, 0.0, y, w, np.nan, tau, settings.scheme
-        )
-        return _watch(block, s, False, y1, w1, EXACT)[0][watch], (y1, w1, f1)
+        unknown = State(y, w, np.nan)  # θ̈1 at the start, computed by the step
+        end = take_step(segment, EXACT, ground, 0, 0.0, unknown, tau, settings.scheme)[0]
+        return watched(segment, EXACT, end.theta, end.rate)[0][watch], end
 
-    f0 = acceleration(block, s, y, w, 0.0, False, EXACT)
     g0, g1 = after(0.0)[0], after(h)[0]
     assert g0 < 0.0 < g1
     lo, hi = 0.0, h
     for _ in range(200):
         lo, hi = (lo, 0.5 * (lo + hi)) if after(0.5 * (lo + hi))[0] > 0.0 else (0.5 * (lo + hi), hi)
-    y1, w1, f1 = after(h)[1]
-    tau, *_ = _locate(
-        block, EXACT, s, False, acc, dt, 0, 0.0, y, w, f0, h, watch, g0, g1, y1, w1, f1, settings
-    )
+    step = Step(0, 0.0, h, start, after(h)[1])
+    tau = locate(segment, EXACT, ground, step, watch, g0, g1, settings).h
     assert after(tau)[0] > 0.0
     led = 0.1 if not settings.bisection else 1.0  # led by the estimate: a twentieth past it
     assert 0.0 < tau - lo <= led * settings.event_tol

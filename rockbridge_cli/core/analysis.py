@@ -209,7 +209,21 @@ def analyze(
         sign * float(initial[1]),
     )
     solve_time = time.perf_counter() - start
+    return _response(bridge, kin, preset, knobs, result, solve_time, histories)
 
+
+def _response(
+    bridge: Bridge,
+    kin: Kinematics,
+    preset: str,
+    knobs: dict,
+    result: Integration,
+    solve_time: float,
+    histories: bool,
+) -> Response:
+    """The `Response` of an integration (`solver.Integration`) in the user's frame; arguments as
+    in `analyze`, ``solve_time`` [s] the wall time of the integration."""
+    model, sign = bridge.model, bridge.sign
     events, peaks = result.events, result.peaks
     if kind(model) == "single-block":  # the block's massless twin and deck are not results
         peaks[[PEAK_NAMES.index(name) for name in _ABSENT_IN_A_BLOCK]] = np.nan

@@ -14,7 +14,18 @@ import numpy as np
 
 from ._jit import inlined, jit
 from .geometry import Model
-from .kinematics import Kinematics, centres, cubic, table_piece
+from .kinematics import (
+    SLOT_DMASS,
+    SLOT_GRAVITY,
+    SLOT_INERTIA,
+    SLOT_MASS,
+    SLOT_SPRING_DU,
+    SLOT_SPRING_U,
+    Kinematics,
+    centres,
+    cubic,
+    table_piece,
+)
 
 
 @inlined
@@ -46,9 +57,9 @@ def coefficients(model: Model, s: float, theta1: float, kin: Kinematics):
     if piece >= 0:
         t = kin.table
         return (
-            cubic(t, mode, piece, 0, dx), cubic(t, mode, piece, 1, dx),
-            cubic(t, mode, piece, 2, dx), cubic(t, mode, piece, 3, dx),
-            cubic(t, mode, piece, 4, dx), cubic(t, mode, piece, 5, dx),
+            cubic(t, mode, piece, SLOT_MASS, dx), cubic(t, mode, piece, SLOT_DMASS, dx),
+            cubic(t, mode, piece, SLOT_GRAVITY, dx), cubic(t, mode, piece, SLOT_INERTIA, dx),
+            cubic(t, mode, piece, SLOT_SPRING_U, dx), cubic(t, mode, piece, SLOT_SPRING_DU, dx),
         )  # fmt: skip
     return _linkage_coefficients(model, s, theta1, kin)
 

@@ -27,11 +27,25 @@ import numpy as np
 from ._jit import inlined, jit
 from .geometry import Model
 
-COEFFICIENTS = 6
-"""Tabulated quantities 0–5: the equation of motion's coefficients (`dynamics.coefficients`)."""
+COEFFICIENTS, DISPLACEMENTS = 6, 8
+"""Quantities in the tables (`Kinematics.table`): the equation of motion's coefficients, then the
+displacements and rotations."""
 
-DISPLACEMENTS = 8
-"""Tabulated quantities 6–13: the displacements and rotations of `displacements`."""
+(
+    SLOT_MASS, SLOT_DMASS, SLOT_GRAVITY, SLOT_INERTIA, SLOT_SPRING_U, SLOT_SPRING_DU,
+) = range(COEFFICIENTS)  # fmt: skip
+"""Slots of the tables that hold the equation of motion's coefficients, in the order
+`dynamics.coefficients` returns them: M, M', ∂V/∂φ, Σm·∂x/∂φ, and u_deck and ∂u_deck/∂φ as the
+abutment spring reads them."""
+
+(
+    SLOT_U_PIER1, SLOT_V_PIER1, SLOT_U_PIER2, SLOT_V_PIER2,
+    SLOT_U_DECK, SLOT_V_DECK, SLOT_THETA2, SLOT_THETA_DECK,
+) = range(COEFFICIENTS, COEFFICIENTS + DISPLACEMENTS)  # fmt: skip
+"""Slots of the tables that hold the fields of `Displacements`, in their order."""
+
+SLOTS = COEFFICIENTS + DISPLACEMENTS
+"""Slots of the tables."""
 
 
 class Kinematics(NamedTuple):
@@ -40,8 +54,8 @@ class Kinematics(NamedTuple):
     Attributes
     ----------
     fits : the paper's simplified fits (`simplified`), shape (2, 2, 3), or empty
-    table : piecewise cubics per mode (p, n) over s·θ1, shape (2, intervals, 14, 4): for each
-        interval and quantity (`COEFFICIENTS`, then `DISPLACEMENTS`) the coefficients of
+    table : piecewise cubics per mode (p, n) over s·θ1, shape (2, intervals, `SLOTS`, 4): for each
+        interval and quantity (slot `SLOT_MASS` … `SLOT_THETA_DECK`) the coefficients of
         (x − x_i)³, (x − x_i)², (x − x_i), 1; or empty
     step : width of the table's intervals [rad]
     start, limit : the table covers start ≤ s·θ1 < limit (start ≤ 0: a little below rest, where
@@ -56,9 +70,7 @@ class Kinematics(NamedTuple):
     limit: float
 
 
-EXACT = Kinematics(
-    np.zeros((0, 2, 3)), np.zeros((0, 0, COEFFICIENTS + DISPLACEMENTS, 4)), 1.0, 0.0, 0.0
-)
+EXACT = Kinematics(np.zeros((0, 2, 3)), np.zeros((0, 0, SLOTS, 4)), 1.0, 0.0, 0.0)
 """The exact kinematics (loop closure, velocity and acceleration analysis)."""
 
 
@@ -220,10 +232,10 @@ def displacements(model: Model, s: float, theta1: float, kin: Kinematics):
     if piece >= 0:
         t = kin.table
         return Displacements(
-            cubic(t, mode, piece, 6, dx), cubic(t, mode, piece, 7, dx),
-            cubic(t, mode, piece, 8, dx), cubic(t, mode, piece, 9, dx),
-            cubic(t, mode, piece, 10, dx), cubic(t, mode, piece, 11, dx),
-            cubic(t, mode, piece, 12, dx), cubic(t, mode, piece, 13, dx),
+            cubic(t, mode, piece, SLOT_U_PIER1, dx), cubic(t, mode, piece, SLOT_V_PIER1, dx),
+            cubic(t, mode, piece, SLOT_U_PIER2, dx), cubic(t, mode, piece, SLOT_V_PIER2, dx),
+            cubic(t, mode, piece, SLOT_U_DECK, dx), cubic(t, mode, piece, SLOT_V_DECK, dx),
+            cubic(t, mode, piece, SLOT_THETA2, dx), cubic(t, mode, piece, SLOT_THETA_DECK, dx),
         )  # fmt: skip
     return _linkage_displacements(model, s, theta1, kin)
 
@@ -254,13 +266,13 @@ def table_piece(kin: Kinematics, s: float, theta1: float):
 
 
 @inlined
-def cubic(table: np.ndarray, mode: int, piece: int, quantity: int, dx: float) -> float:
-    """The piecewise cubic of one tabulated quantity, ``dx`` into interval ``piece`` of ``mode``
-    (indexed in place: a view of the table would cost more than the cubic)."""
+def cubic(table: np.ndarray, mode: int, piece: int, slot: int, dx: float) -> float:
+    """The piecewise cubic of the quantity in ``slot`` (`SLOT_MASS` …), ``dx`` into interval
+    ``piece`` of ``mode`` (indexed in place: a view of the table would cost more than the cubic)."""
     return (
-        (table[mode, piece, quantity, 0] * dx + table[mode, piece, quantity, 1]) * dx
-        + table[mode, piece, quantity, 2]
-    ) * dx + table[mode, piece, quantity, 3]
+        (table[mode, piece, slot, 0] * dx + table[mode, piece, slot, 1]) * dx
+        + table[mode, piece, slot, 2]
+    ) * dx + table[mode, piece, slot, 3]
 
 
 def simplified(model: Model) -> Kinematics:

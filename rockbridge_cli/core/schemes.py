@@ -1,16 +1,89 @@
 """The one-step schemes of the integrator (`solver`): the classical fixed-step Runge–Kutta of order
 4 (the paper's) and the embedded Dormand–Prince 5(4) pair (Dormand & Prince 1980), on the state
-(θ1, θ̇1) with θ̈1 from `dynamics.acceleration` and the ground acceleration linear between samples."""
+(θ1, θ̇1) with θ̈1 from `dynamics.acceleration` and the ground acceleration linear between samples.
+
+A step is named by small tuples that the compiled kernels pass around: the `Segment` of the response
+it belongs to (what stays fixed from one event to the next), the `Ground` motion, the `State` at
+each of its ends, and the `Step` that joins them."""
 
 from __future__ import annotations
+
+from typing import NamedTuple
 
 import numpy as np
 
 from ._jit import inlined, jit
 from .dynamics import acceleration
+from .geometry import Model
+from .kinematics import Kinematics
 
 RK4, DOPRI5 = 0, 1
 """Integration schemes."""
+
+
+class Segment(NamedTuple):
+    """The bridge along one smooth segment of the response, between two events (docs/model.md
+    §11): what the equation of motion depends on besides the state, the kinematics and the
+    ground motion. (The kernels take those two, which hold arrays, as arguments of their own: a
+    tuple that holds an array costs reference counting in every compiled helper it passes
+    through.)
+
+    Attributes
+    ----------
+    model : the bridge (core frame)
+    s : rocking mode, +1 or −1 (0 at rest, where no step is taken) [-]
+    contact : whether the end gap is closed (the abutment's spring–dashpot on)
+    """
+
+    model: Model
+    s: float
+    contact: bool
+
+
+class Ground(NamedTuple):
+    """The ground motion, linear between its samples.
+
+    Attributes
+    ----------
+    acc : ground acceleration at uniform samples, positive to the right [m/s²]
+    dt : their interval [s]
+    """
+
+    acc: np.ndarray
+    dt: float
+
+
+class State(NamedTuple):
+    """The tall pier's rotation, angular velocity and angular acceleration at one instant.
+
+    Attributes
+    ----------
+    theta : θ1 [rad]
+    rate : θ̇1 [rad/s]
+    accel : θ̈1 [rad/s²]; NaN where unknown (RK4 leaves it so at a step's end)
+    """
+
+    theta: float
+    rate: float
+    accel: float
+
+
+class Step(NamedTuple):
+    """One step of a scheme, never past the end of its sample interval.
+
+    Attributes
+    ----------
+    k : the sample interval it lies in [-]
+    t : time at its start [s]
+    h : its length [s]
+    start, end : the `State` at both ends
+    """
+
+    k: int
+    t: float
+    h: float
+    start: State
+    end: State
 
 
 @inlined
@@ -20,12 +93,17 @@ def ground_at(acc: np.ndarray, dt: float, k: int, t: float) -> float:
 
 
 @jit
-def take_step(model, kin, s, contact, acc, dt, k, t, y, w, f0, h, scheme):
-    """One step of length h from (θ1, θ̇1) = (y, w) at time t, where θ̈1 = f0 (NaN: unknown).
+def take_step(segment: Segment, kin: Kinematics, ground: Ground, k, t, start: State, h, scheme):
+    """One step of length h [s] of a segment from ``start`` at time t [s] in sample interval k of
+    the ground motion, with `RK4` or `DOPRI5`; ``kin``: how to compute the linkage.
 
-    Returns the new (θ1, θ̇1), for DOPRI5 the local error estimates of both (zero for RK4), and
-    θ̈1 at the new state (DOPRI5's last stage, which the next step reuses; NaN for RK4).
+    Returns the `State` at its end (θ̈1 there is DOPRI5's last stage, which the next step reuses;
+    NaN for RK4) and, for DOPRI5, the local error estimates of θ1 [rad] and θ̇1 [rad/s] (zero for
+    RK4).
     """
+    model, s, contact = segment
+    acc, dt = ground
+    y, w, f0 = start
     if not np.isfinite(f0):
         f0 = acceleration(model, s, y, w, ground_at(acc, dt, k, t), contact, kin)
     if scheme == RK4:
@@ -36,13 +114,12 @@ def take_step(model, kin, s, contact, acc, dt, k, t, y, w, f0, h, scheme):
         f3 = acceleration(model, s, y3, w3, ground_at(acc, dt, k, t + 0.5 * h), contact, kin)
         y4, w4 = y + h * w3, w + h * f3
         f4 = acceleration(model, s, y4, w4, ground_at(acc, dt, k, t + h), contact, kin)
-        return (
+        end = State(
             y + h / 6.0 * (w + 2.0 * w2 + 2.0 * w3 + w4),
             w + h / 6.0 * (f1 + 2.0 * f2 + 2.0 * f3 + f4),
-            0.0,
-            0.0,
             np.nan,
         )
+        return end, 0.0, 0.0
     # Dormand–Prince 5(4): the stages of θ1 are the θ̇1 values, those of θ̇1 the accelerations.
     a1 = f0
     v1 = w
@@ -85,4 +162,4 @@ def take_step(model, kin, s, contact, acc, dt, k, t, y, w, f0, h, scheme):
     e5, e6, e7 = -17253.0 / 339200.0, 22.0 / 525.0, -1.0 / 40.0
     err_y = h * (e1 * v1 + e3 * v3 + e4 * v4 + e5 * v5 + e6 * v6 + e7 * w_new)
     err_w = h * (e1 * a1 + e3 * a3 + e4 * a4 + e5 * a5 + e6 * a6 + e7 * a7)
-    return y_new, w_new, err_y, err_w, a7
+    return State(y_new, w_new, a7), err_y, err_w

@@ -18,11 +18,15 @@ small state machine:
   - optionally a *turning point* (θ̇1 = 0) to catch each peak exactly.
 
 Steps never straddle a record sample, so the ground acceleration is linear within each step. An
-event is located by re-stepping from the step's start with a shorter step (Illinois regula falsi,
-or the paper's plain bisection) until the event time is known to ``event_tol``; the state is then
-taken just past the event. Two one-step schemes are available (`schemes`): the classical fixed-step
-Runge–Kutta of order 4 (the paper's) and the adaptive embedded Dormand–Prince 5(4) pair
-(Dormand & Prince 1980) with error control on θ1 and θ̇1.
+event is located (`events`) by re-stepping from the step's start with a shorter step (Illinois
+regula falsi, or the paper's plain bisection) until the event time is known to ``event_tol``; the
+state is then taken just past the event. Two one-step schemes are available (`schemes`): the
+classical fixed-step Runge–Kutta of order 4 (the paper's) and the adaptive embedded Dormand–Prince
+5(4) pair (Dormand & Prince 1980) with error control on θ1 and θ̇1.
+
+What stays fixed for the whole integration is a `Problem`, what stays fixed from one event to the
+next a `schemes.Segment`, and what changes with every step a `Motion`; the integrator writes
+`Histories` and a `Log` of the events.
 """
 
 from __future__ import annotations
@@ -34,10 +38,19 @@ import numpy as np
 from . import quantities
 from ._jit import inlined, jit
 from .dynamics import acceleration
+from .events import (
+    WATCH_ABUTMENT,
+    WATCH_GAP,
+    WATCH_IMPACT,
+    WATCH_PIER1,
+    WATCH_TURNING,
+    first_event,
+    watched,
+)
 from .geometry import Model
 from .kinematics import Displacements, Kinematics, displacements
 from .quantities import PEAK_NAMES
-from .schemes import DOPRI5, RK4, ground_at, take_step
+from .schemes import RK4, Ground, Segment, State, Step, ground_at, take_step
 
 ONSET, IMPACT, POUNDING, REOPENING, REST, ABUTMENT_FAILURE, PIER1_OVERTURNING, PIER2_OVERTURNING = (
     range(8)
@@ -47,12 +60,6 @@ ONSET, IMPACT, POUNDING, REOPENING, REST, ABUTMENT_FAILURE, PIER1_OVERTURNING, P
 EVENT_TIME, EVENT_KIND, EVENT_MODE, EVENT_RATE_BEFORE, EVENT_RATE_AFTER = range(5)
 """Columns of the event log: time [s], kind (`EVENT_NAMES`), rocking mode after the event (0 at
 rest), θ̇1 before and after it [rad/s]."""
-
-WATCH_IMPACT, WATCH_GAP, WATCH_ABUTMENT, WATCH_PIER1, WATCH_PIER2, WATCH_TURNING = range(6)
-"""What the integrator watches while rocking, one signed function each (`_watch`): the return to
-θ1 = 0 (an impact), the end gap (closing while open, reopening while closed), the abutment–backfill
-limit, the overturning of each pier, and θ̇1 = 0 (a turning point, only when asked for). Events
-within the event tolerance of each other are taken in this order."""
 
 NO_ERROR, STEP_UNDERFLOW, TOO_MANY_EVENTS, NON_FINITE_STATE = range(4)
 SOLVER_ERRORS = (
@@ -160,201 +167,116 @@ class Integration(NamedTuple):
     error: int
 
 
-@inlined
-def _watch(model, s, contact, y, w, kin):
-    """The watched functions at (θ1, θ̇1) = (y, w), indexed by ``WATCH_*``; an event is due when
-    its function turns positive. Also returns the `Displacements` there."""
-    d = displacements(model, s, y, kin)
-    gap = abs(d.u_deck) - model.u_jo
-    functions = (
-        -s * y,  # WATCH_IMPACT
-        -gap if contact else gap,  # WATCH_GAP
-        abs(d.u_deck) - (model.u_jo + model.u_ab),  # WATCH_ABUTMENT
-        abs(d.u_pier1) - model.B,  # WATCH_PIER1
-        abs(d.u_pier2) - model.B if model.m2 > 0.0 else -1.0,  # WATCH_PIER2 (a block has none)
-        -s * w,  # WATCH_TURNING
-    )
-    return functions, d
+class Problem(NamedTuple):
+    """What stays fixed for a whole integration: the arguments of `integrate` but the initial
+    state, the ground motion as a `schemes.Ground`."""
+
+    model: Model
+    laws: Laws
+    kin: Kinematics
+    ground: Ground
+    settings: Settings
 
 
-@inlined
-def _fired(before, after, watched, skip):
-    """The first of the first ``watched`` functions (other than ``skip``) that turned positive
-    over a step, or −1.
+class Motion(NamedTuple):
+    """Where the integration stands between two steps.
 
-    A function that starts a step at exactly zero counts as negative (it is zero right after its
-    own event), except the turning point's: a step that starts with θ̇1 = 0 starts at the turning
-    point itself (a release from rest), which is not an event.
+    Attributes
+    ----------
+    t : time [s]
+    k : the sample interval that holds t (at a sample, the one it starts) [-]
+    state : θ1, θ̇1 and θ̈1 (`schemes.State`; θ̈1 NaN at rest)
+    g : the watched functions at ``state`` (`events.watched`; zeros at rest)
     """
-    for i in range(watched):
-        if i != skip and after[i] > 0.0:
-            if before[i] < 0.0 or (before[i] == 0.0 and i != WATCH_TURNING):
-                return i
-    return -1
+
+    t: float
+    k: int
+    state: State
+    g: tuple[float, float, float, float, float, float]
+
+
+class Histories(NamedTuple):
+    """The histories `integrate` writes in place: ``theta1``, ``rate`` and ``mode``, as in
+    `Integration`."""
+
+    theta1: np.ndarray
+    rate: np.ndarray
+    mode: np.ndarray
+
+
+class Log(NamedTuple):
+    """The event log: ``rows`` (columns `EVENT_TIME` … `EVENT_RATE_AFTER`, more than are written,
+    grown as needed) and the number of rows ``written`` [-]."""
+
+    rows: np.ndarray
+    written: int
+
+
+_AT_REST = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+"""`Motion.g` at rest, where nothing is watched."""
+
+
+@jit
+def _motion(segment: Segment, kin: Kinematics, ground: Ground, t, k: int, theta, rate) -> Motion:
+    """The motion at (θ1, θ̇1) = (theta, rate) [rad, rad/s] at time t [s] of sample interval k of a
+    segment, with θ̈1 and the watched functions there (none at rest or at the record's end)."""
+    if segment.s == 0.0 or k >= ground.acc.size - 1:
+        return Motion(t, k, State(theta, rate, np.nan), _AT_REST)
+    model, s, contact = segment
+    a_g = ground_at(ground.acc, ground.dt, k, t)
+    accel = acceleration(model, s, theta, rate, a_g, contact, kin)
+    return Motion(t, k, State(theta, rate, accel), watched(segment, kin, theta, rate)[0])
+
+
+@jit
+def _logged(log: Log, t: float, kind: int, s: float, before: float, after: float) -> Log:
+    """The log with an event of ``kind`` (`EVENT_NAMES`) at time t [s] written: mode s after it,
+    θ̇1 before and after it [rad/s]."""
+    log.rows[log.written, EVENT_TIME] = t
+    log.rows[log.written, EVENT_KIND] = kind
+    log.rows[log.written, EVENT_MODE] = s
+    log.rows[log.written, EVENT_RATE_BEFORE] = before
+    log.rows[log.written, EVENT_RATE_AFTER] = after
+    return Log(log.rows, log.written + 1)
+
+
+@jit
+def _grown(log: Log, most: int) -> Log:
+    """The log with twice the rows (at most ``most``)."""
+    grown = np.zeros((min(2 * log.rows.shape[0], most), log.rows.shape[1]))
+    grown[: log.rows.shape[0]] = log.rows
+    return Log(grown, log.written)
 
 
 @inlined
-def _tracked(theta1: float, d: Displacements):
-    """The peak quantities at one state, in the order of `PEAK_NAMES` (absolute values except
-    the deck's uplift)."""
-    return (
-        abs(d.u_deck), d.v_deck, abs(d.theta_deck), abs(theta1), abs(d.theta2), abs(d.u_pier1),
-        abs(d.u_pier2),
-    )  # fmt: skip
-
-
-@inlined
-def _failure_event(watch: int) -> int:
-    """The failure event of a failure watch."""
-    if watch == WATCH_ABUTMENT:
-        return ABUTMENT_FAILURE
-    if watch == WATCH_PIER1:
-        return PIER1_OVERTURNING
-    return PIER2_OVERTURNING
+def _room(log: Log, most: int) -> Log:
+    """The log, grown (`_grown`) if it might not hold the events of one more pass of the
+    integrator's loop."""
+    if log.rows.shape[0] >= log.written + _EVENTS_PER_ITERATION or log.rows.shape[0] >= most:
+        return log
+    return _grown(log, most)
 
 
 @jit
-def _locate(
-    model, kin, s, contact, acc, dt, k, t, y, w, f0, h, watch, glo, ghi, y1, w1, f1, settings
-):
-    """Length τ ≤ h of the step that ends just past the event of ``watch``, and the state there
-    (θ1, θ̇1, θ̈1).
-
-    The event function is ``glo`` ≤ 0 at the step's start (state ``y, w``, θ̈1 = ``f0``) and
-    ``ghi`` > 0 after the full step (state ``y1, w1, f1``). Each trial re-steps from t. When the
-    function starts at exactly zero (right after another event) a point where it is negative is
-    searched first by halving; if none is found above the event tolerance, the event happens at
-    once (τ = 0).
-
-    Illinois regula falsi is led by an estimate of the event time (`_estimated_event`), corrected
-    by Newton's method after each trial: the first trials straddle it, just past it by a twentieth
-    of the event tolerance and before it by nine tenths, so that most events take two or three
-    trials instead of ten and end a small fraction of the tolerance past the event.
-    """
-    lo, hi = 0.0, h
-    if glo == 0.0:
-        while hi > settings.event_tol:
-            probe = 0.5 * hi
-            yp, wp, _, _, fp = take_step(
-                model, kin, s, contact, acc, dt, k, t, y, w, f0, probe, settings.scheme
-            )
-            gp = _watch(model, s, contact, yp, wp, kin)[0][watch]
-            if gp < 0.0:
-                lo, glo = probe, gp
-                break
-            hi, ghi, y1, w1, f1 = probe, gp, yp, wp, fp
-        if glo == 0.0:
-            return 0.0, y, w, f0
-    estimate, slope = -1.0, 0.0
-    if not settings.bisection:
-        estimate, slope = _estimated_event(
-            model, kin, s, contact, watch, y, w, f0, y1, w1, f1, lo, hi, settings.event_tol
-        )
-    side = trials = 0
-    while hi - lo > settings.event_tol:
-        if settings.bisection:
-            mid = 0.5 * (lo + hi)
-        else:
-            mid = hi - ghi * (hi - lo) / (ghi - glo)
-            mid = min(max(mid, lo + 0.01 * (hi - lo)), hi - 0.01 * (hi - lo))
-            if trials < _ESTIMATED_TRIALS and slope > 0.0:
-                straddle = estimate + (-0.9 if side == 1 else 0.05) * settings.event_tol
-                if lo < straddle < hi:
-                    mid = straddle
-        ym, wm, _, _, fm = take_step(
-            model, kin, s, contact, acc, dt, k, t, y, w, f0, mid, settings.scheme
-        )
-        gm = _watch(model, s, contact, ym, wm, kin)[0][watch]
-        trials += 1
-        estimate = mid - gm / slope if slope > 0.0 else estimate
-        if gm > 0.0:
-            hi, ghi, y1, w1, f1 = mid, gm, ym, wm, fm
-            if side == 1:
-                glo *= 0.5  # Illinois: halve the value at the end that stayed
-            side = 1
-        else:
-            lo, glo = mid, gm
-            if side == -1:
-                ghi *= 0.5
-            side = -1
-    return hi, y1, w1, f1
-
-
-_ESTIMATED_TRIALS = 4
-"""Trials of an event's location placed by its estimated time (`_locate`); Illinois after them."""
-
-
-@inlined
-def _interpolated(y, w, f0, y1, w1, f1, h, tau):
-    """(θ1, θ̇1) at τ in a step of length h, on the quintic Hermite interpolant of (θ1, θ̇1, θ̈1)
-    at its ends: within O(h⁶) of the solution, which is smooth inside a step."""
-    x = tau / h
-    v0, v1, a0, a1, rise = h * w, h * w1, h * h * f0, h * h * f1, y1 - y
-    c3 = 10.0 * rise - 6.0 * v0 - 4.0 * v1 - 1.5 * a0 + 0.5 * a1
-    c4 = -15.0 * rise + 8.0 * v0 + 7.0 * v1 + 1.5 * a0 - a1
-    c5 = 6.0 * rise - 3.0 * v0 - 3.0 * v1 - 0.5 * a0 + 0.5 * a1
-    theta = y + x * (v0 + x * (0.5 * a0 + x * (c3 + x * (c4 + x * c5))))
-    rate = (v0 + x * (a0 + x * (3.0 * c3 + x * (4.0 * c4 + x * 5.0 * c5)))) / h
-    return theta, rate
-
-
-@jit
-def _estimated_event(model, kin, s, contact, watch, y, w, f0, y1, w1, f1, lo, hi, tol):
-    """Estimated time of the event of ``watch`` in (lo, hi) and the event function's slope there
-    [1/s], from the step's interpolant (`_interpolated`, ends at 0 and hi); (−1, 0) when there is
-    none (RK4 leaves θ̈1 unknown, or the interpolant does not cross zero)."""
-    if not (np.isfinite(f0) and np.isfinite(f1)):
-        return -1.0, 0.0
-    h = hi
-    yl, wl = _interpolated(y, w, f0, y1, w1, f1, h, lo)
-    glo = _watch(model, s, contact, yl, wl, kin)[0][watch]
-    ghi = _watch(model, s, contact, y1, w1, kin)[0][watch]
-    if not (glo <= 0.0 < ghi):
-        return -1.0, 0.0
-    side = 0
-    for _ in range(60):  # Illinois on the interpolant
-        if hi - lo <= 0.01 * tol:
-            break
-        mid = hi - ghi * (hi - lo) / (ghi - glo)
-        mid = min(max(mid, lo + 0.01 * (hi - lo)), hi - 0.01 * (hi - lo))
-        ym, wm = _interpolated(y, w, f0, y1, w1, f1, h, mid)
-        gm = _watch(model, s, contact, ym, wm, kin)[0][watch]
-        if gm > 0.0:
-            hi, ghi = mid, gm
-            if side == 1:
-                glo *= 0.5
-            side = 1
-        else:
-            lo, glo = mid, gm
-            if side == -1:
-                ghi *= 0.5
-            side = -1
-    estimate = 0.5 * (lo + hi)
-    delta = 1e-6 * h
-    ya, wa = _interpolated(y, w, f0, y1, w1, f1, h, estimate - delta)
-    yb, wb = _interpolated(y, w, f0, y1, w1, f1, h, estimate + delta)
-    ga = _watch(model, s, contact, ya, wa, kin)[0][watch]
-    gb = _watch(model, s, contact, yb, wb, kin)[0][watch]
-    return estimate, (gb - ga) / (2.0 * delta)
-
-
-@jit
-def _grown(events, most):
-    """The event log with twice the rows (at most ``most``), its rows kept."""
-    grown = np.zeros((min(2 * events.shape[0], most), events.shape[1]))
-    grown[: events.shape[0]] = events
-    return grown
-
-
-@jit
-def _log(events, n, t, kind, s, before, after):
-    """Write event n of ``kind`` (`EVENT_NAMES`) to the log; returns n + 1."""
-    events[n, EVENT_TIME] = t
-    events[n, EVENT_KIND] = kind
-    events[n, EVENT_MODE] = s
-    events[n, EVENT_RATE_BEFORE] = before
-    events[n, EVENT_RATE_AFTER] = after
-    return n + 1
+def _started(problem: Problem, theta0: float, omega0: float):
+    """The histories, the peaks, the segment, the motion and the log at t = 0: at rest, or rocking
+    in the mode of the sign of the initial state (θ1, θ̇1) = (theta0, omega0) [rad, rad/s], which
+    is logged as an onset."""
+    model, settings = problem.model, problem.settings
+    t_end = (problem.ground.acc.size - 1) * problem.ground.dt
+    n_out = int(np.floor(t_end / settings.output_step + 1e-9)) + 1
+    histories = Histories(np.zeros(n_out), np.zeros(n_out), np.zeros(n_out, dtype=np.int8))
+    peaks = np.zeros((len(PEAK_NAMES), 2))
+    log = Log(np.zeros((min(_EVENT_ROWS, settings.max_events), 5)), 0)
+    s = np.sign(theta0) if theta0 != 0.0 else np.sign(omega0)
+    deck = displacements(model, s, theta0, problem.kin).u_deck
+    segment = Segment(model, s, model.u_jo <= 0.0 or abs(deck) > model.u_jo)
+    histories.theta1[0], histories.rate[0], histories.mode[0] = theta0, omega0, np.int8(s)
+    if s != 0.0:
+        log = _logged(log, 0.0, ONSET, s, 0.0, omega0)
+        peaks[_THETA1_PEAK, 0] = abs(theta0)
+    motion = _motion(segment, problem.kin, problem.ground, 0.0, 0, theta0, omega0)
+    return histories, peaks, segment, motion, log
 
 
 @jit
@@ -375,56 +297,63 @@ def _next_onset(acc, dt, laws, k, t):
     return 0.0, t, k
 
 
+@jit
+def _onset(problem: Problem, motion: Motion, log: Log, histories: Histories, next_out: int):
+    """At rest: the segment and the motion from the next onset (Eq. 8) on, the log with the onset,
+    and the next history sample to write (those at rest stay zero). Without an onset before the
+    record ends, the segment at rest and the motion in the record's last interval."""
+    acc, dt = problem.ground
+    s, t, k = _next_onset(acc, dt, problem.laws, motion.k, motion.t)
+    segment = Segment(problem.model, s, problem.model.u_jo <= 0.0)
+    if s == 0.0:
+        return segment, Motion(t, k, motion.state, motion.g), log, next_out
+    log = _logged(log, t, ONSET, s, 0.0, 0.0)
+    while next_out < histories.theta1.size and next_out * problem.settings.output_step <= t:
+        next_out += 1
+    if t >= (k + 1) * dt:  # the onset ends its interval
+        k += 1
+    return segment, _motion(segment, problem.kin, problem.ground, t, k, 0.0, 0.0), log, next_out
+
+
 @inlined
-def _controlled(settings, y, w, y1, w1, err_y, err_w, h, h_step):
-    """DOPRI5's error control after a trial step of h_step: (accepted, next step size)."""
+def _controlled(settings: Settings, step: Step, err_y: float, err_w: float, h: float):
+    """The verdict on a trial step asked for as h [s], with its error estimates of θ1 [rad] and
+    θ̇1 [rad/s]: the step size to ask for next [s], whether DOPRI5's error control rejects the
+    step, and `NO_ERROR` or why the integration stops."""
+    (y, w, _), (y1, w1, _), h_step = step.start, step.end, step.h
+    finite = np.isfinite(y1) and np.isfinite(w1)
+    if settings.scheme == RK4:
+        return h, False, (NO_ERROR if finite else NON_FINITE_STATE)
+    if not finite:
+        err_y = np.inf
     scale = max(
         abs(err_y) / (settings.atol + settings.rtol * max(abs(y), abs(y1))),
         abs(err_w) / (settings.atol + settings.rtol * max(abs(w), abs(w1))),
     )
     if not scale <= 1.0:
-        return False, h_step * (max(0.2, 0.9 * scale**-0.2) if np.isfinite(scale) else 0.2)
+        h = h_step * (max(0.2, 0.9 * scale**-0.2) if np.isfinite(scale) else 0.2)
+        return h, True, (STEP_UNDERFLOW if h < 1e-14 else NO_ERROR)
     grown = h_step * (min(5.0, 0.9 * scale**-0.2) if scale > 0.0 else 5.0)
-    return True, (grown if h_step == h else max(h, grown))
+    return (grown if h_step == h else max(h, grown)), False, NO_ERROR
+
+
+@inlined
+def _tracked(theta1: float, d: Displacements):
+    """The peak quantities at one state, in the order of `PEAK_NAMES` (absolute values except
+    the deck's uplift)."""
+    return (
+        abs(d.u_deck), d.v_deck, abs(d.theta_deck), abs(theta1), abs(d.theta2), abs(d.u_pier1),
+        abs(d.u_pier2),
+    )  # fmt: skip
 
 
 @jit
-def _first_event(
-    model, kin, s, contact, acc, dt, k, t, y, w, f0, g0, h, y1, w1, f1, watched, settings
-):
-    """The first event due within a step of length h from t, if any.
-
-    ``g0`` are the watched functions at the step's start, (y1, w1, f1) the state after the full
-    step. Returns the watch that fired (−1: none), the length τ of the step to take (just past
-    that event, or h), the state there (θ1, θ̇1, θ̈1) and its watched functions and
-    `Displacements`. When another event fires earlier inside a shortened step, that one is
-    located instead; two events within the event tolerance of each other are simultaneous, and
-    the first in the ``WATCH_*`` order is taken.
-    """
-    g1, d1 = _watch(model, s, contact, y1, w1, kin)
-    tau = h
-    watch = _fired(g0, g1, watched, -1)
-    previous = -1
-    while watch >= 0:
-        located, y1, w1, f1 = _locate(
-            model, kin, s, contact, acc, dt, k, t, y, w, f0, tau, watch, g0[watch], g1[watch],
-            y1, w1, f1, settings,
-        )  # fmt: skip
-        g1, d1 = _watch(model, s, contact, y1, w1, kin)
-        if previous >= 0 and tau - located <= settings.event_tol:
-            return min(watch, previous), located, y1, w1, f1, g1, d1
-        tau = located
-        earlier = _fired(g0, g1, watched, watch)
-        if earlier < 0:
-            break
-        previous, watch = watch, earlier
-    return watch, tau, y1, w1, f1, g1, d1
-
-
-@jit
-def _sample(theta1, rate, mode, next_out, output_step, s, t, tau, t_new, y, w, y1, w1):
-    """Write the history samples that fall in the accepted step (t, t_new], by cubic Hermite
-    interpolation between its ends (θ1, θ̇1) = (y, w) and (y1, w1); returns the next sample."""
+def _sample(histories: Histories, next_out: int, output_step: float, s: float, step: Step, t_new):
+    """Write the history samples that fall in an accepted step of mode s, which ends at t_new [s],
+    by cubic Hermite interpolation between its ends; returns the next sample."""
+    t, tau = step.t, step.h
+    (y, w, _), (y1, w1, _) = step.start, step.end
+    theta1, rate, mode = histories
     while next_out < theta1.size and next_out * output_step <= t_new + 1e-12:
         if tau > 0.0:
             x = (next_out * output_step - t) / tau
@@ -444,22 +373,58 @@ def _sample(theta1, rate, mode, next_out, output_step, s, t, tau, t_new, y, w, y
 
 
 @jit
-def _impact(events, n_events, t, s, w, laws, acc, dt, k, settings):
+def _impact(problem: Problem, segment: Segment, motion: Motion, log: Log):
     """An impact at the rocking interfaces ends mode s: θ̇1 ← η_s·θ̇1 and the mode reverses;
     then the chatter guard puts a slow bridge the ground cannot drive back at rest.
 
-    Returns the new mode, θ̇1 and event count.
+    Returns the new mode, θ̇1 [rad/s] and log.
     """
-    before = w
-    w *= laws.eta_p if s > 0.0 else laws.eta_n
-    s = -s
-    n_events = _log(events, n_events, t, IMPACT, s, before, w)
-    ground = ground_at(acc, dt, min(k, acc.size - 2), t)
-    driven = ground > laws.onset_p if s > 0.0 else ground < laws.onset_n
-    if abs(w) < settings.rest_velocity and not driven:
-        s, w = 0.0, 0.0
-        n_events = _log(events, n_events, t, REST, 0.0, before, 0.0)
-    return s, w, n_events
+    laws, t, before = problem.laws, motion.t, motion.state.rate
+    w = before * (laws.eta_p if segment.s > 0.0 else laws.eta_n)
+    s = -segment.s
+    log = _logged(log, t, IMPACT, s, before, w)
+    acc, dt = problem.ground
+    a_g = ground_at(acc, dt, min(motion.k, acc.size - 2), t)
+    driven = a_g > laws.onset_p if s > 0.0 else a_g < laws.onset_n
+    if abs(w) < problem.settings.rest_velocity and not driven:
+        return 0.0, 0.0, _logged(log, t, REST, 0.0, before, 0.0)
+    return s, w, log
+
+
+@inlined
+def _failure_event(watch: int) -> int:
+    """The failure event of a failure watch."""
+    if watch == WATCH_ABUTMENT:
+        return ABUTMENT_FAILURE
+    if watch == WATCH_PIER1:
+        return PIER1_OVERTURNING
+    return PIER2_OVERTURNING
+
+
+@jit
+def _applied(problem: Problem, segment: Segment, motion: Motion, log: Log, watch: int):
+    """Apply the event of ``watch`` that ends the segment: the state jumps and the event is
+    logged. Returns the next segment, the motion at its start, the log, and the failure event (the
+    segment and motion unchanged) or `NOT_FAILED`."""
+    t, s, contact = motion.t, segment.s, segment.contact
+    theta, w = motion.state.theta, motion.state.rate
+    if watch == WATCH_IMPACT:
+        s, w, log = _impact(problem, segment, motion, log)
+        theta = 0.0
+    elif watch == WATCH_GAP and contact:  # the end gap reopens
+        contact = False
+        log = _logged(log, t, REOPENING, s, w, w)
+    elif watch == WATCH_GAP:  # the deck pounds on the backwall and the gap closes
+        before = w
+        w *= problem.laws.pounding
+        contact = problem.laws.pounding > 0.0
+        log = _logged(log, t, POUNDING, s, before, w)
+    else:  # a failure ends the analysis
+        failure = _failure_event(watch)
+        return segment, motion, _logged(log, t, failure, s, w, w), failure
+    segment = Segment(problem.model, s, contact)
+    motion = _motion(segment, problem.kin, problem.ground, t, motion.k, theta, w)
+    return segment, motion, log, NOT_FAILED
 
 
 @jit
@@ -477,16 +442,11 @@ def integrate(
 
     Parameters
     ----------
-    model
-        The bridge (core frame: tall pier on the left).
-    laws
-        Onset thresholds and restitution coefficients.
-    kin
-        How to compute the linkage (`kinematics.Kinematics`: exact, the paper's fits, tables).
-    acc
-        Ground acceleration at uniform samples, positive to the right [m/s²].
-    dt
-        Sample interval [s].
+    model, laws, kin
+        The bridge (core frame: tall pier on the left), its onset thresholds and restitution
+        coefficients, and how to compute its linkage (`kinematics.Kinematics`).
+    acc, dt
+        Ground acceleration at uniform samples, positive to the right [m/s²]; their interval [s].
     settings
         `Settings`.
     theta0, omega0
@@ -497,128 +457,48 @@ def integrate(
     -------
     `Integration`
     """
-    t_end = (acc.size - 1) * dt
-    n_out = int(np.floor(t_end / settings.output_step + 1e-9)) + 1
-    theta1 = np.zeros(n_out)
-    rate = np.zeros(n_out)
-    mode = np.zeros(n_out, dtype=np.int8)
-    most = settings.max_events
-    events = np.zeros((min(_EVENT_ROWS, most), 5))
-    peaks = np.zeros((len(PEAK_NAMES), 2))
-    n_events = next_out = steps = rejected = 0
-    error, failure = NO_ERROR, NOT_FAILED
-    watched = WATCH_TURNING + 1 if settings.turning_points else WATCH_TURNING
-    t, k, y, w, h = 0.0, 0, theta0, omega0, settings.step
-    # θ̈1 and the watched functions at the current state, carried from one step to the next
-    # (known = False after anything that changes the state other than a step).
-    f0, g0, known = np.nan, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0), False
-    s = np.sign(theta0) if theta0 != 0.0 else np.sign(omega0)
-    contact = model.u_jo <= 0.0 or abs(displacements(model, s, y, kin).u_deck) > model.u_jo
-    theta1[0], rate[0], mode[0] = y, w, np.int8(s)
-    if s != 0.0:
-        n_events = _log(events, n_events, 0.0, ONSET, s, 0.0, w)
-        peaks[_THETA1_PEAK, 0] = abs(y)
-    while k < acc.size - 1:
-        if events.shape[0] < n_events + _EVENTS_PER_ITERATION and events.shape[0] < most:
-            events = _grown(events, most)
-        if s == 0.0:  # at rest until the next onset
-            s, t, k = _next_onset(acc, dt, laws, k, t)
-            if s == 0.0:
-                break
-            y, w, h, known = 0.0, 0.0, settings.step, False
-            contact = model.u_jo <= 0.0
-            n_events = _log(events, n_events, t, ONSET, s, 0.0, 0.0)
-            while next_out < n_out and next_out * settings.output_step <= t:
-                next_out += 1  # samples at rest stay zero
-            if t >= (k + 1) * dt:
-                k += 1
-                continue
-
-        # Rocking: one step, never past the end of the current sample interval. h is the step the
-        # scheme asks for (fixed for RK4), h_step the one taken.
-        if not known:
-            f0 = acceleration(model, s, y, w, ground_at(acc, dt, k, t), contact, kin)
-            g0 = _watch(model, s, contact, y, w, kin)[0]
-            known = True
+    ground = Ground(acc, dt)
+    problem = Problem(model, laws, kin, ground, settings)
+    histories, peaks, segment, motion, log = _started(problem, theta0, omega0)
+    count = WATCH_TURNING + 1 if settings.turning_points else WATCH_TURNING  # watched functions
+    h, next_out, steps, rejected, error, failure = settings.step, 0, 0, 0, NO_ERROR, NOT_FAILED
+    while motion.k < acc.size - 1:
+        log = _room(log, settings.max_events)
+        if segment.s == 0.0:  # at rest until the next onset (or the record's end)
+            segment, motion, log, next_out = _onset(problem, motion, log, histories, next_out)
+            h = settings.step
+            continue
+        # A step of the h the scheme asks for, never past the end of the sample interval.
+        k, t, start = motion.k, motion.t, motion.state
         boundary = (k + 1) * dt
         h_step = min(h, settings.max_step, boundary - t)
-        y1, w1, err_y, err_w, f1 = take_step(
-            model, kin, s, contact, acc, dt, k, t, y, w, f0, h_step, settings.scheme
-        )
-        steps += 1
-        if not (np.isfinite(y1) and np.isfinite(w1)):
-            if settings.scheme == RK4:
-                error = NON_FINITE_STATE
-                break
-            err_y = np.inf
-        if settings.scheme == DOPRI5:
-            accepted, h = _controlled(settings, y, w, y1, w1, err_y, err_w, h, h_step)
-            if not accepted:
-                rejected += 1
-                if h < 1e-14:
-                    error = STEP_UNDERFLOW
-                    break
-                continue
-        watch, tau, y1, w1, f1, g1, d1 = _first_event(
-            model,
-            kin,
-            s,
-            contact,
-            acc,
-            dt,
-            k,
-            t,
-            y,
-            w,
-            f0,
-            g0,
-            h_step,
-            y1,
-            w1,
-            f1,
-            watched,
-            settings,
-        )
-
-        # Accept the step: histories and peaks.
-        t_new = boundary if (watch < 0 and tau == boundary - t) else t + tau
-        next_out = _sample(
-            theta1, rate, mode, next_out, settings.output_step, s, t, tau, t_new, y, w, y1, w1
-        )
-        values = _tracked(y1, d1)
+        end, err_y, err_w = take_step(segment, kin, ground, k, t, start, h_step, settings.scheme)
+        step = Step(k, t, h_step, start, end)
+        h, rejection, error = _controlled(settings, step, err_y, err_w, h)
+        steps, rejected = steps + 1, rejected + rejection
+        if error != NO_ERROR:
+            break
+        if rejection:
+            continue
+        watch, step, g_end, d = first_event(segment, kin, ground, step, motion.g, count, settings)
+        t = boundary if (watch < 0 and step.h == boundary - t) else t + step.h
+        next_out = _sample(histories, next_out, settings.output_step, segment.s, step, t)
+        values = _tracked(step.end.theta, d)
         for i in range(len(PEAK_NAMES)):
             if values[i] > peaks[i, 0]:
-                peaks[i, 0], peaks[i, 1] = values[i], t_new
-        t, y, w, f0, g0 = t_new, y1, w1, f1, g1
-        if t >= boundary:
-            k += 1
+                peaks[i, 0], peaks[i, 1] = values[i], t
+        motion = Motion(t, k + 1 if t >= boundary else k, step.end, g_end)
         if watch < 0 or watch == WATCH_TURNING:  # nothing changes but the peaks
             continue
-
-        # Apply the event: the state changes.
-        known = False
-        if n_events >= settings.max_events - 2:
+        if log.written >= settings.max_events - 2:
             error = TOO_MANY_EVENTS
             break
-        if watch == WATCH_IMPACT:
-            s, w, n_events = _impact(events, n_events, t, s, w, laws, acc, dt, k, settings)
-            y = 0.0
-        elif watch == WATCH_GAP and contact:  # the end gap reopens
-            contact = False
-            n_events = _log(events, n_events, t, REOPENING, s, w, w)
-        elif watch == WATCH_GAP:  # the deck pounds on the backwall and the gap closes
-            before = w
-            w *= laws.pounding
-            contact = laws.pounding > 0.0
-            n_events = _log(events, n_events, t, POUNDING, s, before, w)
-        else:  # a failure ends the analysis
-            failure = _failure_event(watch)
-            n_events = _log(events, n_events, t, failure, s, w, w)
+        segment, motion, log, failure = _applied(problem, segment, motion, log, watch)
+        if failure != NOT_FAILED:
             break
-
+    theta1, rate, mode = histories
     if failure != NOT_FAILED or error != NO_ERROR:  # samples after the end are not defined
         theta1[next_out:] = np.nan
         rate[next_out:] = np.nan
-    return Integration(
-        theta1, rate, mode, events[:n_events].copy(), peaks, t, failure, steps, rejected, error
-    )
+    events = log.rows[: log.written].copy()
+    return Integration(theta1, rate, mode, events, peaks, motion.t, failure, steps, rejected, error)

@@ -1,15 +1,15 @@
 """Tabulated kinematics: everything the integrator asks of the linkage, as piecewise cubics.
 
 One degree of freedom means one-dimensional coefficients: per rocking mode, each quantity the
-equation of motion and the event functions need (`kinematics.COEFFICIENTS`: M, M', ∂V/∂φ, Σm·∂x/∂φ,
-u_deck, ∂u_deck/∂φ; `kinematics.DISPLACEMENTS`: the displacements and rotations) is a function of
-θ1 alone. `tabulated` samples them once per bridge on a uniform grid of s·θ1 from a little below
-rest (the linkage is smooth through it) to a little beyond the first failure the bridge can reach,
-with the exact kinematics, and fits a not-a-knot cubic spline through each. An evaluation is then
-an index and a Horner cubic per quantity instead of the ~20 transcendental calls of the exact
-linkage; outside the grid the kernels fall back to the exact path, never extrapolate. The error
-against the exact path is measured by `tests/test_tables.py` (relative 1e-12 or better at 2048
-intervals).
+equation of motion and the event functions need (the table's named slots, `kinematics.SLOT_MASS`
+… `SLOT_THETA_DECK`: M, M', ∂V/∂φ, Σm·∂x/∂φ, u_deck, ∂u_deck/∂φ, then the displacements and
+rotations) is a function of θ1 alone. `tabulated` samples them once per bridge on a uniform grid
+of s·θ1 from a little below rest (the linkage is smooth through it) to a little beyond the first
+failure the bridge can reach, with the exact kinematics, and fits a not-a-knot cubic spline through
+each. An evaluation is then an index and a Horner cubic per quantity instead of the ~20
+transcendental calls of the exact linkage; outside the grid the kernels fall back to the exact
+path, never extrapolate. The error against the exact path is measured by `tests/test_tables.py`
+(relative 1e-12 or better at 2048 intervals).
 """
 
 from __future__ import annotations
@@ -24,7 +24,16 @@ from ._jit import jit
 from .dynamics import coefficients
 from .geometry import Model
 from .impacts import capacities
-from .kinematics import COEFFICIENTS, DISPLACEMENTS, EXACT, Kinematics, displacements
+from .kinematics import (
+    COEFFICIENTS,
+    DISPLACEMENTS,
+    EXACT,
+    SLOT_MASS,
+    SLOT_U_PIER1,
+    SLOTS,
+    Kinematics,
+    displacements,
+)
 
 INTERVALS = 2048
 """Intervals of the tables over the reachable rotation of each mode."""
@@ -72,7 +81,7 @@ def tabulated(model: Model, intervals: int = INTERVALS) -> Kinematics:
             start = x[opens_below[-1] + 1]
         if limit <= 0.0:
             return EXACT
-    table = np.empty((2, x.size - 1, COEFFICIENTS + DISPLACEMENTS, 4))
+    table = np.empty((2, x.size - 1, SLOTS, 4))
     for mode, values in enumerate(samples):
         spline = CubicSpline(x, values, axis=0, bc_type="not-a-knot")
         table[mode] = np.moveaxis(spline.c, 0, -1)  # (intervals, quantity, power 3…0)
@@ -91,14 +100,14 @@ def reach(model: Model) -> float:
 
 @jit
 def _sample(model: Model, s: float, x: np.ndarray) -> np.ndarray:
-    """The tabulated quantities at s·θ1 = x, exactly: shape (x.size, 14)."""
-    out = np.empty((x.size, COEFFICIENTS + DISPLACEMENTS))
+    """The tabulated quantities at s·θ1 = x, exactly: shape (x.size, `SLOTS`)."""
+    out = np.empty((x.size, SLOTS))
     for i in range(x.size):
         theta1 = s * x[i]
         c = coefficients(model, s, theta1, EXACT)
         d = displacements(model, s, theta1, EXACT)
         for q in range(COEFFICIENTS):
-            out[i, q] = c[q]
+            out[i, SLOT_MASS + q] = c[q]
         for q in range(DISPLACEMENTS):
-            out[i, COEFFICIENTS + q] = d[q]
+            out[i, SLOT_U_PIER1 + q] = d[q]
     return out
