@@ -187,12 +187,14 @@ class Motion(NamedTuple):
     k : the sample interval that holds t (at a sample, the one it starts) [-]
     state : θ1, θ̇1 and θ̈1 (`schemes.State`; θ̈1 NaN at rest)
     g : the watched functions at ``state`` (`events.watched`; zeros at rest)
+    sample : the next history sample to write [-]
     """
 
     t: float
     k: int
     state: State
     g: tuple[float, float, float, float, float, float]
+    sample: int
 
 
 class Histories(NamedTuple):
@@ -213,22 +215,24 @@ class Log(NamedTuple):
 
 
 _AT_REST = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-"""`Motion.g` at rest, where nothing is watched."""
+"""`Motion.g` at rest, where nothing is watched (and of a motion not yet `_refreshed`)."""
 
 
 @jit
-def _motion(segment: Segment, kin: Kinematics, ground: Ground, t, k: int, theta, rate) -> Motion:
-    """The motion at (θ1, θ̇1) = (theta, rate) [rad, rad/s] at time t [s] of sample interval k of a
-    segment, with θ̈1 and the watched functions there (none at rest or at the record's end)."""
+def _refreshed(segment: Segment, kin: Kinematics, ground: Ground, motion: Motion) -> Motion:
+    """``motion`` with θ̈1 and the watched functions at its state filled in (none at rest, nor at
+    the record's end)."""
+    t, k, (theta, rate, _), _, sample = motion
     if segment.s == 0.0 or k >= ground.acc.size - 1:
-        return Motion(t, k, State(theta, rate, np.nan), _AT_REST)
+        return motion
     model, s, contact = segment
     a_g = ground_at(ground.acc, ground.dt, k, t)
     accel = acceleration(model, s, theta, rate, a_g, contact, kin)
-    return Motion(t, k, State(theta, rate, accel), watched(segment, kin, theta, rate)[0])
+    g = watched(segment, kin, theta, rate)[0]
+    return Motion(t, k, State(theta, rate, accel), g, sample)
 
 
-@jit
+@inlined
 def _logged(log: Log, t: float, kind: int, s: float, before: float, after: float) -> Log:
     """The log with an event of ``kind`` (`EVENT_NAMES`) at time t [s] written: mode s after it,
     θ̇1 before and after it [rad/s]."""
@@ -261,7 +265,7 @@ def _room(log: Log, most: int) -> Log:
 def _started(problem: Problem, theta0: float, omega0: float):
     """The histories, the peaks, the segment, the motion and the log at t = 0: at rest, or rocking
     in the mode of the sign of the initial state (θ1, θ̇1) = (theta0, omega0) [rad, rad/s], which
-    is logged as an onset."""
+    is logged as an onset. Sample 0 of the histories is written (and again by the first step)."""
     model, settings = problem.model, problem.settings
     t_end = (problem.ground.acc.size - 1) * problem.ground.dt
     n_out = int(np.floor(t_end / settings.output_step + 1e-9)) + 1
@@ -275,7 +279,8 @@ def _started(problem: Problem, theta0: float, omega0: float):
     if s != 0.0:
         log = _logged(log, 0.0, ONSET, s, 0.0, omega0)
         peaks[_THETA1_PEAK, 0] = abs(theta0)
-    motion = _motion(segment, problem.kin, problem.ground, 0.0, 0, theta0, omega0)
+    motion = Motion(0.0, 0, State(theta0, omega0, np.nan), _AT_REST, 0)
+    motion = _refreshed(segment, problem.kin, problem.ground, motion)
     return histories, peaks, segment, motion, log
 
 
@@ -298,21 +303,23 @@ def _next_onset(acc, dt, laws, k, t):
 
 
 @jit
-def _onset(problem: Problem, motion: Motion, log: Log, histories: Histories, next_out: int):
-    """At rest: the segment and the motion from the next onset (Eq. 8) on, the log with the onset,
-    and the next history sample to write (those at rest stay zero). Without an onset before the
-    record ends, the segment at rest and the motion in the record's last interval."""
+def _onset(problem: Problem, motion: Motion, log: Log, samples: int):
+    """At rest: the segment and the motion from the next onset (Eq. 8) on, and the log with the
+    onset; the history samples until then, of the ``samples``, stay zero. Without an onset before
+    the record ends, the segment at rest and the motion in the record's last interval."""
     acc, dt = problem.ground
     s, t, k = _next_onset(acc, dt, problem.laws, motion.k, motion.t)
     segment = Segment(problem.model, s, problem.model.u_jo <= 0.0)
     if s == 0.0:
-        return segment, Motion(t, k, motion.state, motion.g), log, next_out
+        return segment, Motion(t, k, motion.state, motion.g, motion.sample), log
     log = _logged(log, t, ONSET, s, 0.0, 0.0)
-    while next_out < histories.theta1.size and next_out * problem.settings.output_step <= t:
-        next_out += 1
+    sample = motion.sample
+    while sample < samples and sample * problem.settings.output_step <= t:
+        sample += 1
     if t >= (k + 1) * dt:  # the onset ends its interval
         k += 1
-    return segment, _motion(segment, problem.kin, problem.ground, t, k, 0.0, 0.0), log, next_out
+    motion = Motion(t, k, State(0.0, 0.0, np.nan), _AT_REST, sample)
+    return segment, _refreshed(segment, problem.kin, problem.ground, motion), log
 
 
 @inlined
@@ -348,28 +355,28 @@ def _tracked(theta1: float, d: Displacements):
 
 
 @jit
-def _sample(histories: Histories, next_out: int, output_step: float, s: float, step: Step, t_new):
-    """Write the history samples that fall in an accepted step of mode s, which ends at t_new [s],
-    by cubic Hermite interpolation between its ends; returns the next sample."""
+def _sample(histories: Histories, sample: int, output_step: float, s: float, step: Step, t_new):
+    """Write the history samples from ``sample`` on that fall in an accepted step of mode s, which
+    ends at t_new [s], by cubic Hermite interpolation between its ends; returns the next sample."""
     t, tau = step.t, step.h
     (y, w, _), (y1, w1, _) = step.start, step.end
     theta1, rate, mode = histories
-    while next_out < theta1.size and next_out * output_step <= t_new + 1e-12:
+    while sample < theta1.size and sample * output_step <= t_new + 1e-12:
         if tau > 0.0:
-            x = (next_out * output_step - t) / tau
-            theta1[next_out] = (
+            x = (sample * output_step - t) / tau
+            theta1[sample] = (
                 (1.0 + 2.0 * x) * (1.0 - x) ** 2 * y + x * (1.0 - x) ** 2 * tau * w
                 + x * x * (3.0 - 2.0 * x) * y1 + x * x * (x - 1.0) * tau * w1
             )  # fmt: skip
-            rate[next_out] = (
+            rate[sample] = (
                 6.0 * x * (x - 1.0) * (y - y1) / tau
                 + (1.0 - x) * (1.0 - 3.0 * x) * w + x * (3.0 * x - 2.0) * w1
             )  # fmt: skip
         else:
-            theta1[next_out], rate[next_out] = y1, w1
-        mode[next_out] = np.int8(s)
-        next_out += 1
-    return next_out
+            theta1[sample], rate[sample] = y1, w1
+        mode[sample] = np.int8(s)
+        sample += 1
+    return sample
 
 
 @jit
@@ -423,8 +430,8 @@ def _applied(problem: Problem, segment: Segment, motion: Motion, log: Log, watch
         failure = _failure_event(watch)
         return segment, motion, _logged(log, t, failure, s, w, w), failure
     segment = Segment(problem.model, s, contact)
-    motion = _motion(segment, problem.kin, problem.ground, t, motion.k, theta, w)
-    return segment, motion, log, NOT_FAILED
+    motion = Motion(t, motion.k, State(theta, w, np.nan), _AT_REST, motion.sample)
+    return segment, _refreshed(segment, problem.kin, problem.ground, motion), log, NOT_FAILED
 
 
 @jit
@@ -461,11 +468,11 @@ def integrate(
     problem = Problem(model, laws, kin, ground, settings)
     histories, peaks, segment, motion, log = _started(problem, theta0, omega0)
     count = WATCH_TURNING + 1 if settings.turning_points else WATCH_TURNING  # watched functions
-    h, next_out, steps, rejected, error, failure = settings.step, 0, 0, 0, NO_ERROR, NOT_FAILED
+    h, steps, rejected, error, failure = settings.step, 0, 0, NO_ERROR, NOT_FAILED
     while motion.k < acc.size - 1:
         log = _room(log, settings.max_events)
         if segment.s == 0.0:  # at rest until the next onset (or the record's end)
-            segment, motion, log, next_out = _onset(problem, motion, log, histories, next_out)
+            segment, motion, log = _onset(problem, motion, log, histories.theta1.size)
             h = settings.step
             continue
         # A step of the h the scheme asks for, never past the end of the sample interval.
@@ -482,12 +489,12 @@ def integrate(
             continue
         watch, step, g_end, d = first_event(segment, kin, ground, step, motion.g, count, settings)
         t = boundary if (watch < 0 and step.h == boundary - t) else t + step.h
-        next_out = _sample(histories, next_out, settings.output_step, segment.s, step, t)
+        sample = _sample(histories, motion.sample, settings.output_step, segment.s, step, t)
         values = _tracked(step.end.theta, d)
         for i in range(len(PEAK_NAMES)):
             if values[i] > peaks[i, 0]:
                 peaks[i, 0], peaks[i, 1] = values[i], t
-        motion = Motion(t, k + 1 if t >= boundary else k, step.end, g_end)
+        motion = Motion(t, k + 1 if t >= boundary else k, step.end, g_end, sample)
         if watch < 0 or watch == WATCH_TURNING:  # nothing changes but the peaks
             continue
         if log.written >= settings.max_events - 2:
@@ -498,7 +505,7 @@ def integrate(
             break
     theta1, rate, mode = histories
     if failure != NOT_FAILED or error != NO_ERROR:  # samples after the end are not defined
-        theta1[next_out:] = np.nan
-        rate[next_out:] = np.nan
+        theta1[motion.sample :] = np.nan
+        rate[motion.sample :] = np.nan
     events = log.rows[: log.written].copy()
     return Integration(theta1, rate, mode, events, peaks, motion.t, failure, steps, rejected, error)
