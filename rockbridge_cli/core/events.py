@@ -111,7 +111,7 @@ def interpolated(step: Step, tau: float):
     return theta, rate
 
 
-@inlined
+@jit
 def _on_interpolant(segment: Segment, kin: Kinematics, step: Step, watch: int, tau: float):
     """The function of ``watch`` τ [s] into a step, on its interpolant (`interpolated`)."""
     theta, rate = interpolated(step, tau)
