@@ -20,7 +20,16 @@ from rockbridge_cli.core import fidelity, impacts
 from rockbridge_cli.core.analysis import analyze, dcr_backfill
 from rockbridge_cli.core.bridge import Bridge
 from rockbridge_cli.core.dynamics import acceleration, coefficients
-from rockbridge_cli.core.events import WATCH_IMPACT, WATCH_TURNING, interpolated, locate, watched
+from rockbridge_cli.core.events import (
+    WATCH_IMPACT,
+    WATCH_TURNING,
+    Bracket,
+    _falsi,
+    _narrowed,
+    interpolated,
+    locate,
+    watched,
+)
 from rockbridge_cli.core.geometry import single_block
 from rockbridge_cli.core.kinematics import EXACT
 from rockbridge_cli.core.quantities import SIGNIFICANT_RATE
@@ -279,6 +288,23 @@ def test_the_step_interpolant_is_exact_on_a_quintic():
         value, slope = interpolated(step, tau)
         assert value == pytest.approx(theta(tau), rel=1e-12, abs=1e-15)
         assert slope == pytest.approx(rate(tau), rel=1e-10, abs=1e-13)
+
+
+def test_the_illinois_step_finds_a_closed_form_root():
+    """The one Illinois step of both searches (`_falsi`, `_narrowed`) on f(x) = x³ − 2 over [0, 2]:
+    the bracket closes on the closed-form root 2^(1/3) to 1e-12 within 20 trials, each inside the
+    bracket, and the value at an end that stays while the other moves twice in a row is halved
+    (the Illinois modification, Dowell & Jarratt 1971)."""
+    b = Bracket(0.0, 2.0, -2.0, 6.0, 0)
+    stayed = _narrowed(_narrowed(b, 1.0, -1.0), 1.1, -0.669)  # lo moves twice: g_hi halved once
+    assert stayed.g_hi == 3.0 and stayed.side == -1
+    trials = 0
+    while b.hi - b.lo > 1e-12:
+        mid = _falsi(b)
+        assert b.lo < mid < b.hi
+        b = _narrowed(b, mid, mid**3 - 2.0)
+        trials += 1
+    assert b.lo <= 2.0 ** (1.0 / 3.0) <= b.hi and trials <= 20
 
 
 @pytest.mark.parametrize("preset", ["reference", "default", "fast", "paper"])
