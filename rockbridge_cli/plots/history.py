@@ -82,19 +82,9 @@ def plot_history(
     letters = iter("ABCDEFG")
     labels = series_labels({b: table[b] for b in chosen})
 
-    axes = axes_list[0]
-    ground_time = np.arange(ground.size) * time_step
-    axes.plot(ground_time, ground / STANDARD_GRAVITY, color="0.35", linewidth=0.6)
-    axes.set_ylabel(r"$\ddot{u}_g$ [g]")
-    _grid(axes, next(letters))
-    for index, found in enumerate(events.values()):
-        onsets = found["time"][found["kind"] == "onset"]
-        if onsets.size:  # the first onset, on the ground motion that caused it
-            look = style(index)
-            axes.plot(onsets[0], np.interp(onsets[0], ground_time, ground) / STANDARD_GRAVITY,
-                      linestyle="none", marker=look["marker"], color=look["color"],
-                      markerfacecolor=look["markerfacecolor"], markersize=7, zorder=3)  # fmt: skip
-
+    _ground_panel(axes_list[0], time_step, ground, events)
+    _grid(axes_list[0], next(letters))
+    gaps = sorted({table[b]["model_u_jo"] for b in chosen} - {math.inf})
     for (name, scale, label), axes in zip(panels, axes_list[1:], strict=True):
         for index, (bridge, arrays) in enumerate(histories.items()):
             look = {k: v for k, v in style(index).items() if "marker" not in k}
@@ -106,29 +96,47 @@ def plot_history(
                 axes.plot(times, at, linestyle="none", marker="x", ms=4, color=look["color"])
         axes.set_ylabel(label)
         _grid(axes, next(letters))
-        if name == "u_deck":
-            for gap in sorted({table[b]["model_u_jo"] for b in chosen} - {math.inf}):
-                for sign in (1.0, -1.0):
-                    axes.axhline(sign * gap * 1e3, **GAP_LINE)
-
-    failures = [_failure_time(found) for found in events.values()]
-    for when in (t for t in failures if t is not None):
+        for gap in gaps if name == "u_deck" else ():
+            for sign in (1.0, -1.0):
+                axes.axhline(sign * gap * 1e3, **GAP_LINE)
+    failures = [t for t in map(_failure_time, events.values()) if t is not None]
+    for when in failures:
         for axes in axes_list:
             axes.axvline(when, **FAILURE_LINE)
-    handles, labels = axes_list[min(1, len(panels))].get_legend_handles_labels()
-    handles.append(Line2D([], [], linestyle="none", marker="o", color="0.35"))
-    labels.append("onset of rocking (on $\\ddot{u}_g$)")
-    if any(name == "u_deck" for name, _, _ in panels):
-        handles += [Line2D([], [], linestyle="none", marker="x", color="0.35"),
-                    Line2D([], [], **GAP_LINE)]  # fmt: skip
-        labels += ["pounding on the backwall", r"end-joint gap $\pm u_{jo}$"]
-    if any(t is not None for t in failures):
-        handles.append(Line2D([], [], **FAILURE_LINE))
-        labels.append("failure")
-    figure.legend(handles, labels, loc="outside upper center", ncols=2, frameon=False)
+    handles, names = axes_list[min(1, len(panels))].get_legend_handles_labels()
+    keys = _legend_keys(any(name == "u_deck" for name, _, _ in panels), bool(failures))
+    figure.legend(handles + [key for key, _ in keys], names + [name for _, name in keys],
+                  loc="outside upper center", ncols=2, frameon=False)  # fmt: skip
     axes_list[0].set_title(f"record {record}")
     axes_list[-1].set_xlabel("time t [s]")
     return save(figure, output)
+
+
+def _ground_panel(axes, time_step: float, ground: np.ndarray, events: dict) -> None:
+    """Panel (A): the ground acceleration [g], with each bridge's first onset of rocking on it."""
+    ground_time = np.arange(ground.size) * time_step
+    axes.plot(ground_time, ground / STANDARD_GRAVITY, color="0.35", linewidth=0.6)
+    axes.set_ylabel(r"$\ddot{u}_g$ [g]")
+    for index, found in enumerate(events.values()):
+        onsets = found["time"][found["kind"] == "onset"]
+        if onsets.size:  # the first onset, on the ground motion that caused it
+            look = style(index)
+            axes.plot(onsets[0], np.interp(onsets[0], ground_time, ground) / STANDARD_GRAVITY,
+                      linestyle="none", marker=look["marker"], color=look["color"],
+                      markerfacecolor=look["markerfacecolor"], markersize=7, zorder=3)  # fmt: skip
+
+
+def _legend_keys(deck: bool, failed: bool) -> list[tuple[Line2D, str]]:
+    """The legend's entries beside the bridges': onset; poundings and gap; failure."""
+    keys = [(Line2D([], [], linestyle="none", marker="o", color="0.35"),
+             "onset of rocking (on $\\ddot{u}_g$)")]  # fmt: skip
+    if deck:
+        keys += [(Line2D([], [], linestyle="none", marker="x", color="0.35"),
+                  "pounding on the backwall"),
+                 (Line2D([], [], **GAP_LINE), r"end-joint gap $\pm u_{jo}$")]  # fmt: skip
+    if failed:
+        keys.append((Line2D([], [], **FAILURE_LINE), "failure"))
+    return keys
 
 
 def _grid(axes, letter: str) -> None:

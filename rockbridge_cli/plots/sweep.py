@@ -68,38 +68,10 @@ def plot_sweep(
     if not capacity and (quantity not in columns or columns[quantity].dtype.kind != "f"):
         reason = f"not a peak column{' or a limit state' if intensity else ''}: {quantity!r}"
         raise InputError(results, [("quantity", reason)])
-    ok = columns["status"] != "error"
-    if level is not None and (capacity or intensity is None):
-        reason = "--level picks the stripe of a peak in a study with intensity levels"
-        raise InputError(results, [("level", reason)])
-    if not capacity and intensity is not None:
-        try:
-            rows, level = rows_at_level(columns, intensity, level, unit_of(intensity))
-        except ValueError as exc:
-            where = "quantity" if intensity.get("ida") else "level"
-            also = "; or a limit state's capacity" if intensity.get("ida") else ""
-            reason = f"{quantity!r} per swept value: {exc}{also}"
-            raise InputError(results, [(where, reason)]) from None
-        ok &= rows
-    columns = {name: values[ok] for name, values in columns.items()}
+    rows, level = _rows(results, columns, intensity, quantity, capacity, level)
+    columns = {name: values[rows] for name, values in columns.items()}
     bridges = [b for b in dict.fromkeys(columns["bridge"]) if field in varies.get(b, ())]
-    lines: dict[tuple, list[tuple[float, float, float, float]]] = {}
-    fits = {}
-    if capacity:
-        mine = np.isin(columns["bridge"], bridges)
-        found = fragilities_of({k: v[mine] for k, v in columns.items()}, intensity)
-        fits = {f.bridge: f for f in found if f.limit_state == quantity}
-    for bridge in bridges:
-        others = tuple((p, v) for p, v in swept[bridge].items() if p != field)
-        key = (bridge.split("+", 1)[0], others)
-        if capacity:
-            fit = fits.get(bridge)
-            middle = np.nan if fit is None or fit.median is None else fit.median
-            low, high = fit.median_90 if fit is not None and fit.median_90 else (middle, middle)
-        else:
-            values = columns[quantity][columns["bridge"] == bridge]
-            middle, low, high = (float(v) for v in np.percentile(values, [50.0, 16.0, 84.0]))
-        lines.setdefault(key, []).append((swept[bridge][field], middle, low, high))
+    lines = _lines(columns, {b: swept[b] for b in bridges}, field, quantity, capacity, intensity)
     factor, unit = (1.0, MEASURES[intensity["measure"]].unit if intensity else "-")
     if not capacity:
         factor, unit = QUANTITY_SCALE.get(units[quantity], (1.0, units[quantity]))
@@ -122,6 +94,54 @@ def plot_sweep(
     axes.grid(True, color="0.9", linewidth=0.5)
     axes.legend(frameon=False, fontsize="small")
     return save(figure, output)
+
+
+def _rows(
+    results: str | Path, columns: dict, intensity: dict | None, quantity: str, capacity: bool,
+    level: float | None,
+) -> tuple[np.ndarray, float | None]:  # fmt: skip
+    """The rows drawn (analyses that ran; a peak's at one intensity level) and that level."""
+    ok = columns["status"] != "error"
+    if level is not None and (capacity or intensity is None):
+        reason = "--level picks the stripe of a peak in a study with intensity levels"
+        raise InputError(results, [("level", reason)])
+    if capacity or intensity is None:
+        return ok, level
+    try:
+        rows, level = rows_at_level(columns, intensity, level, unit_of(intensity))
+    except ValueError as exc:
+        where = "quantity" if intensity.get("ida") else "level"
+        also = "; or a limit state's capacity" if intensity.get("ida") else ""
+        reason = f"{quantity!r} per swept value: {exc}{also}"
+        raise InputError(results, [(where, reason)]) from None
+    return ok & rows, level
+
+
+def _lines(
+    columns: dict, swept: dict[str, dict[str, float]], field: str, quantity: str, capacity: bool,
+    intensity: dict | None,
+) -> dict[tuple, list[tuple[float, float, float, float]]]:  # fmt: skip
+    """Per line (bridge file, values of the other swept fields), the points (field value, median,
+    low, high) of the bridges in ``swept`` (their swept values, by bridge id)."""
+    fits = {}
+    if capacity:
+        mine = np.isin(columns["bridge"], list(swept))
+        found = fragilities_of({k: v[mine] for k, v in columns.items()}, intensity)
+        fits = {f.bridge: f for f in found if f.limit_state == quantity}
+    lines: dict[tuple, list[tuple[float, float, float, float]]] = {}
+    for bridge, values in swept.items():
+        others = tuple((p, v) for p, v in values.items() if p != field)
+        if capacity:
+            fit = fits.get(bridge)
+            middle = np.nan if fit is None or fit.median is None else fit.median
+            low, high = fit.median_90 if fit is not None and fit.median_90 else (middle, middle)
+        else:
+            peaks = columns[quantity][columns["bridge"] == bridge]
+            middle, low, high = (float(v) for v in np.percentile(peaks, [50.0, 16.0, 84.0]))
+        lines.setdefault((bridge.split("+", 1)[0], others), []).append(
+            (values[field], middle, low, high)
+        )
+    return lines
 
 
 def unit_of(intensity: dict) -> str:
