@@ -17,6 +17,14 @@ Sources of the data (Thomaidis, Camara & Kappos 2022; docs/model.md §2, §10):
 from __future__ import annotations
 
 import math
+import os
+
+# One BLAS/OpenMP thread, as the command line sets (rockbridge_cli/cli/__init__.py), before numpy
+# loads: the references that call scipy's optimisers would otherwise spin threads against the
+# other processes of a shared machine and take seconds instead of milliseconds (issue 31).
+for _variable in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_variable, "1")
+
 from pathlib import Path
 
 import numpy as np

@@ -12,7 +12,8 @@ state at the first level already, or never up to the last, are censored there (t
 is Φ or 1 − Φ at that level), not dropped: dropping them would bias θ. A record whose curve a
 failure ended before it reached the state (*unreachable*: the abutment failed before any pier
 overturned) is censored at the level where its curve ended, as a competing risk; a state no record
-can reach has no fit.
+can reach has no fit. Both fits are one likelihood, maximised by Newton's method
+(`assessment.lognormal`).
 
 The uncertainty of θ is a bootstrap over the records (the same record at every level is one
 draw). A run stores the fits in its results file (`/fragility`, `store`); `fragilities` computes
@@ -29,15 +30,13 @@ from typing import TYPE_CHECKING, Any
 
 import h5py
 import numpy as np
-from scipy.optimize import minimize
-from scipy.special import log_ndtr, ndtr
 
 from ..config.intensity import scaled_id
 from ..core.quantities import LIMIT_STATES
 from ..errors import InputError
 from ..motions.intensity import MEASURES
 from ..results.reading import open_results, peak_columns
-from . import limit_states
+from . import limit_states, lognormal
 from .ida import Lattice, Outcome, Walk, walk
 from .limit_states import Verdict
 from .spectrum import store as store_spectrum
@@ -108,36 +107,32 @@ def fit_lognormal(levels: np.ndarray, reached: np.ndarray, tried: np.ndarray):
     Returns
     -------
     (median θ, β), or None when the data cannot fix them (no record reaches the state, or every
-    record at every level does). When every record changes between two adjacent levels (no level
-    with some records below and some above), the likelihood does not fix β: the median is then
-    the geometric mean of those two levels and β is None.
+    record at every level does). Where the levels separate the records — each level analysed has
+    all or none of its records reaching the state, the share growing with the level, except at
+    most one level — the likelihood grows as β shrinks to 0 and does not fix β: β is None and the
+    median is that one level, or without it the geometric mean of the last level that no record
+    reaches and the first that all do.
     """
     levels, reached, tried = (np.asarray(a, dtype=float) for a in (levels, reached, tried))
     if reached.sum() == 0 or np.all(reached == tried):
         return None
-    fractions = reached / np.maximum(tried, 1.0)
-    if np.all((fractions == 0.0) | (fractions == 1.0)) and np.all(np.diff(fractions) >= 0.0):
+    analysed = tried > 0
+    fractions = reached[analysed] / tried[analysed]
+    mixed = (fractions > 0.0) & (fractions < 1.0)
+    if np.count_nonzero(mixed) <= 1 and np.all(np.diff(fractions) >= 0.0):
+        if mixed.any():
+            return float(levels[analysed][mixed][0]), None
         above = int(np.argmax(fractions == 1.0))
-        return math.sqrt(levels[above - 1] * levels[above]), None
+        return math.sqrt(levels[analysed][above - 1] * levels[analysed][above]), None
     logs = np.log(levels)
-
-    def negative_log_likelihood(parameters: np.ndarray) -> tuple[float, np.ndarray]:
-        """−ln L and its gradient in (ln θ, ln β)."""
-        log_median, log_beta = parameters
-        beta = math.exp(log_beta)
-        u = (logs - log_median) / beta
-        p = np.clip(ndtr(u), 1e-300, 1.0 - 1e-16)
-        value = -float(np.sum(reached * np.log(p) + (tried - reached) * np.log1p(-p)))
-        density = np.exp(-0.5 * u * u) / math.sqrt(2.0 * math.pi)  # the standard normal's
-        slope = -density * (reached / p - (tried - reached) / (1.0 - p))  # ∂(−ln L)/∂u
-        return value, np.array([-np.sum(slope) / beta, -np.sum(slope * u)])
-
-    crossing = np.interp(0.5, np.maximum.accumulate(fractions), logs)  # where half reach it
-    start = np.array([crossing, math.log(0.3)])
-    bounds = [(logs.min() - 5.0, logs.max() + 5.0), (math.log(1e-3), math.log(5.0))]
-    fit = minimize(negative_log_likelihood, start, jac=True, method="L-BFGS-B", bounds=bounds,
-                   options={"ftol": 1e-11, "gtol": 1e-7})  # fmt: skip
-    return math.exp(fit.x[0]), math.exp(fit.x[1])
+    sample = lognormal.Sample(
+        known=np.empty(0), bounds=np.concatenate([logs, logs]),
+        counts=np.concatenate([reached, tried - reached]),
+        below=np.repeat([True, False], logs.size),
+    )  # fmt: skip
+    crossing = np.interp(0.5, np.maximum.accumulate(fractions), logs[analysed])  # half reach it
+    mean, beta = lognormal.fit(sample, (logs.min(), logs.max()), (crossing, 0.3))
+    return math.exp(mean), beta
 
 
 def fit_capacities(
@@ -171,28 +166,21 @@ def fit_capacities(
     starts = np.broadcast_to(start, capacities.shape)
     tops = np.broadcast_to(top, capacities.shape)
     lows, highs = _censored(starts[below]), _censored(tops[above])  # (ln bound, records) pairs
-
-    def negative_log_likelihood(parameters: np.ndarray) -> float:
-        mean, beta = parameters[0], math.exp(parameters[1])
-        value = -0.5 * np.sum(((known - mean) / beta) ** 2) - known.size * math.log(beta)
-        value += sum(n * log_ndtr((low - mean) / beta) for low, n in lows) + sum(
-            n * log_ndtr((mean - high) / beta) for high, n in highs
-        )
-        return -float(value)
-
+    sample = lognormal.Sample(
+        known=known, bounds=np.concatenate([lows[0], highs[0]]),
+        counts=np.concatenate([lows[1], highs[1]]),
+        below=np.repeat([True, False], [lows[0].size, highs[0].size]),
+    )  # fmt: skip
+    span = (math.log(float(starts.min())), math.log(float(tops.max())))
     spread = float(np.std(known)) if known.size > 1 else 0.3
-    start_point = np.array([float(np.mean(known)), math.log(max(spread, 0.05))])
-    low, high = math.log(float(starts.min())), math.log(float(tops.max()))
-    bounds = [(low - 5.0, high + 5.0), (math.log(1e-3), math.log(5.0))]
-    fit = minimize(negative_log_likelihood, start_point, method="L-BFGS-B", bounds=bounds,
-                   options={"ftol": 1e-12, "gtol": 1e-8})  # fmt: skip
-    return math.exp(fit.x[0]), math.exp(fit.x[1])
+    mean, beta = lognormal.fit(sample, span, (float(np.mean(known)), max(spread, 0.05)))
+    return math.exp(mean), beta
 
 
-def _censored(bounds: np.ndarray) -> list[tuple[float, int]]:
-    """Each censoring bound once, as its logarithm, with the number of records censored there."""
+def _censored(bounds: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each censoring bound once, as its logarithm, and the number of records censored there."""
     values, counts = np.unique(bounds, return_counts=True)
-    return [(math.log(float(v)), int(n)) for v, n in zip(values, counts, strict=True)]
+    return np.log(values), counts.astype(float)
 
 
 def fragilities(
