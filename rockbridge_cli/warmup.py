@@ -1,11 +1,14 @@
 """Compile every numerical kernel once, so that later processes load them from numba's disk cache.
 
-numba compiles a kernel on its first call in a process unless its disk cache (``__pycache__``
-next to the source, or the folder named by ``NUMBA_CACHE_DIR``) already holds it; compiling the
-whole package (the core and the ground-motion numerics) takes 8–10 s. A container image runs
-``python -m rockbridge_cli.warmup`` at build time with ``NUMBA_CACHE_DIR`` set for good (see the
-Dockerfile), so that every container of a batch job starts analysing at once. Any installation can
-run it after ``pip install`` for the same effect.
+numba compiles a kernel on its first call in a process unless its disk cache already holds it:
+the folder named by ``NUMBA_CACHE_DIR`` if set, else ``__pycache__`` beside the package's sources
+(in ``site-packages`` for an installed package) where that folder is writable, else the user's
+cache folder (``~/.cache/numba`` on Linux). Compiling the whole package (the core and the
+ground-motion numerics) takes 15–30 s. A container image runs ``python -m rockbridge_cli.warmup``
+at build time with ``NUMBA_CACHE_DIR`` set for good (see the Dockerfile), so that every container of
+a batch job starts analysing at once. Any installation can run it after ``pip install`` for the
+same effect: run from a checkout, whose ``rockbridge_cli`` folder Python imports before the
+installed one, it compiles both, so that the ``rockbridge`` command finds its kernels too.
 
 The calls below reach every compiled kernel with the argument types the package uses: one
 analysis at every fidelity preset, of a bridge and of a single block, a response spectrum and one
@@ -13,6 +16,14 @@ short matched record. Compilation depends on the types only, so small inputs suf
 """
 
 from __future__ import annotations
+
+import subprocess
+import sys
+import tempfile
+import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from pathlib import Path
 
 import numpy as np
 
@@ -47,12 +58,21 @@ def pulse(amplitude: float = 6.0, period: float = 1.0, duration: float = 4.0) ->
     return np.where(time < period, amplitude * np.sin(2.0 * np.pi * time / period), 0.0)
 
 
-def compile_kernels() -> None:
-    """Call every compiled kernel once (compiling it, or loading it from the disk cache)."""
-    ground = pulse()
-    for model in (studied_bridge(), geometry.single_block(1.3, 13.0, 2500.0, 9.81)):
+def analysis_kernels(models: tuple[geometry.Model, ...] | None = None) -> None:
+    """Call every kernel an analysis uses (compiling it, or loading it from the disk cache): an
+    analysis of a short pulse at every fidelity preset, of each model (default: the studied
+    bridge and a single block)."""
+    ground = pulse(duration=1.0)
+    models = models or (studied_bridge(), geometry.single_block(1.3, 13.0, 2500.0, 9.81))
+    for model in models:
         for preset in PRESETS:
             analyze(Bridge(model), ground, TIME_STEP, preset)
+
+
+def compile_kernels() -> None:
+    """Call every compiled kernel once (compiling it, or loading it from the disk cache)."""
+    analysis_kernels()
+    ground = pulse()
     periods = matching.compute_matching_periods((0.1, 1.0), 10, TIME_STEP)
     spectra.compute_psa(ground, TIME_STEP, periods, 0.05)
     matching.generate_matched_record(
@@ -66,5 +86,63 @@ def compile_kernels() -> None:
     )
 
 
-if __name__ == "__main__":  # pragma: no cover (run by the Dockerfile and by tests in a subprocess)
+@contextmanager
+def announced(announce: Callable[[], None] | None) -> Iterator[None]:
+    """While the block runs, call ``announce`` once, when numba starts compiling a kernel (not
+    when it loads one from its disk cache: numba's ``numba:compile`` event)."""
+    if announce is None:
+        yield
+        return
+    from numba.core import event
+
+    told: list[bool] = []
+    say = announce
+
+    class First(event.Listener):
+        def on_start(self, _: event.Event) -> None:
+            if not told:
+                told.append(True)
+                say()
+
+        def on_end(self, _: event.Event) -> None:
+            pass
+
+    with event.install_listener("numba:compile", First()):
+        yield
+
+
+def cache_folder() -> str:
+    """Where numba keeps the compiled analysis kernels of this package ("?" where this numba does
+    not say)."""
+    from .core import solver
+
+    return str(getattr(getattr(solver.integrate, "_cache", None), "cache_path", "?"))
+
+
+def main() -> None:
+    """``python -m rockbridge_cli.warmup``: compile every kernel of this package and, when the
+    ``rockbridge`` command imports another copy of it (an installed package behind a checkout in
+    the current folder), of that copy too; print where each went."""
+    started = time.perf_counter()
     compile_kernels()
+    here = Path(__file__).resolve().parent
+    print(f"kernels of {here} ready in {cache_folder()} ({time.perf_counter() - started:.0f} s)")
+    installed = commanded_package()
+    if installed is not None and installed != here:
+        with tempfile.TemporaryDirectory() as elsewhere:  # no checkout to import first
+            subprocess.run([sys.executable, "-m", "rockbridge_cli.warmup"], cwd=elsewhere,
+                           check=True)  # fmt: skip
+
+
+def commanded_package() -> Path | None:
+    """The ``rockbridge_cli`` folder a fresh interpreter imports outside the current folder (the
+    one the ``rockbridge`` command runs); None if it imports none."""
+    code = "import rockbridge_cli, pathlib; print(pathlib.Path(rockbridge_cli.__file__).parent)"
+    with tempfile.TemporaryDirectory() as elsewhere:
+        found = subprocess.run([sys.executable, "-c", code], cwd=elsewhere, capture_output=True,
+                               text=True, check=False)  # fmt: skip
+    return Path(found.stdout.strip()).resolve() if found.returncode == 0 else None
+
+
+if __name__ == "__main__":  # pragma: no cover (run by the Dockerfile and by tests in a subprocess)
+    main()

@@ -5,6 +5,8 @@ from __future__ import annotations
 import io
 import json
 import os
+import subprocess
+import sys
 
 import pandas as pd
 import pytest
@@ -292,3 +294,25 @@ def test_an_output_whose_dots_climb_above_the_root_is_written(tmp_path):
     result = invoke("run", study, "-o", climbing, "--workers", "1")
     assert result.exit_code == 0, result.output
     assert (tmp_path / "out.h5").is_file() and not list(tmp_path.glob("out.h5.journal*"))
+
+
+def test_the_command_line_and_its_workers_use_one_blas_thread():
+    """rockbridge's parallelism is its processes: the command line sets one BLAS/OpenMP thread
+    before numpy loads (unless the user sets a count), and a worker forked from it keeps it."""
+    pytest.importorskip("threadpoolctl")
+    code = (
+        "import multiprocessing, sys\n"
+        "import rockbridge_cli.cli, numpy, scipy.linalg\n"
+        "from threadpoolctl import threadpool_info\n"
+        "def threads(_=None):\n"
+        "    return sorted({pool['num_threads'] for pool in threadpool_info()})\n"
+        "with multiprocessing.get_context('fork').Pool(1) as pool:\n"
+        "    print(threads(), pool.apply(threads))\n"
+    )
+    unset = {k: v for k, v in os.environ.items() if not k.endswith("_NUM_THREADS")}
+    found = subprocess.run([sys.executable, "-c", code], env=unset, capture_output=True,
+                           text=True, timeout=120, check=True)  # fmt: skip
+    assert found.stdout.split() == ["[1]", "[1]"]
+    asked = subprocess.run([sys.executable, "-c", code], env=unset | {"OPENBLAS_NUM_THREADS": "2"},
+                           capture_output=True, text=True, timeout=120, check=True)  # fmt: skip
+    assert "2" in asked.stdout.split()[0]

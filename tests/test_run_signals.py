@@ -31,6 +31,9 @@ SLOW_RUN = """
 import os, sys, time
 from rockbridge_cli.cli import main
 from rockbridge_cli.core import analysis
+from rockbridge_cli.study import kernels
+
+kernels.prepare()  # the kernels' warm-up first (and inherited by the workers): not slowed down
 
 started = sys.argv[1]
 analyze = analysis.analyze
@@ -49,6 +52,9 @@ LONG_KERNEL = """
 import os, sys, time
 from rockbridge_cli.cli import main
 from rockbridge_cli.core import analysis
+from rockbridge_cli.study import kernels
+
+kernels.prepare()  # the kernels' warm-up first: not slowed down
 
 started = sys.argv[1]
 integrate = analysis.integrate

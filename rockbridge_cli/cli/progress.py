@@ -17,7 +17,9 @@ class ProgressDisplay:
     On a terminal it redraws one line, ``[#####-----] 12/30  0:03 elapsed  0:05 left``; otherwise
     (a log, CI) it prints a line at every tenth of the run. Analyses that did not end ``ok`` are
     reported on a line of their own in both cases. An IDA learns its analyses as it runs: the
-    total grows round by round, and the tenths count from the latest total.
+    total grows round by round, and the tenths count from the latest total. The time left is
+    the pace since the first analysis came back (the start of the workers, and compiling their
+    kernels, do not count) times the analyses left; `notice` shows a line of the run's.
 
     Parameters
     ----------
@@ -44,11 +46,15 @@ class ProgressDisplay:
         self.total = 0  # analyses the tenths are of
         self.bar_open = False  # a bar drawn without its final newline (terminal)
         self.drawn = -math.inf  # when the bar was last drawn
+        self.first: tuple[float, int] | None = None  # when the first batch came back, its count
+
+    def notice(self, text: str) -> None:
+        """Show a line of the run's (after the heading, before the bar)."""
+        self._head()
+        self._line(text)
 
     def __call__(self, item: Finished, done: int, total: int) -> None:
-        if self.heading:
-            click.echo(self.heading, err=True)
-            self.heading = ""
+        self._head()
         if item.status != "ok":
             self.problems += 1
             if self.problems <= self.SHOWN_PROBLEMS:
@@ -57,7 +63,10 @@ class ProgressDisplay:
                 self._line("more analyses did not end ok: see the peak table's status and message")
         now = time.monotonic()
         elapsed = now - self.start
-        left = elapsed / done * (total - done)
+        if self.first is None or now - self.first[0] < self.REDRAW:  # the first batch's
+            self.first = (now if self.first is None else self.first[0], done)
+        began, counted = self.first
+        left = (now - began) / (done - counted) * (total - done) if done > counted else math.nan
         if self.terminal:
             if done < total and now - self.drawn < self.REDRAW:
                 return
@@ -74,9 +83,10 @@ class ProgressDisplay:
             self.total, self.shown = total, 10 * (done - 1) // total
         if 10 * done // total > self.shown:
             self.shown = 10 * done // total
+            estimate = "" if math.isnan(left) else f", about {left:.0f} s left"
             click.echo(
-                f"{done}/{total} analyses ({100 * done // total}%), {elapsed:.1f} s elapsed, "
-                f"about {left:.0f} s left",
+                f"{done}/{total} analyses ({100 * done // total}%), {elapsed:.1f} s elapsed"
+                + estimate,
                 err=True,
             )
 
@@ -101,10 +111,18 @@ class ProgressDisplay:
             click.echo("", err=True)
             self.bar_open = False
 
+    def _head(self) -> None:
+        """Print the heading, once."""
+        if self.heading:
+            click.echo(self.heading, err=True)
+            self.heading = ""
+
     def _line(self, text: str) -> None:
         click.echo(("\r\033[K" if self.terminal else "") + text, err=True)
 
 
 def _clock(seconds: float) -> str:
+    if math.isnan(seconds):
+        return "?:??"
     minutes, rest = divmod(int(round(seconds)), 60)
     return f"{minutes}:{rest:02d}"

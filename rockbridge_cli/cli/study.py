@@ -4,6 +4,7 @@ restitution|spans``."""
 from __future__ import annotations
 
 import dataclasses
+from contextlib import nullcontext
 from pathlib import Path
 
 import click
@@ -119,46 +120,40 @@ def run(
     from ..config.study import load_study
     from ..cpus import usable_cpus
     from ..interrupts import exit_status, stopped_by
+    from ..study.executors import LocalPool
     from ..study.journal import journal_path
     from ..study.run import run_study
-    from ..study.shards import shard_label
     from .progress import ProgressDisplay
 
+    chosen = workers is not None
     part = _shard(shard, shard_count)
-    resolved = load_study(study, preset=fidelity, output=output)
-    changed = {k: v for k, v in (("tail", tail), ("recheck", recheck)) if v is not None}
-    if changed:
-        resolved = _with_knobs(resolved, changed)
-    for warning in resolved.warnings:
-        click.echo(f"warning: {warning}", err=True)
-    if part is not None and output is None:
-        stem = resolved.output.stem
-        name = f"{stem}.part-{part[0] + 1}-of-{part[1]}{resolved.output.suffix}"
-        resolved = dataclasses.replace(resolved, output=resolved.output.with_name(name))
-    if scheduler is not None:
-        heading = f"workers: the Dask cluster at {scheduler}"
-    elif workers is None:
-        workers = usable_cpus()
-        heading = f"workers: {workers} (the CPUs this process may use; --workers to change)"
-    else:
-        heading = f"workers: {workers} (--workers)"
-    if part is not None:
-        heading += f"; shard {shard_label(part)}"
-    if (resolved.intensity or {}).get("ida"):
-        heading += "\nIDA: each round runs the levels the verdicts so far call for; the total grows"
-    display = ProgressDisplay(heading=heading)
-    try:
-        report = run_study(
-            resolved, workers, resume, overwrite, progress=display, assembly=display.assembling,
-            shard=part, scheduler=scheduler,
-        )  # fmt: skip
-    except KeyboardInterrupt as stop:
-        display.close()
-        journal = journal_path(resolved.output)  # removed once the results file holds its own
-        kept = journal if journal.exists() else resolved.output
-        click.echo(f"{stopped_by(stop)}: the analyses finished so far are in {kept}; run the "
-                   "same command again to resume", err=True)  # fmt: skip
-        ctx.exit(exit_status(stop))
+    count = workers or usable_cpus()
+    local = scheduler is None and count > 1
+    with LocalPool(count) if local else nullcontext() as pool:  # loading their kernels meanwhile
+        resolved = load_study(study, preset=fidelity, output=output)
+        changed = {k: v for k, v in (("tail", tail), ("recheck", recheck)) if v is not None}
+        if changed:
+            resolved = _with_knobs(resolved, changed)
+        for warning in resolved.warnings:
+            click.echo(f"warning: {warning}", err=True)
+        if part is not None and output is None:
+            stem = resolved.output.stem
+            name = f"{stem}.part-{part[0] + 1}-of-{part[1]}{resolved.output.suffix}"
+            resolved = dataclasses.replace(resolved, output=resolved.output.with_name(name))
+        display = ProgressDisplay(heading=_heading(resolved, count, scheduler, chosen, part))
+        try:
+            report = run_study(
+                resolved, count, resume, overwrite, progress=display,
+                assembly=display.assembling, shard=part, scheduler=scheduler,
+                notice=display.notice, pool=pool,
+            )  # fmt: skip
+        except KeyboardInterrupt as stop:
+            display.close()
+            journal = journal_path(resolved.output)  # removed once the results file holds its own
+            kept = journal if journal.exists() else resolved.output
+            click.echo(f"{stopped_by(stop)}: the analyses finished so far are in {kept}; run the "
+                       "same command again to resume", err=True)  # fmt: skip
+            ctx.exit(exit_status(stop))
     display.close()
     counts = report.statuses
     click.echo(f"results: {report.output}")
@@ -213,6 +208,23 @@ def peaks(results: Path, csv_file: str | None, as_json: bool) -> None:
              ("dcr_backfill", "backfill d/c", 1), ("status", "status", 1)]  # fmt: skip
     table = zip(*(_scaled(columns[name], scale) for name, _, scale in shown), strict=True)
     click.echo(table_text([header for _, header, _ in shown], list(table)))
+
+
+def _heading(study, workers: int, scheduler: str | None, chosen: bool, part) -> str:
+    """The run's first line: where it runs (and which shard); for an IDA, that its total grows."""
+    from ..study.shards import shard_label
+
+    if scheduler is not None:
+        heading = f"workers: the Dask cluster at {scheduler}"
+    elif chosen:
+        heading = f"workers: {workers} (--workers)"
+    else:
+        heading = f"workers: {workers} (the CPUs this process may use; --workers to change)"
+    if part is not None:
+        heading += f"; shard {shard_label(part)}"
+    if (study.intensity or {}).get("ida"):
+        heading += "\nIDA: each round runs the levels the verdicts so far call for; the total grows"
+    return heading
 
 
 def _with_knobs(study, changed: dict):

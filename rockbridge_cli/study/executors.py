@@ -1,19 +1,23 @@
 """Where the cells run: in this process, in a pool of worker processes on this machine, or on a Dask
 distributed cluster.
 
-Workers receive the study's `Grid` once, when they start, and then batches of cells. Local worker
+Workers receive the study's `Grid` once, and then batches of cells. Local worker
 processes commit their results to the journal themselves and send back only the outcomes
 (`work.Outcome`), so that what the parent does per analysis is small next to the analysis
 itself; the workers of a Dask cluster, which may not reach the journal's disk, send the packed
 results too, and the parent journals them. Workers also compute what else a run asks of the
 compiled kernels (the bridges' summaries for the results file), so that the parent need not load
-them. The number of batches in flight is bounded, which keeps the parent's memory flat in the
-number of analyses. Every executor yields the same outcomes, journalled; only their order and
-grouping differ, and the journal and the results file put them back in the study's order.
+them. A worker makes its compiled kernels ready as soon as it starts (`kernels.prepare`: on a cold
+cache one process compiles, the others then load), before its study is known: a run can start
+its workers while it loads the study (`LocalPool`). The number of batches in flight is bounded,
+which keeps the parent's memory flat in the number of analyses. Every executor yields the same
+outcomes, journalled; only their order and grouping differ, and the journal and the results file
+put them back in the study's order.
 """
 
 from __future__ import annotations
 
+import contextlib
 import ctypes
 import itertools
 import math
@@ -25,12 +29,12 @@ from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, CancelledError, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
-from pathlib import Path
 from typing import Any, NamedTuple
 
 from ..errors import InputError
 from ..interrupts import held
 from ..results.packing import Packed
+from . import kernels
 from .grid import Cell, Grid
 from .journal import Journal
 from .work import Outcome, run_cells
@@ -52,6 +56,10 @@ nears its end (guided scheduling), so that the workers finish together."""
 
 _PR_SET_PDEATHSIG = 1
 """Linux prctl(2) option: the signal a process gets when its parent dies."""
+
+LISTEN_S = 0.2
+"""How often the parent of a local pool looks for what its workers say while it waits for
+batches [s]."""
 
 _grid: Grid | None = None
 """The grid of the study a worker process serves (set when it starts)."""
@@ -103,6 +111,10 @@ the result; it is computed in this process instead when no worker runs it (none 
 run was stopped first)."""
 
 
+Notice = Callable[[str], None]
+"""Called with a line to show while a run goes on (`kernels.COMPILING`, once)."""
+
+
 class Workers(NamedTuple):
     """What an executor offers a run: ``run`` (`Run`) for the cells, ``call`` (`Call`) for the
     rest."""
@@ -113,13 +125,18 @@ class Workers(NamedTuple):
 
 @contextmanager
 def executor(
-    grid: Grid, journal: Journal, workers: int, scheduler: str | None = None
+    grid: Grid,
+    journal: Journal,
+    workers: int,
+    scheduler: str | None = None,
+    notice: Notice | None = None,
+    pool: LocalPool | None = None,
 ) -> Iterator[Workers]:
     """Workers for the cells of ``grid``, journalling into ``journal``, for as many calls as a
-    run needs (an IDA's rounds): local worker processes (`local_workers`) or a Dask cluster
-    (`dask_workers`)."""
+    run needs (an IDA's rounds): local worker processes (`local_workers`, in ``pool`` if it was
+    started before) or a Dask cluster (`dask_workers`)."""
     with (
-        local_workers(grid, journal, workers)
+        local_workers(grid, journal, workers, notice, pool)
         if scheduler is None
         else dask_workers(grid, journal, scheduler)
     ) as offered:
@@ -142,56 +159,134 @@ def _collector(function: Callable, args: tuple, futures: list[Any]) -> Callable[
     return collect
 
 
-@contextmanager
-def local_workers(grid: Grid, journal: Journal, workers: int) -> Iterator[Workers]:
-    """Worker processes on this machine, started when cells first come.
+class LocalPool:
+    """Worker processes on this machine, forked at once: each makes its kernels ready
+    (`kernels.prepare`) as soon as it starts, then waits for the study it serves (`serve`), so
+    that a run can start them while it loads its study. A context manager: `close` at its end.
 
-    With one worker everything runs in this process, a batch at a time; a stopping signal stops
-    the run once the batch is journalled (`interrupts.held`), as it stops a pool once the batches
-    in flight are. With more, this process only sends
-    batches and receives outcomes: each worker loads the compiled kernels itself (from numba's
-    disk cache, ~0.3 s, in parallel) and journals its own batches, which keeps the parent's
-    share of the work small. The pool has ``workers`` processes, or as many as the first cells
-    if fewer. What is asked of ``call`` goes to the pool, first, once it starts. A worker that
-    dies (killed, out of memory) breaks the pool: a new one starts and runs the batches that
-    were in flight again, as Dask would, up to `RESENDS` times a run.
+    Parameters
+    ----------
+    size
+        Worker processes.
     """
-    pool: ProcessPoolExecutor | None = None
+
+    def __init__(self, size: int):
+        context = multiprocessing.get_context("fork" if hasattr(os, "fork") else None)
+        self.size = size
+        self._said: Any = context.SimpleQueue()  # (what, process id) from the workers
+        self._setups: Any = context.SimpleQueue()  # a study for each worker, None for none
+        self._started: set[int] = set()
+        self._ready: set[int] = set()
+        self._served = self._closed = False
+        self.compiling = False  # whether a worker has said it compiles the kernels
+        self.executor = ProcessPoolExecutor(
+            size, mp_context=context, initializer=_start_worker,
+            initargs=(self._setups, self._said, os.getpid()),
+        )  # fmt: skip
+        self.executor.submit(os.getpid)  # the first submission starts (forks) the workers
+
+    def __enter__(self) -> LocalPool:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close(stopped=exc[0] is not None)
+
+    def serve(self, grid: Grid, journal: Journal) -> None:
+        """Give every worker the study's grid and journal (once)."""
+        if not self._served:
+            for _ in range(self.size):
+                self._setups.put((grid, journal.output, journal.config_hash))
+            self._served = True
+
+    def listen(self) -> bool:
+        """Read what the workers have said; whether one has just said that it compiles."""
+        compiling = self.compiling
+        while not self._said.empty():
+            what, process = self._said.get()
+            {"started": self._started, "ready": self._ready}.get(what, set()).add(process)
+            self.compiling |= what == "compiling"
+        return self.compiling and not compiling
+
+    def close(self, stopped: bool = False) -> None:
+        """Let the workers end once their batches are done; after a stop, end at once those
+        still making their kernels ready or waiting for their study (nothing of theirs is lost).
+        Closing it again does nothing."""
+        if self._closed:
+            return
+        self._closed = True
+        if not self._served:
+            for _ in range(self.size):
+                self._setups.put(None)
+            self._served = True
+        if stopped:
+            self.listen()
+            for process in self._started - self._ready:
+                with contextlib.suppress(ProcessLookupError):
+                    os.kill(process, signal.SIGKILL)
+        self.executor.shutdown(cancel_futures=True)
+
+
+@contextmanager
+def local_workers(
+    grid: Grid,
+    journal: Journal,
+    workers: int,
+    notice: Notice | None = None,
+    started: LocalPool | None = None,
+) -> Iterator[Workers]:
+    """Worker processes on this machine, started when cells first come (or ``started`` before).
+
+    With one worker (and none started) everything runs in this process, a batch at a time; a
+    stopping signal stops the run once the batch is journalled (`interrupts.held`), as it stops
+    a pool once the batches in flight are. With more, this process only sends batches and
+    receives outcomes: each worker loads the compiled kernels itself (`kernels.prepare`) and
+    journals its own batches, which keeps the parent's share of the work small. The pool has
+    ``workers`` processes, or as many as the first cells if fewer. What is asked of ``call``
+    goes to the pool, first, once it starts. A worker that dies (killed, out of memory) breaks
+    the pool: a new one starts and runs the batches that were in flight again, as Dask would, up
+    to `RESENDS` times a run. ``notice`` hears, once, that the kernels are being compiled.
+    """
+    pool: LocalPool | None = None
     count = 1
     calls: list[tuple[Callable, tuple, list[Future]]] = []
     pace = Pace()
     restarts = 0
 
+    def announce() -> None:
+        if notice is not None:
+            notice(kernels.COMPILING)
+
     def call(function: Callable, *args: Any) -> Callable[[], Any]:
         futures: list[Future] = []
         calls.append((function, args, futures))
         if pool is not None:
-            futures.append(pool.submit(function, *args))
+            futures.append(pool.executor.submit(function, *args))
         return _collector(function, args, futures)
 
-    def start(size: int) -> ProcessPoolExecutor:
-        context = multiprocessing.get_context("fork") if hasattr(os, "fork") else None
-        with journal.released():  # no SQLite connection may cross a fork
-            started = ProcessPoolExecutor(
-                size, mp_context=context, initializer=_start_worker,
-                initargs=(grid, journal.output, journal.config_hash, os.getpid()),
-            )  # fmt: skip
-            started.submit(os.getpid)  # the first submission starts (forks) the workers
+    def start(size: int) -> LocalPool:
+        nonlocal started
+        if started is None:
+            with journal.released():  # no SQLite connection may cross a fork
+                started = LocalPool(size)
+        begun, started = started, None
+        begun.serve(grid, journal)
         for function, args, futures in calls:
             if not futures:  # asked before the first pool started (after, computed here)
-                futures.append(started.submit(function, *args))
-        return started
+                futures.append(begun.executor.submit(function, *args))
+        return begun
 
     def run(cells: Sequence[Cell]) -> Iterator[list[Outcome]]:
         nonlocal pool, count, restarts
-        if workers <= 1 or (pool is None and len(cells) <= 1):
+        if pool is None and started is None and (workers <= 1 or len(cells) <= 1):
+            with held():  # compiled kernels, in this process
+                kernels.prepare(announce)
             for batch in _batches(cells, 1, pace):
                 with held():  # a signal stops the run after the batch, as a worker's would
                     outcomes = _journalled(journal, run_cells(grid, batch))
                 yield pace.record(outcomes)
             return
         if pool is None:
-            count = min(workers, len(cells))
+            count = started.size if started is not None else min(workers, len(cells))
             pool = start(count)
         batches = _batches(cells, count, pace)
         again: list[list[Cell]] = []  # the batches a dead worker took down with the pool
@@ -199,10 +294,12 @@ def local_workers(grid: Grid, journal: Journal, workers: int) -> Iterator[Worker
         try:
             while True:
                 while len(in_flight) < 2 * count and (ready := _next(again, batches)):
-                    in_flight[pool.submit(_run_batch, ready)] = ready
+                    in_flight[pool.executor.submit(_run_batch, ready)] = ready
                 if not in_flight:
                     return
-                done, _ = wait(in_flight, return_when=FIRST_COMPLETED)
+                done, _ = wait(in_flight, timeout=LISTEN_S, return_when=FIRST_COMPLETED)
+                if pool.listen():
+                    announce()
                 for future in done:
                     sent = in_flight.pop(future)
                     if isinstance(future.exception(), BrokenProcessPool):
@@ -216,17 +313,22 @@ def local_workers(grid: Grid, journal: Journal, workers: int) -> Iterator[Worker
                     restarts += 1
                     again += in_flight.values()
                     in_flight.clear()
-                    pool.shutdown(wait=True, cancel_futures=True)
+                    pool.close()
                     pool = start(count)
         finally:  # interrupted: drop the batches not started
             for future in in_flight:
                 future.cancel()
 
+    stopped = False
     try:
         yield Workers(run, call)
+    except BaseException:
+        stopped = True
+        raise
     finally:  # wait for the few batches in flight
-        if pool is not None:
-            pool.shutdown(cancel_futures=True)
+        for unused in (pool, started):
+            if unused is not None:
+                unused.close(stopped)
 
 
 def _next(again: list[list[Cell]], batches: Iterator[list[Cell]]) -> list[Cell] | None:
@@ -250,24 +352,40 @@ def _journalled(journal: Journal, analysed: list[tuple[Outcome, Packed]]) -> lis
     return [outcome for outcome, _ in analysed]
 
 
-def _start_worker(grid: Grid, output: Path, config_hash: str, parent: int) -> None:
-    """Worker start-up: keep the study, open the journal (a connection of its own); leave
-    Ctrl-C and SIGTERM to the parent, which stops the pool and saves the results; die with the
-    parent, however it dies."""
+def _start_worker(setups: Any, said: Any, parent: int) -> None:
+    """Worker start-up: leave Ctrl-C and SIGTERM to the parent, which stops the pool and saves
+    the results; die with the parent, however it dies; make the kernels ready; then take the
+    study (its grid, and the journal, a connection of its own) when the parent gives it."""
     global _grid, _journal
-    _grid = grid
-    _journal = Journal(output, config_hash)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_IGN)
     if sys.platform.startswith("linux"):
         ctypes.CDLL(None).prctl(_PR_SET_PDEATHSIG, signal.SIGKILL)
     if os.getppid() != parent:  # the parent died before the request took effect
         os._exit(1)
+    said.put(("started", os.getpid()))
+    try:
+        kernels.prepare(lambda: said.put(("compiling", os.getpid())))
+    except Exception:  # each analysis meets the same failure, and records its message
+        pass
+    setup = setups.get()
+    if setup is None:  # the pool ends unused (the run was refused or stopped)
+        return
+    grid, output, config_hash = setup
+    _grid = grid
+    _journal = Journal(output, config_hash)
+    said.put(("ready", os.getpid()))
 
 
 def _run_batch(cells: list[Cell]) -> list[Outcome]:
     assert _grid is not None and _journal is not None, "a worker runs cells after _start_worker"
     return _journalled(_journal, run_cells(_grid, cells))
+
+
+def _prepared(function: Callable, *args: Any) -> Any:
+    """``function(*args)`` on a Dask worker, its kernels made ready first (`kernels.prepare`)."""
+    kernels.prepare()
+    return function(*args)
 
 
 @contextmanager
@@ -311,7 +429,7 @@ def dask_workers(grid: Grid, journal: Journal, scheduler: str) -> Iterator[Worke
         sent: dict[Any, list[Cell]] = {}
 
         def submit(batch: list[Cell]) -> None:
-            future = client.submit(run_cells, shared, batch, pure=False)
+            future = client.submit(_prepared, run_cells, shared, batch, pure=False)
             sent[future] = batch
             running.add(future)
 
@@ -336,7 +454,8 @@ def dask_workers(grid: Grid, journal: Journal, scheduler: str) -> Iterator[Worke
             client.cancel(list(running.futures))
 
     def call(function: Callable, *args: Any) -> Callable[[], Any]:
-        return _collector(function, args, [client.submit(function, *args, pure=False)])
+        future = client.submit(_prepared, function, *args, pure=False)
+        return _collector(function, args, [future])
 
     with client:
         yield Workers(run, call)

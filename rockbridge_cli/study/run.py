@@ -44,7 +44,7 @@ from ..results.reading import (
     stored_shard_of,
 )
 from ..results.writing import ResultsWriter, describe_study
-from .executors import executor
+from .executors import LocalPool, Notice, executor
 from .grid import Cell, Grid
 from .journal import Journal, remove_journal
 from .plan import Plan
@@ -112,6 +112,8 @@ def run_study(
     assembly: Assembly | None = None,
     shard: tuple[int, int] | None = None,
     scheduler: str | None = None,
+    notice: Notice | None = None,
+    pool: LocalPool | None = None,
 ) -> RunReport:
     """Run every analysis of a study that is not complete yet and write the results file.
 
@@ -141,6 +143,13 @@ def run_study(
     scheduler
         Address of a Dask distributed scheduler (``tcp://host:8786``) to run the analyses on,
         instead of local worker processes; ``workers`` is then ignored.
+    notice
+        Called with a line to show while the run goes on: that the kernels are being compiled
+        (once per installation, `kernels.COMPILING`).
+    pool
+        Local worker processes started before (`executors.LocalPool`, for example while the
+        study was being loaded), used instead of ``workers`` new ones; the run closes it (its
+        `with` block, for a run that is refused before it starts).
 
     Raises
     ------
@@ -186,7 +195,7 @@ def run_study(
             summaries: list[dict] | None = None  # the bridges', from a worker (the kernels')
             tally = None
             try:
-                with executor(grid, journal, workers, scheduler) as offered:
+                with executor(grid, journal, workers, scheduler, notice, pool) as offered:
                     bridges = [case.bridge for case in grid.bridges]
                     summarized = offered.call(summarize_all, bridges)
                     for pending in _rounds(grid, cells, plan, verdicts):

@@ -1,0 +1,92 @@
+"""The compiled kernels a worker needs, made ready before its first analysis.
+
+numba compiles a kernel on its first call in a process unless its disk cache holds it
+(`warmup`). On a cold cache every worker of a run would compile the same kernels at once, each
+taking a core for 15–30 s, and the progress would count the compile as analysis time. `prepare`
+loads them under a lock per installation on this machine: shared while they load from the cache
+(every worker at once), exclusive where one must be compiled (one process at a time: the first
+compiles and fills the cache, the next ones load from it). A process that compiles says so, once,
+before it starts.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import sys
+import tempfile
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+COMPILE_TIME_S = 20
+"""About how long compiling an analysis's kernels takes on an idle core [s] (15 s on the 2-core
+x86-64 machine of README's timings, 30 s while another process kept its cores busy)."""
+
+COMPILING = (
+    f"compiling the analysis kernels, once for this installation (about {COMPILE_TIME_S} s on an "
+    "idle core; later runs load them from numba's cache; 'python -m rockbridge_cli.warmup' "
+    "compiles them ahead)"
+)
+"""What a run says when its kernels are being compiled."""
+
+_ready = False
+"""Whether this process has its kernels."""
+
+
+def prepare(announce: Callable[[], None] | None = None) -> None:
+    """Load the kernels of an analysis into this process (`warmup.analysis_kernels`), compiling
+    those numba's cache does not hold, one process of this installation at a time.
+
+    Parameters
+    ----------
+    announce
+        Called, once, if this process compiles a kernel, before it starts.
+    """
+    global _ready
+    if _ready:
+        return
+    from .. import warmup  # the compiled kernels: a worker's, not the parent's
+
+    def load() -> None:
+        warmup.analysis_kernels((warmup.studied_bridge(),))
+
+    try:
+        with _kernel_lock(exclusive=False), warmup.announced(_refuse):
+            load()
+    except _Cold:  # one kernel at least must be compiled: by one process at a time
+        with _kernel_lock(exclusive=True), warmup.announced(announce):
+            load()
+    _ready = True
+
+
+class _Cold(Exception):
+    """numba was about to compile a kernel: its cache does not hold it."""
+
+
+def _refuse() -> None:
+    raise _Cold
+
+
+@contextmanager
+def _kernel_lock(exclusive: bool) -> Iterator[None]:
+    """Hold this installation's kernel lock, shared or exclusive, for the block: an advisory
+    ``flock`` on a file in the temporary folder named after the package's folder, Python and
+    numba. Where no lock can be taken (no ``fcntl``, a folder that cannot be written) the block
+    runs without."""
+    try:
+        import fcntl
+
+        import numba
+
+        key = f"{Path(__file__).resolve().parents[1]} {sys.version} {numba.__version__}"
+        name = f"rockbridge-kernels-{hashlib.sha256(key.encode()).hexdigest()[:16]}.lock"
+        descriptor = os.open(Path(tempfile.gettempdir()) / name, os.O_RDWR | os.O_CREAT, 0o666)
+    except (ImportError, OSError):
+        yield
+        return
+    try:
+        fcntl.flock(descriptor, fcntl.LOCK_EX if exclusive else fcntl.LOCK_SH)
+        yield
+    finally:
+        os.close(descriptor)
