@@ -316,3 +316,61 @@ def test_the_command_line_and_its_workers_use_one_blas_thread():
     asked = subprocess.run([sys.executable, "-c", code], env=unset | {"OPENBLAS_NUM_THREADS": "2"},
                            capture_output=True, text=True, timeout=120, check=True)  # fmt: skip
     assert "2" in asked.stdout.split()[0]
+
+
+def test_the_time_left_counts_from_the_first_analyses_back(capsys, monkeypatch):
+    """The first batch comes back 30 s after the start (the kernels compiled), the next 8
+    analyses 1 s later: the time left at 10 of 100 is the pace since the first batch, 1 s / 2
+    analyses × 90 = 45 s (the pace since the start, 31 s / 10 × 90, said 279 s)."""
+    clock = [0.0]
+    monkeypatch.setattr("rockbridge_cli.cli.progress.time.monotonic", lambda: clock[0])
+    display = ProgressDisplay(terminal=False)
+    ok = Finished("b", "r", "ok", "", 0.01, "none", 0.0)
+    for done in range(1, 17):
+        clock[0] = 30.0 if done <= 8 else 31.0
+        display(ok, done, 100)
+    assert "10/100 analyses (10%), 31.0 s elapsed, about 45 s left" in capsys.readouterr().err
+
+
+def test_a_run_that_compiles_says_so_once_before_its_analyses(tmp_path, monkeypatch):
+    """On a cold cache a worker compiles the kernels before any analysis, and the run says so
+    once, after its heading, with about how long it takes, whether it runs in this process or on
+    workers. (A function numba compiles afresh in each process stands for the kernels.)"""
+    import numba
+
+    from rockbridge_cli import warmup
+    from rockbridge_cli.study import kernels
+
+    def compile_a_kernel(models=None):
+        numba.njit(lambda x: x + 1.0)(1.0)
+
+    monkeypatch.setattr(warmup, "analysis_kernels", compile_a_kernel)
+    study = write_study(tmp_path)
+    for workers in ("1", "2"):
+        monkeypatch.setattr(kernels, "_ready", False)
+        result = invoke("run", study, "--workers", workers, "--overwrite")
+        assert result.exit_code == 0, result.output
+        lines = result.output.splitlines()
+        assert lines[0] == f"workers: {workers} (--workers)"
+        assert lines[1].startswith("compiling the analysis kernels, once for this installation")
+        assert f"about {kernels.COMPILE_TIME_S} s" in lines[1]
+        assert result.output.count("compiling") == 1
+
+
+def test_run_starts_its_workers_before_it_loads_the_study(tmp_path, monkeypatch):
+    """The workers load their kernels while the parent loads the study (issue 31)."""
+    import multiprocessing
+
+    from rockbridge_cli.config import study as config
+
+    children: list[int] = []
+    load_study = config.load_study
+
+    def loading(*args, **kwargs):
+        children.append(len(multiprocessing.active_children()))
+        return load_study(*args, **kwargs)
+
+    monkeypatch.setattr(config, "load_study", loading)
+    result = invoke("run", write_study(tmp_path), "--workers", "2")
+    assert result.exit_code == 0, result.output
+    assert children == [2]

@@ -125,10 +125,12 @@ print(json.dumps({
 
 @pytest.mark.slow
 @pytest.mark.skipif(os.environ.get("NUMBA_DISABLE_JIT") == "1", reason="nothing is compiled")
-def test_a_run_after_the_image_s_warm_up_compiles_nothing(tmp_path):
-    """The Dockerfile's build step (`python -m rockbridge_cli.warmup` with the image's
-    NUMBA_CACHE_DIR) fills the cache a later process reads: `rockbridge run` at every preset
-    then loads every kernel from it and compiles none (numba's per-kernel cache statistics)."""
+def test_a_cold_run_compiles_once_and_a_run_after_the_warm_up_compiles_nothing(tmp_path):
+    """On the image's empty NUMBA_CACHE_DIR, a first `rockbridge run` on two workers compiles
+    every kernel once (numba's cache log: each compiled kernel saved by one process) and says
+    so on one line. The Dockerfile's build step (`python -m rockbridge_cli.warmup`) then fills
+    the rest of the cache a later process reads: `rockbridge run` at every preset loads every
+    kernel from it and compiles none (numba's per-kernel cache statistics)."""
     cache = dict(
         arguments.split("=", 1)
         for keyword, arguments in dockerfile()
@@ -138,12 +140,55 @@ def test_a_run_after_the_image_s_warm_up_compiles_nothing(tmp_path):
     )["NUMBA_CACHE_DIR"]
     assert cache.startswith("/opt/rockbridge/")  # inside the image, beside the bundled files
     environment = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
+    study = str(REPO / "configs" / "studies" / "quick.yaml")
+    first = [sys.executable, "-c", "from rockbridge_cli.cli import entry; entry()", "run", study,
+             "--workers", "2", "-o", str(tmp_path / "first.h5")]  # fmt: skip
+    cold = subprocess.run(first, env={**environment, "NUMBA_DEBUG_CACHE": "1"}, check=True,
+                          timeout=600, capture_output=True, text=True)  # fmt: skip
+    saved = [line for line in cold.stdout.splitlines() if line.startswith("[cache] data saved")]
+    assert saved and len(saved) == len(set(saved))
+    assert cold.stderr.count("compiling the analysis kernels") == 1
     build = [sys.executable, "-m", "rockbridge_cli.warmup"]
     subprocess.run(build, env=environment, check=True, timeout=600)
     assert list((tmp_path / "cache").rglob("*.nbc")), "the warm-up wrote no compiled kernel"
-    study = str(REPO / "configs" / "studies" / "quick.yaml")
     run = [sys.executable, "-c", RUN_WITH_A_WARM_CACHE, study, str(tmp_path / "quick.h5")]
     found = subprocess.run(run, env=environment, check=True, timeout=600, capture_output=True)
     stats = json.loads(found.stdout.decode().splitlines()[-1])
     assert stats["misses"] == {}
     assert stats["kernels"] > 5 and stats["hits"] > 0
+
+
+def test_the_warm_up_also_compiles_the_package_the_command_runs(monkeypatch, tmp_path):
+    """Run in a checkout, `python -m rockbridge_cli.warmup` imports the checkout's package (the
+    current folder comes first), while the `rockbridge` command imports the installed one: the
+    warm-up compiles both, the installed one's from a folder without a checkout; nothing more
+    when they are one."""
+    from rockbridge_cli import warmup
+
+    compiled, launched = [], []
+    monkeypatch.setattr(warmup, "compile_kernels", lambda: compiled.append(1))
+    monkeypatch.setattr(warmup, "cache_folder", lambda: "cache")
+
+    def run(command, cwd, check):
+        launched.append((command, list(Path(cwd).iterdir())))  # what the folder holds
+
+    monkeypatch.setattr(warmup.subprocess, "run", run)
+    monkeypatch.setattr(warmup, "commanded_package", lambda: tmp_path / "site" / "rockbridge_cli")
+    warmup.main()
+    assert compiled == [1] and len(launched) == 1
+    command, held = launched[0]
+    assert command[1:] == ["-m", "rockbridge_cli.warmup"] and held == []
+    here = Path(warmup.__file__).resolve().parent
+    monkeypatch.setattr(warmup, "commanded_package", lambda: here)
+    warmup.main()
+    assert compiled == [1, 1] and len(launched) == 1
+
+
+def test_the_package_the_command_runs_is_found_outside_the_current_folder(monkeypatch, tmp_path):
+    import rockbridge_cli
+    from rockbridge_cli import warmup
+
+    (tmp_path / "rockbridge_cli").mkdir()
+    (tmp_path / "rockbridge_cli" / "__init__.py").write_text("", encoding="utf-8")  # a shadow
+    monkeypatch.chdir(tmp_path)
+    assert warmup.commanded_package() == Path(rockbridge_cli.__file__).resolve().parent
