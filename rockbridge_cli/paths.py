@@ -1,5 +1,5 @@
 """Output paths: check that a file can be written before any work is done on it, and replace a
-file atomically."""
+file atomically; where a results file's journal lives."""
 
 from __future__ import annotations
 
@@ -208,3 +208,10 @@ def replace_folder(staging: Path, target: Path, keep: Callable[[Path], bool]) ->
     os.replace(staging, target)  # one aside: a study then refuses a missing manifest
     if old.exists():
         shutil.rmtree(old)
+
+
+def journal_path(output: str | Path) -> Path:
+    """Where the journal of a results file lives (`study.journal`: its path made absolute,
+    without ``..``: SQLite cannot open a path whose ``..`` climbs above ``/``)."""
+    output = Path(os.path.abspath(output))
+    return output.with_name(f"{output.name}.journal.db")

@@ -18,6 +18,7 @@ from rockbridge_cli.cli.progress import ProgressDisplay
 from rockbridge_cli.core.analysis import analyze
 from rockbridge_cli.paths import checked_output
 from rockbridge_cli.results import read_peaks
+from rockbridge_cli.study import kernels
 from rockbridge_cli.study.work import Finished
 
 
@@ -143,6 +144,7 @@ def test_analyses_that_cannot_run_exit_1_after_writing_the_rest(tmp_path):
 
 
 def test_ctrl_c_keeps_what_finished(tmp_path, monkeypatch):
+    kernels.prepare()  # the kernels' warm-up first: its analyses are not the study's
     calls = []
 
     def interrupted(*args, **kwargs):
@@ -339,7 +341,6 @@ def test_a_run_that_compiles_says_so_once_before_its_analyses(tmp_path, monkeypa
     import numba
 
     from rockbridge_cli import warmup
-    from rockbridge_cli.study import kernels
 
     def compile_a_kernel(models=None):
         numba.njit(lambda x: x + 1.0)(1.0)
@@ -374,3 +375,86 @@ def test_run_starts_its_workers_before_it_loads_the_study(tmp_path, monkeypatch)
     result = invoke("run", write_study(tmp_path), "--workers", "2")
     assert result.exit_code == 0, result.output
     assert children == [2]
+
+
+def interrupted_run(tmp_path, monkeypatch, extra: str, after: int):
+    """Run a study of ``extra`` on one worker, stopped by Ctrl-C at analysis ``after``; returns
+    the results file it leaves (analyses 1 … after − 1 in it)."""
+    kernels.prepare()  # the kernels' warm-up first: its analyses are not the study's
+    calls = []
+
+    def stopping(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == after:
+            raise KeyboardInterrupt
+        return analyze(*args, **kwargs)
+
+    monkeypatch.setattr("rockbridge_cli.core.analysis.analyze", stopping)
+    result = invoke("run", write_study(tmp_path, extra=extra), "--workers", "1")
+    assert result.exit_code == 130, result.output
+    monkeypatch.setattr("rockbridge_cli.core.analysis.analyze", analyze)
+    return tmp_path / "results" / "study.h5"
+
+
+def test_every_reader_says_a_file_is_incomplete(tmp_path, monkeypatch):
+    """Two bridges × two records × two levels, stopped after two analyses: every command that
+    reads the file says "incomplete: 2 of 8 analyses" (and exits 0, having done its work on
+    what the file holds); the report says it at the top of its page; peaks --json carries the
+    file's counts. They said nothing (issue 31)."""
+    results = interrupted_run(tmp_path, monkeypatch, STRIPES, after=3)
+    notice = f"warning: {results}: incomplete: 2 of 8 analyses; run its study again to resume it"
+    for command in (["peaks"], ["peaks", "--csv", "-"], ["fragility"], ["plot", "peaks"],
+                    ["plot", "fragility"], ["report"]):  # fmt: skip
+        result = invoke(*command, results)
+        assert result.exit_code == 0, result.output
+        assert result.output.count(notice) == 1, command
+    page = (tmp_path / "results" / "study-report.html").read_text(encoding="utf-8")
+    assert '<p class="bad">incomplete: 2 of 8 analyses: the run did not finish' in page
+    counts = json.loads(invoke("peaks", results, "--json").output.split("\n", 1)[1])
+    assert (counts["complete"], counts["n_complete"], counts["n_analyses"]) == (False, 2, 8)
+    complete = invoke("run", tmp_path / "study.yaml", "--workers", "1")
+    assert complete.exit_code == 0 and "incomplete" not in invoke("peaks", results).output
+
+
+STRIPES = "intensity: {measure: pga_g, levels: [0.2, 0.8]}\nfidelity: fast\n"
+
+
+def test_an_ida_stopped_before_its_end_is_incomplete(tmp_path, monkeypatch):
+    """An IDA writes the levels it ran: stopped after two, its file holds all it ran (2 of 2),
+    yet the curves have not ended: the file says it is incomplete (it said complete)."""
+    ida = ("intensity: {measure: pga_g, ida: {start: 0.1, step: 0.4, max: 2.5, "
+           "tolerance: 0.05, limit_states: [gap_closure]}}\nfidelity: fast\n")  # fmt: skip
+    results = interrupted_run(tmp_path, monkeypatch, ida, after=3)
+    shown = invoke("peaks", results).output
+    assert f"warning: {results}: incomplete: the IDA stopped after 2 analyses" in shown
+
+
+def test_peaks_points_at_the_journal_of_a_run_stopped_before_its_file(tmp_path):
+    from rockbridge_cli.config.study import load_study
+    from rockbridge_cli.study.journal import Journal
+
+    study = load_study(write_study(tmp_path))
+    study.output.parent.mkdir(parents=True)
+    Journal(study.output, study.config_hash).close()  # what a SIGKILLed first run leaves
+    assert_user_error(invoke("peaks", study.output), "file not found, but the journal of a run",
+                      "study.h5.journal.db): run the study again to resume")  # fmt: skip
+
+
+def test_a_closed_output_never_stops_a_run(tmp_path):
+    """`rockbridge run … 2>&1 | head -1`: once the reader has gone, what the run says is dropped
+    and the run goes on to its end, exiting by its analyses (here 1: a record cannot be read);
+    it stopped at the first line it could not write and exited 0 (issue 31)."""
+    study = write_study(tmp_path)
+    (tmp_path / "R1.txt").write_text("0 1\n0.01 2\n", encoding="utf-8")  # units not stated
+    read, write = os.pipe()
+    os.close(read)  # the reader has gone before the run says anything
+    try:
+        command = [sys.executable, "-c", "from rockbridge_cli.cli import entry; entry()", "run",
+                   str(study), "--workers", "2"]  # fmt: skip
+        done = subprocess.run(command, stdout=write, stderr=write, cwd=tmp_path, timeout=300)
+    finally:
+        os.close(write)
+    assert done.returncode == 1
+    assert list(read_peaks(tmp_path / "results" / "study.h5")["status"]) == [
+        "error", "ok", "error", "ok",
+    ]  # fmt: skip

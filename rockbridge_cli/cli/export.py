@@ -7,6 +7,7 @@ from pathlib import Path
 import click
 
 from . import main
+from .output import results_argument
 
 
 @main.group()
@@ -16,7 +17,7 @@ def export() -> None:
 
 
 @export.command("openquake")
-@click.argument("results", type=click.Path(path_type=Path))
+@results_argument()
 @click.option(
     "-o", "--output", type=click.Path(dir_okay=False, path_type=Path), default=None,
     help="The NRML file [default: <results stem>-fragility.xml beside RESULTS].",
@@ -37,7 +38,7 @@ def export_openquake(results: Path, output: Path | None) -> None:
 
 
 @export.command("pelicun")
-@click.argument("results", type=click.Path(path_type=Path))
+@results_argument()
 @click.option(
     "-o", "--output", type=click.Path(file_okay=False, path_type=Path), default=None,
     help="The folder of the CSV files [default: <results stem>-pelicun/ beside RESULTS].",

@@ -9,11 +9,11 @@ import click
 
 from ..motions.intensity import MEASURES
 from . import main, plot
-from .output import echo_json, export_csv, figure_option, table_text
+from .output import echo_json, export_csv, figure_option, results_argument, table_text
 
 
 @main.command()
-@click.argument("results", type=click.Path(path_type=Path))
+@results_argument()
 @click.option("--json", "as_json", is_flag=True, help="Print the rows (SI, g) as JSON.")
 @click.option(
     "--csv", "csv_file", type=click.Path(dir_okay=False, allow_dash=True), default=None,
@@ -162,7 +162,7 @@ def _columns(found: list) -> dict:
 
 
 @plot.command("fragility")
-@click.argument("results", type=click.Path(path_type=Path))
+@results_argument()
 @figure_option("<results stem>-fragility.png beside RESULTS")
 def plot_fragility(results: Path, output: Path | None) -> None:
     """Fragility curves of RESULTS (a study with an intensity section): the share of records
@@ -175,7 +175,7 @@ def plot_fragility(results: Path, output: Path | None) -> None:
 
 
 @plot.command("ida")
-@click.argument("results", type=click.Path(path_type=Path))
+@results_argument()
 @figure_option("<results stem>-ida.png beside RESULTS")
 @click.option(
     "--quantity", default="u_deck_max", show_default=True,

@@ -8,6 +8,7 @@ import csv
 import io
 import json
 import math
+import os
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -15,6 +16,19 @@ from typing import IO, Any
 
 import click
 import numpy as np
+
+
+def say(text: str = "", err: bool = False, nl: bool = True) -> None:
+    """``click.echo`` for a command that must go on whoever reads it (``run``): a stream whose
+    reader has gone (``rockbridge run … | head -1``) is pointed at the null device, so that
+    what is said to it is dropped and the work goes on."""
+    try:
+        click.echo(text, err=err, nl=nl)
+    except BrokenPipeError:
+        stream = sys.stderr if err else sys.stdout
+        null = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(null, stream.fileno())
+        os.close(null)
 
 
 def to_jsonable(value: Any) -> Any:
@@ -91,6 +105,42 @@ def export_csv(target: str, columns: dict[str, np.ndarray], source: Path) -> Non
     with open(output, "w", encoding="utf-8", newline="") as stream:
         write_csv(stream, columns)
     click.echo(f"CSV: {target}")
+
+
+class ResultsFile(click.ParamType):
+    """A results file a command reads, as a path. If its run did not finish (interrupted, or
+    merged from parts that miss analyses), the command says so first, on stderr: ``warning:
+    FILE: incomplete: N of M analyses …`` (`results.reading.incompleteness`), and then does its
+    work on what the file holds, exiting as it would on a complete file."""
+
+    name = "results"
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Path:
+        path = Path(value)
+        note = incomplete(path)
+        if note is not None:
+            click.echo(f"warning: {path}: {note}; run its study again to resume it", err=True)
+        return path
+
+
+def results_argument():
+    """The ``RESULTS`` argument of a command that reads a results file (`ResultsFile`)."""
+    return click.argument("results", type=ResultsFile())
+
+
+def incomplete(path: Path) -> str | None:
+    """`results.reading.incompleteness` of a results file; None for a complete one, or one the
+    command will refuse with its own message (missing, unreadable)."""
+    from ..errors import InputError
+    from ..results.reading import incompleteness, open_results
+
+    if not path.is_file():
+        return None
+    try:
+        with open_results(path) as file:
+            return incompleteness(file.attrs)
+    except InputError:
+        return None
 
 
 def figure_option(default: str):

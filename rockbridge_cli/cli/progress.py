@@ -1,4 +1,5 @@
-"""Progress of a study run on stderr: a bar with ETA on a terminal, a few plain lines otherwise."""
+"""Progress of a study run on stderr: a bar with ETA on a terminal, a few plain lines otherwise;
+dropped, and the run goes on, once nobody reads it (`output.say`)."""
 
 from __future__ import annotations
 
@@ -6,9 +7,8 @@ import math
 import sys
 import time
 
-import click
-
 from ..study.work import Finished
+from .output import say
 
 
 class ProgressDisplay:
@@ -73,7 +73,7 @@ class ProgressDisplay:
             self.drawn = now
             bar = "#" * (self.WIDTH * done // total)
             self.bar_open = done < total
-            click.echo(
+            say(
                 f"\r[{bar:-<{self.WIDTH}}] {done}/{total}  {_clock(elapsed)} elapsed  "
                 f"{_clock(left)} left",
                 err=True, nl=not self.bar_open,
@@ -84,7 +84,7 @@ class ProgressDisplay:
         if 10 * done // total > self.shown:
             self.shown = 10 * done // total
             estimate = "" if math.isnan(left) else f", about {left:.0f} s left"
-            click.echo(
+            say(
                 f"{done}/{total} analyses ({100 * done // total}%), {elapsed:.1f} s elapsed"
                 + estimate,
                 err=True,
@@ -99,26 +99,26 @@ class ProgressDisplay:
                 return
             self.drawn = now
             self.bar_open = done < total
-            click.echo(f"\rwriting the results file: {done}/{total}", err=True,
+            say(f"\rwriting the results file: {done}/{total}", err=True,
                        nl=not self.bar_open)  # fmt: skip
         elif done in (1, total):
             state = "done" if done == total else "started"
-            click.echo(f"writing the results file ({total} analyses): {state}", err=True)
+            say(f"writing the results file ({total} analyses): {state}", err=True)
 
     def close(self) -> None:
         """End a bar that an interruption left unfinished."""
         if self.bar_open:
-            click.echo("", err=True)
+            say("", err=True)
             self.bar_open = False
 
     def _head(self) -> None:
         """Print the heading, once."""
         if self.heading:
-            click.echo(self.heading, err=True)
+            say(self.heading, err=True)
             self.heading = ""
 
     def _line(self, text: str) -> None:
-        click.echo(("\r\033[K" if self.terminal else "") + text, err=True)
+        say(("\r\033[K" if self.terminal else "") + text, err=True)
 
 
 def _clock(seconds: float) -> str:

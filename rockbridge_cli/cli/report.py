@@ -7,10 +7,11 @@ from pathlib import Path
 import click
 
 from . import main
+from .output import results_argument
 
 
 @main.command()
-@click.argument("results", type=click.Path(path_type=Path))
+@results_argument()
 @click.option(
     "-o", "--output", type=click.Path(dir_okay=False, path_type=Path), default=None,
     help="The HTML file [default: <results stem>-report.html beside RESULTS].",

@@ -8,11 +8,11 @@ from pathlib import Path
 import click
 
 from . import main
-from .output import echo_json, export_csv, table_text
+from .output import echo_json, export_csv, results_argument, table_text
 
 
 @main.command()
-@click.argument("results", type=click.Path(path_type=Path))
+@results_argument()
 @click.option(
     "--hazard", required=True, type=click.Path(path_type=Path),
     help="Hazard curve: a CSV of '<measure> [<unit>], annual_rate [1/year]', or OpenQuake's "

@@ -12,7 +12,15 @@ import click
 from ..core.fidelity import PRESETS
 from ..motions.intensity import MEASURES
 from . import main, plot
-from .output import echo_json, export_csv, figure_option, shown, table_text
+from .output import (
+    echo_json,
+    export_csv,
+    figure_option,
+    results_argument,
+    say,
+    shown,
+    table_text,
+)
 
 _DISPLAY = (
     ("u_deck_max", "u_deck [mm]", 1e3),
@@ -135,7 +143,7 @@ def run(
         if changed:
             resolved = _with_knobs(resolved, changed)
         for warning in resolved.warnings:
-            click.echo(f"warning: {warning}", err=True)
+            say(f"warning: {warning}", err=True)
         if part is not None and output is None:
             stem = resolved.output.stem
             name = f"{stem}.part-{part[0] + 1}-of-{part[1]}{resolved.output.suffix}"
@@ -151,27 +159,27 @@ def run(
             display.close()
             journal = journal_path(resolved.output)  # removed once the results file holds its own
             kept = journal if journal.exists() else resolved.output
-            click.echo(f"{stopped_by(stop)}: the analyses finished so far are in {kept}; run the "
+            say(f"{stopped_by(stop)}: the analyses finished so far are in {kept}; run the "
                        "same command again to resume", err=True)  # fmt: skip
             ctx.exit(exit_status(stop))
     display.close()
     counts = report.statuses
-    click.echo(f"results: {report.output}")
-    click.echo(
+    say(f"results: {report.output}")
+    say(
         f"analyses: {report.total} ({report.ran} run now, {report.resumed} already done): "
         f"{counts.get('ok', 0)} ok, {counts.get('solver_error', 0)} solver errors, "
         f"{counts.get('error', 0)} could not run; {report.failures} with a failure of the "
         "bridge"
     )
-    click.echo(
+    say(
         f"time: {report.wall_time_s:.2f} s wall on {report.workers} worker(s), "
         f"{report.solve_time_s:.2f} s solving "
         f"(summed over the {report.ran} analyses run now)"
     )
-    click.echo(_bridge_table(report.output))
+    say(_bridge_table(report.output))
     problems = sum(counts.values()) - counts.get("ok", 0)
     if problems:
-        click.echo(
+        say(
             f"error: {problems} analyses did not end ok; their status and message are in the "
             f"peak table (rockbridge peaks {report.output})",
             err=True,
@@ -180,7 +188,7 @@ def run(
 
 
 @main.command()
-@click.argument("results", type=click.Path(path_type=Path))
+@results_argument()
 @click.option(
     "--csv",
     "csv_file",
@@ -190,17 +198,19 @@ def run(
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the units and the rows (SI) as JSON.")
 def peaks(results: Path, csv_file: str | None, as_json: bool) -> None:
-    """Print the peak table of RESULTS (an HDF5 file written by 'rockbridge run')."""
+    """Print the peak table of RESULTS (an HDF5 file written by 'rockbridge run'); --json also
+    says whether the file is complete (complete, n_complete of n_analyses)."""
     from ..results.reading import open_results, peak_columns, peak_units
 
     with open_results(results) as file:
         columns, units = _with_missing_counts(peak_columns(file)), peak_units(file)
+        counts = {key: file.attrs.get(key) for key in ("complete", "n_complete", "n_analyses")}
     if csv_file is not None:
         export_csv(csv_file, columns, results)
         return
     if as_json:
         rows = [dict(zip(columns, row, strict=True)) for row in zip(*columns.values(), strict=True)]
-        echo_json({"units": units, "rows": rows})
+        echo_json({"units": units, **counts, "rows": rows})
         return
     shown = [("bridge", "bridge", 1), ("record", "record", 1), *_DISPLAY,
              ("t_onset", "onset [s]", 1), ("n_impacts_significant", "significant impacts", 1),
@@ -368,7 +378,7 @@ def _scaled(values, scale: float) -> list:
 
 
 @plot.command("peaks")
-@click.argument("results", type=click.Path(path_type=Path))
+@results_argument()
 @figure_option("<results stem>-peaks.png beside RESULTS")
 @click.option(
     "--level", type=float, default=None,
@@ -383,7 +393,7 @@ def plot_peaks(results: Path, output: Path | None, level: float | None) -> None:
 
 
 @plot.command("sweep")
-@click.argument("results", type=click.Path(path_type=Path))
+@results_argument()
 @click.option("--field", required=True, help="A swept field's dotted path (abutments.gap).")
 @click.option(
     "--quantity", default="u_deck_max", show_default=True,
@@ -407,7 +417,7 @@ def plot_sweep(
 
 
 @plot.command("history")
-@click.argument("results", type=click.Path(path_type=Path))
+@results_argument()
 @click.option("--record", required=True, help="Record id.")
 @click.option("--bridge", "bridges", multiple=True, help="Bridge id (repeat) [default: all].")
 @figure_option("<results stem>-history-<record>.png beside RESULTS")

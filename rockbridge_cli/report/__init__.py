@@ -27,6 +27,7 @@ from ..errors import InputError, nearest
 from ..paths import MARK, checked_output, replace_atomically
 from ..results.reading import (
     bridge_attributes,
+    incompleteness,
     open_results,
     peak_columns,
     peak_units,
@@ -122,6 +123,7 @@ def write_report(
     title = _description(attributes) or Path(str(attributes.get("study_file", results))).stem
     parts = [
         f"<h1>{escaped(title)}</h1>",
+        _incomplete(attributes),
         f'<p class="note">{escaped(results.name)}: {len(columns["bridge"])} analyses of '
         f"{len(bridges)} bridges under {record_count(columns)} records{_levels(intensity, columns)}"
         f", written by rockbridge {escaped(attributes.get('rockbridge_version', '?'))} on "
@@ -132,7 +134,8 @@ def write_report(
     ]
     with tempfile.TemporaryDirectory() as folder:
         figure = _figure_maker(Path(folder))
-        parts += _figures(results, figure, intensity, swept, chosen)
+        under = list(dict.fromkeys(columns["bridge"][columns["record"] == chosen]))  # partial
+        parts += _figures(results, figure, intensity, swept, chosen, under)
         if intensity is not None:
             parts.append(_intensity_section(results, intensity, figure, hazard, years))
     parts += [
@@ -183,10 +186,11 @@ def _levels(intensity: dict | None, columns: dict[str, np.ndarray]) -> str:
 
 def _figures(
     results: Path, figure: Callable[..., str], intensity: dict | None, swept: list[str],
-    chosen: str | None,
+    chosen: str | None, under: list[str],
 ) -> list[str]:  # fmt: skip
     """Fig. 9 (a study without a sweep and without an IDA; with stripes, at their design level if
-    it is one of them), or the swept fields' figures; then Fig. 10 under ``chosen``."""
+    it is one of them), or the swept fields' figures; then Fig. 10 under ``chosen``, of the
+    bridges ``under`` it (all of them, unless the run stopped early)."""
     parts = []
     level = (intensity or {}).get("design")
     if swept:
@@ -204,7 +208,7 @@ def _figures(
         from ..plots.history import plot_history
 
         parts.append(_section(f"Response histories under {chosen} (Fig. 10)",
-                              figure(plot_history, results, chosen),
+                              figure(plot_history, results, chosen, bridges=under),
                               "Ground motion with each bridge's onset of rocking, then the "
                               "responses; × marks a pounding on the backwall."))  # fmt: skip
     return parts
@@ -452,6 +456,15 @@ def _failures(columns: dict[str, np.ndarray]) -> str:
     ]  # fmt: skip
     headers = ["bridge", "record", "failure", "at [s]", "status", "message"]
     return f"<h2>Failures</h2>\n{table_html(headers, rows, text_columns=(0, 1, 2, 4, 5))}"
+
+
+def _incomplete(attributes: dict[str, Any]) -> str:
+    """A line at the top of the page if the run did not finish (`results.incompleteness`)."""
+    note = incompleteness(attributes)
+    return "" if note is None else (
+        f'<p class="bad">{escaped(note)}: the run did not finish; this page shows what the file '
+        "holds.</p>"
+    )  # fmt: skip
 
 
 def _warnings(attributes: dict[str, Any]) -> str:

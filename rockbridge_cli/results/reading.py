@@ -7,7 +7,7 @@ they are called, so that a command printing a table starts quickly.
 from __future__ import annotations
 
 import json
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -17,6 +17,7 @@ import numpy as np
 
 from ..core.quantities import HISTORY_UNITS
 from ..errors import InputError, nearest
+from ..paths import journal_path
 from .layout import COUNT_COLUMNS, EVENT_COLUMNS, FORMAT, FORMAT_VERSION, READABLE_VERSIONS
 from .packing import AnalysisResult
 
@@ -36,6 +37,11 @@ def open_results(path: str | Path) -> Iterator[h5py.File]:
     """
     path = Path(path)
     if not path.is_file():
+        if journal_path(path).is_file():  # a run stopped before it wrote the file
+            reason = (f"file not found, but the journal of a run that was stopped before writing "
+                      f"it is beside it ({journal_path(path).name}): run the study again to "
+                      "resume and write the file")  # fmt: skip
+            raise InputError(path, [("", reason)])
         raise InputError(path, [("", "file not found")])
     try:
         file = h5py.File(path, "r")
@@ -55,6 +61,19 @@ def open_results(path: str | Path) -> Iterator[h5py.File]:
             yield file
         except (OSError, KeyError) as exc:  # a part is missing or cannot be read
             raise InputError(path, [("", f"damaged or incomplete results file ({exc})")]) from None
+
+
+def incompleteness(attributes: Mapping[str, Any]) -> str | None:
+    """What a results file that its run did not finish lacks, from its root's attributes:
+    ``incomplete: 24 of 30 analyses``, or for an IDA stopped before every curve reached its end
+    ``incomplete: the IDA stopped after 120 analyses``; None for a finished file (or one written
+    before files said it)."""
+    if bool(attributes.get("complete", True)):
+        return None
+    done, total = int(attributes.get("n_complete", 0)), int(attributes.get("n_analyses", 0))
+    if done < total:
+        return f"incomplete: {done} of {total} analyses"
+    return f"incomplete: the IDA stopped after {done} analyses, before every curve ended"
 
 
 def is_results_file(path: str | Path) -> bool:

@@ -32,7 +32,7 @@ from contextlib import contextmanager
 from typing import Any, NamedTuple
 
 from ..errors import InputError
-from ..interrupts import held
+from ..interrupts import held, stopped_by
 from ..results.packing import Packed
 from . import kernels
 from .grid import Cell, Grid
@@ -138,7 +138,7 @@ def executor(
     with (
         local_workers(grid, journal, workers, notice, pool)
         if scheduler is None
-        else dask_workers(grid, journal, scheduler)
+        else dask_workers(grid, journal, scheduler, notice)
     ) as offered:
         yield offered
 
@@ -322,13 +322,21 @@ def local_workers(
     stopped = False
     try:
         yield Workers(run, call)
-    except BaseException:
+    except BaseException as exc:
         stopped = True
+        _saving(exc, journal, notice)
         raise
     finally:  # wait for the few batches in flight
         for unused in (pool, started):
             if unused is not None:
                 unused.close(stopped)
+
+
+def _saving(exc: BaseException, journal: Journal, notice: Notice | None) -> None:
+    """Say at once, when a stopping signal stops a run, what happens before it ends."""
+    if isinstance(exc, KeyboardInterrupt) and notice is not None:
+        notice(f"{stopped_by(exc)}: saving the analyses finished so far to {journal.output} "
+               "(those running finish first)")  # fmt: skip
 
 
 def _next(again: list[list[Cell]], batches: Iterator[list[Cell]]) -> list[Cell] | None:
@@ -389,7 +397,9 @@ def _prepared(function: Callable, *args: Any) -> Any:
 
 
 @contextmanager
-def dask_workers(grid: Grid, journal: Journal, scheduler: str) -> Iterator[Workers]:
+def dask_workers(
+    grid: Grid, journal: Journal, scheduler: str, notice: Notice | None = None
+) -> Iterator[Workers]:
     """The workers of a Dask distributed cluster.
 
     The grid is sent to every worker once (``scatter``); batches are submitted as earlier ones
@@ -458,4 +468,8 @@ def dask_workers(grid: Grid, journal: Journal, scheduler: str) -> Iterator[Worke
         return _collector(function, args, [future])
 
     with client:
-        yield Workers(run, call)
+        try:
+            yield Workers(run, call)
+        except KeyboardInterrupt as stop:
+            _saving(stop, journal, notice)
+            raise

@@ -11,7 +11,6 @@ another study are never mixed in; it is removed once the results file holds its 
 
 from __future__ import annotations
 
-import os
 import sqlite3
 from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
@@ -19,6 +18,7 @@ from pathlib import Path
 
 from ..assessment.limit_states import Verdict
 from ..errors import InputError
+from ..paths import journal_path
 from ..results.packing import Packed
 from .work import Outcome
 
@@ -180,13 +180,6 @@ class Journal:
         analyses)."""
         _delete(self.path)
         self.close()
-
-
-def journal_path(output: Path) -> Path:
-    """Where the journal of a results file lives (its path made absolute, without ``..``: SQLite
-    cannot open a path whose ``..`` climbs above ``/``)."""
-    output = Path(os.path.abspath(output))
-    return output.with_name(f"{output.name}.journal.db")
 
 
 def remove_journal(output: Path) -> None:

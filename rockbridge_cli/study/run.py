@@ -194,6 +194,7 @@ def run_study(
             solve_time, done, total = 0.0, 0, 0
             summaries: list[dict] | None = None  # the bridges', from a worker (the kernels')
             tally = None
+            ended = False  # every round run: an IDA whose rule calls for no more levels
             try:
                 with executor(grid, journal, workers, scheduler, notice, pool) as offered:
                     bridges = [case.bridge for case in grid.bridges]
@@ -210,13 +211,14 @@ def run_study(
                                 if progress is not None:
                                     progress(outcome.finished, done, total)
                     summaries = summarized()
+                ended = True
             finally:
                 if plan is not None:  # the IDA as far as it got, the batches in flight included
                     cells = plan.ran(verdicts | journal.verdicts())
                     grid = dataclasses.replace(grid, listed=tuple(cells))
                 if len(journal) or not output.exists():
                     tally = _write(output, study, grid, cells, shard, journal, created, assembly,
-                                   summaries)  # fmt: skip
+                                   summaries, ended or plan is None)  # fmt: skip
                 journal.remove()
         finally:
             journal.close()
@@ -271,11 +273,13 @@ def _is_ida(study: Study) -> bool:
 def _write(
     output: Path, study: Study, grid: Grid, cells: list[Cell], shard: tuple[int, int] | None,
     journal: Journal, created: str, assembly: Assembly | None, summaries: list[dict] | None,
+    finished: bool = True,
 ) -> tuple[dict[str, int], int]:  # fmt: skip
     """Write the results file from the journal and the earlier file, in the study's order, into
     a temporary file renamed over the output at the end; ``summaries`` are the bridges' (`None`:
-    computed here). Returns how many analyses of the file ended with each status, and with a
-    failure."""
+    computed here); ``finished`` False for an IDA stopped before its rule called for no more
+    levels (the file is incomplete however many of its analyses it holds). Returns how many
+    analyses of the file ended with each status, and with a failure."""
     temporary = output.with_name(f".{output.name}.{os.getpid()}.tmp")
     try:
         with h5py.File(temporary, "w") as file, _earlier_results(output, grid) as earlier:
@@ -284,6 +288,8 @@ def _write(
             merged = _merged(journal, earlier, {cell.index for cell in cells})
             writer.add(merged, None if assembly is None else lambda n: assembly(n, len(cells)))
             writer.close(_timestamp())
+            if not finished:
+                file.attrs["complete"] = False
             if shard is None and study.intensity is not None:
                 from ..assessment.fragility import (
                     store,  # scipy's optimizers: only an intensity study's
