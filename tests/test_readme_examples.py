@@ -1,0 +1,74 @@
+"""README's example outputs are what the code gives: `benchmarks/readme_examples.py` computes each
+block README quotes, and README must quote it, every number to the digits README gives (one unit
+of its last digit allowed, for a rounding that other library versions may tip; whole numbers,
+counts, exactly).
+
+Expected values: the code's own output, on purpose. This test checks the documentation against
+the code, not the code: the code's numbers are checked against independent values elsewhere.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import re
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+NUMBER = r"-?\d+(?:\.\d+)?"
+
+
+def examples():
+    """benchmarks/readme_examples.py, as a module."""
+    path = REPO / "benchmarks" / "readme_examples.py"
+    spec = importlib.util.spec_from_file_location("readme_examples", path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def pattern(block: str) -> str:
+    """A regular expression matching the block with any numbers in its numbers' places and any
+    whitespace (a line wrapped elsewhere, a column aligned otherwise) in its whitespace's."""
+    parts = re.split(f"({NUMBER})", block)
+    return "".join(
+        f"({NUMBER})" if odd else r"\s+".join(re.escape(word) for word in re.split(r"\s+", part))
+        for odd, part in ((i % 2 == 1, part) for i, part in enumerate(parts))
+    )
+
+
+def off(block: str, readme: str) -> list[tuple[str, str]]:
+    """(README's number, the code's) for each number of a block that README quotes beyond one
+    unit of the last digit it gives (any difference, for a whole number)."""
+    found = re.search(pattern(block), readme)
+    assert found, f"README does not quote this block as the code gives it:\n{block}"
+    wrong = []
+    for text, value in zip(found.groups(), re.findall(NUMBER, block), strict=True):
+        digits = len(text.partition(".")[2])
+        if abs(float(text) - float(value)) > (10.0**-digits if digits else 0.0) * (1 + 1e-9):
+            wrong.append((text, value))
+    return wrong
+
+
+def test_a_quote_may_differ_in_its_last_digit_only():
+    readme = "median 0.9358 of 10/10 records, 0.898–0.997"
+    assert off("median 0.9359 of 10/10  records,\n0.898–0.996", readme) == []
+    assert off("median 0.9378 of 10/10 records, 0.898–0.997", readme) == [("0.9358", "0.9378")]
+    assert off("median 0.9358 of 11/10 records, 0.898–0.997", readme) == [("10", "11")]
+    with pytest.raises(AssertionError, match="does not quote"):
+        off("median 0.9358 of 10/10 record, 0.898–0.997", readme)
+
+
+@pytest.fixture(scope="module")
+def blocks(tmp_path_factory):
+    return examples().blocks(tmp_path_factory.mktemp("readme"))
+
+
+def test_readme_quotes_what_the_code_gives(blocks):
+    readme = (REPO / "README.md").read_text(encoding="utf-8")
+    assert set(blocks) == {"one analysis", "a study", "fragility study", "fragility table",
+                           "gap sweep count", "gap sweep"}  # fmt: skip
+    for name, block in blocks.items():
+        assert off(block, readme) == [], name
