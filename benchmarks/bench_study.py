@@ -18,6 +18,10 @@ entries (the ten bundled records, each listed several times under its own id) an
 
 The kernels are compiled (or loaded from numba's cache) before the rows are timed.
 
+With ``--command`` each row is ``rockbridge run STUDY --workers N`` instead, as a user runs it
+(its workers start while it loads the study), timed from outside the process: only e2e, total
+and the speed-up are measured.
+
 A second table times the bundled intensity studies end to end, as README runs them: the
 multiple-stripe study and the IDA of the paper's bridges (``rockbridge run``, then
 ``rockbridge fragility``), each in a fresh process.
@@ -25,6 +29,7 @@ multiple-stripe study and the IDA of the paper's bridges (``rockbridge run``, th
     python benchmarks/bench_study.py [--sizes 30 300 3000 10000] [--workers 1 2]
                                      [--fidelity default] [--histories none all] [--bridges 3]
                                      [--bundled paper-stripes paper-ida] [--repeat 1]
+                                     [--command]
 """
 
 from __future__ import annotations
@@ -40,9 +45,12 @@ import tempfile
 import time
 from pathlib import Path
 
+import h5py
+
 REPO = Path(__file__).resolve().parents[1]
 BRIDGES = [REPO / "configs" / "bridges" / f"studied-hbar{h}.yaml" for h in ("1.00", "1.25", "2.00")]
 RECORDS = sorted((REPO / "records" / "ec8-type1-C-ag0.6g").glob("AR*.txt"))
+CLI = "from rockbridge_cli.cli import entry; entry()"
 
 ROW = """
 import json, resource, sys, time
@@ -90,15 +98,32 @@ def write_study(
 
 
 def measure(
-    analyses: int, histories: str, workers: int, fidelity: str, bridges: int = len(BRIDGES)
+    analyses: int, histories: str, workers: int, fidelity: str, bridges: int = len(BRIDGES),
+    command: bool = False,
 ) -> dict:
     with tempfile.TemporaryDirectory() as folder:
         study = write_study(Path(folder), analyses, histories, fidelity, bridges)
+        if command:
+            return measure_command(study, workers)
         done = subprocess.run(
             [sys.executable, "-c", ROW, str(study), str(workers)],
             capture_output=True, text=True, check=True,
         )  # fmt: skip
     return json.loads(done.stdout)
+
+
+def measure_command(study: Path, workers: int) -> dict:
+    """``rockbridge run STUDY --workers N`` in a fresh process, timed from outside."""
+    started = time.perf_counter()
+    subprocess.run([sys.executable, "-c", CLI, "run", str(study), "--workers", str(workers)],
+                   capture_output=True, check=True)  # fmt: skip
+    nan = float("nan")
+    row = dict.fromkeys(("load", "solve", "parent", "worker", "rss_parent", "rss_worker"), nan)
+    elapsed = time.perf_counter() - started
+    output = study.parent / "out.h5"
+    with h5py.File(output, "r") as file:
+        analyses = len(file["peaks/bridge"])
+    return row | {"n": analyses, "e2e": elapsed, "size": output.stat().st_size / 2**20}
 
 
 def measure_bundled(name: str, workers: int) -> dict:
@@ -112,8 +137,7 @@ def measure_bundled(name: str, workers: int) -> dict:
         row = json.loads(done.stdout)
         started = time.perf_counter()
         subprocess.run(
-            [sys.executable, "-c", "from rockbridge_cli.cli import main; main()", "fragility",
-             f"results/{name}.h5"],
+            [sys.executable, "-c", CLI, "fragility", f"results/{name}.h5"],
             capture_output=True, check=True, cwd=folder,
         )  # fmt: skip
         row["fragility"] = time.perf_counter() - started
@@ -131,6 +155,8 @@ def main() -> None:
     parser.add_argument("--bundled", nargs="*", default=["paper-stripes", "paper-ida"])
     parser.add_argument("--repeat", type=int, default=1, help="runs of each row, interleaved; "
                         "the table gives their medians")  # fmt: skip
+    parser.add_argument("--command", action="store_true",
+                        help="time `rockbridge run` as a user runs it, not run_study")  # fmt: skip
     options = parser.parse_args()
 
     measure(3, "none", 1, options.fidelity)  # compile the kernels into numba's cache
@@ -149,7 +175,7 @@ def main() -> None:
             for _ in range(options.repeat):  # interleaved: a drift of the host's speed hits all
                 for workers in options.workers:
                     runs[workers].append(measure(analyses, histories, workers, options.fidelity,
-                                                 options.bridges))  # fmt: skip
+                                                 options.bridges, options.command))  # fmt: skip
             for workers, rows in runs.items():
                 row = {key: statistics.median(r[key] for r in rows) for key in rows[0]}
                 n = row["n"]
