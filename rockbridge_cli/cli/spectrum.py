@@ -11,7 +11,7 @@ import yaml
 from ..core.fidelity import PRESETS
 from ..motions.pulses import SHAPES
 from . import main, plot
-from .output import figure_option
+from .output import figure_option, results_argument
 
 
 def _grid(text: str) -> dict[str, float]:
@@ -71,7 +71,7 @@ def overturning(
     study = study_from_data(data, source, yaml.safe_dump(data, sort_keys=False), None, output)
     display = ProgressDisplay(heading=f"spectrum: {len(study.records)} frequencies")
     report = run_study(study, workers, overwrite=overwrite, progress=display,
-                       assembly=display.assembling)  # fmt: skip
+                       assembly=display.assembling, notice=display.notice)  # fmt: skip
     display.close()
     click.echo(f"results: {report.output} ({report.total} analyses, "
                f"{report.wall_time_s:.1f} s on {report.workers} worker(s))")  # fmt: skip
@@ -80,7 +80,7 @@ def overturning(
 
 
 @plot.command("overturning")
-@click.argument("results", type=click.Path(path_type=Path))
+@results_argument()
 @figure_option("<results stem>-overturning.png beside RESULTS")
 def plot_overturning_spectrum(results: Path, output: Path | None) -> None:
     """The overturning spectrum of RESULTS (a spectrum study): the map of what each analysis
