@@ -356,6 +356,9 @@ def test_a_run_that_compiles_says_so_once_before_its_analyses(tmp_path, monkeypa
         assert lines[1].startswith("compiling the analysis kernels, once for this installation")
         assert f"about {kernels.COMPILE_TIME_S} s" in lines[1]
         assert result.output.count("compiling") == 1
+    monkeypatch.setattr(kernels, "_ready", False)  # a refused run's workers compile nothing
+    refused = invoke("run", tmp_path / "missing.yaml", "--workers", "2")
+    assert refused.exit_code == 2 and "compiling" not in refused.output
 
 
 def test_run_starts_its_workers_before_it_loads_the_study(tmp_path, monkeypatch):

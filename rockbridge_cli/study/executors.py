@@ -7,12 +7,12 @@ processes commit their results to the journal themselves and send back only the 
 itself; the workers of a Dask cluster, which may not reach the journal's disk, send the packed
 results too, and the parent journals them. Workers also compute what else a run asks of the
 compiled kernels (the bridges' summaries for the results file), so that the parent need not load
-them. A worker makes its compiled kernels ready as soon as it starts (`kernels.prepare`: on a cold
-cache one process compiles, the others then load), before its study is known: a run can start
-its workers while it loads the study (`LocalPool`). The number of batches in flight is bounded,
-which keeps the parent's memory flat in the number of analyses. Every executor yields the same
-outcomes, journalled; only their order and grouping differ, and the journal and the results file
-put them back in the study's order.
+them. A worker loads its compiled kernels as soon as it starts, before its study is known, so
+that a run can start its workers while it loads the study (`LocalPool`); on a cold cache its
+first work compiles them, one process at a time (`kernels.prepare`). The number of batches in
+flight is bounded, which keeps the parent's memory flat in the number of analyses. Every executor
+yields the same outcomes, journalled; only their order and grouping differ, and the journal and
+the results file put them back in the study's order.
 """
 
 from __future__ import annotations
@@ -66,6 +66,9 @@ _grid: Grid | None = None
 
 _journal: Journal | None = None
 """The journal a worker process commits to (opened when it starts)."""
+
+_said: Any = None
+"""Where a local worker process tells its parent that it compiles the kernels."""
 
 
 class Pace:
@@ -160,9 +163,10 @@ def _collector(function: Callable, args: tuple, futures: list[Any]) -> Callable[
 
 
 class LocalPool:
-    """Worker processes on this machine, forked at once: each makes its kernels ready
-    (`kernels.prepare`) as soon as it starts, then waits for the study it serves (`serve`), so
-    that a run can start them while it loads its study. A context manager: `close` at its end.
+    """Worker processes on this machine, forked at once: each loads its kernels as soon as it
+    starts if numba's cache holds them (`kernels.prepare`; else it compiles them when given its
+    first work), then waits for the study it serves (`serve`), so that a run can start them
+    while it loads its study. A context manager: `close` at its end.
 
     Parameters
     ----------
@@ -173,10 +177,8 @@ class LocalPool:
     def __init__(self, size: int):
         context = multiprocessing.get_context("fork" if hasattr(os, "fork") else None)
         self.size = size
-        self._said: Any = context.SimpleQueue()  # (what, process id) from the workers
+        self._said: Any = context.SimpleQueue()  # what the workers say: that one compiles
         self._setups: Any = context.SimpleQueue()  # a study for each worker, None for none
-        self._started: set[int] = set()
-        self._ready: set[int] = set()
         self._served = self._closed = False
         self.compiling = False  # whether a worker has said it compiles the kernels
         self.executor = ProcessPoolExecutor(
@@ -189,7 +191,7 @@ class LocalPool:
         return self
 
     def __exit__(self, *exc: object) -> None:
-        self.close(stopped=exc[0] is not None)
+        self.close()
 
     def serve(self, grid: Grid, journal: Journal) -> None:
         """Give every worker the study's grid and journal (once)."""
@@ -202,15 +204,12 @@ class LocalPool:
         """Read what the workers have said; whether one has just said that it compiles."""
         compiling = self.compiling
         while not self._said.empty():
-            what, process = self._said.get()
-            {"started": self._started, "ready": self._ready}.get(what, set()).add(process)
-            self.compiling |= what == "compiling"
+            self.compiling |= self._said.get() == "compiling"
         return self.compiling and not compiling
 
-    def close(self, stopped: bool = False) -> None:
-        """Let the workers end once their batches are done; after a stop, end at once those
-        still making their kernels ready or waiting for their study (nothing of theirs is lost).
-        Closing it again does nothing."""
+    def close(self) -> None:
+        """Let the workers end once their batches are done (those not served: at once, or once
+        their kernels have loaded). Closing it again does nothing."""
         if self._closed:
             return
         self._closed = True
@@ -218,11 +217,6 @@ class LocalPool:
             for _ in range(self.size):
                 self._setups.put(None)
             self._served = True
-        if stopped:
-            self.listen()
-            for process in self._started - self._ready:
-                with contextlib.suppress(ProcessLookupError):
-                    os.kill(process, signal.SIGKILL)
         self.executor.shutdown(cancel_futures=True)
 
 
@@ -252,15 +246,11 @@ def local_workers(
     pace = Pace()
     restarts = 0
 
-    def announce() -> None:
-        if notice is not None:
-            notice(kernels.COMPILING)
-
     def call(function: Callable, *args: Any) -> Callable[[], Any]:
         futures: list[Future] = []
         calls.append((function, args, futures))
         if pool is not None:
-            futures.append(pool.executor.submit(function, *args))
+            futures.append(pool.executor.submit(_prepared, function, *args))
         return _collector(function, args, futures)
 
     def start(size: int) -> LocalPool:
@@ -272,18 +262,13 @@ def local_workers(
         begun.serve(grid, journal)
         for function, args, futures in calls:
             if not futures:  # asked before the first pool started (after, computed here)
-                futures.append(begun.executor.submit(function, *args))
+                futures.append(begun.executor.submit(_prepared, function, *args))
         return begun
 
     def run(cells: Sequence[Cell]) -> Iterator[list[Outcome]]:
         nonlocal pool, count, restarts
         if pool is None and started is None and (workers <= 1 or len(cells) <= 1):
-            with held():  # compiled kernels, in this process
-                kernels.prepare(announce)
-            for batch in _batches(cells, 1, pace):
-                with held():  # a signal stops the run after the batch, as a worker's would
-                    outcomes = _journalled(journal, run_cells(grid, batch))
-                yield pace.record(outcomes)
+            yield from _in_this_process(grid, journal, cells, pace, notice)
             return
         if pool is None:
             count = started.size if started is not None else min(workers, len(cells))
@@ -298,8 +283,8 @@ def local_workers(
                 if not in_flight:
                     return
                 done, _ = wait(in_flight, timeout=LISTEN_S, return_when=FIRST_COMPLETED)
-                if pool.listen():
-                    announce()
+                if pool.listen() and notice is not None:
+                    notice(kernels.COMPILING)
                 for future in done:
                     sent = in_flight.pop(future)
                     if isinstance(future.exception(), BrokenProcessPool):
@@ -319,17 +304,29 @@ def local_workers(
             for future in in_flight:
                 future.cancel()
 
-    stopped = False
     try:
         yield Workers(run, call)
     except BaseException as exc:
-        stopped = True
         _saving(exc, journal, notice)
         raise
     finally:  # wait for the few batches in flight
         for unused in (pool, started):
             if unused is not None:
-                unused.close(stopped)
+                unused.close()
+
+
+def _in_this_process(
+    grid: Grid, journal: Journal, cells: Sequence[Cell], pace: Pace, notice: Notice | None
+) -> Iterator[list[Outcome]]:
+    """Run the cells in this process, a batch at a time, its kernels made ready first (``notice``
+    hears if they are compiled); a stopping signal stops the run once the batch is journalled
+    (`interrupts.held`), as it stops a pool once the batches in flight are."""
+    with held():  # compiled kernels, in this process
+        kernels.prepare(None if notice is None else lambda: notice(kernels.COMPILING))
+    for batch in _batches(cells, 1, pace):
+        with held():
+            outcomes = _journalled(journal, run_cells(grid, batch))
+        yield pace.record(outcomes)
 
 
 def _saving(exc: BaseException, journal: Journal, notice: Notice | None) -> None:
@@ -362,37 +359,41 @@ def _journalled(journal: Journal, analysed: list[tuple[Outcome, Packed]]) -> lis
 
 def _start_worker(setups: Any, said: Any, parent: int) -> None:
     """Worker start-up: leave Ctrl-C and SIGTERM to the parent, which stops the pool and saves
-    the results; die with the parent, however it dies; make the kernels ready; then take the
-    study (its grid, and the journal, a connection of its own) when the parent gives it."""
-    global _grid, _journal
+    the results; die with the parent, however it dies; load the kernels if the cache holds them;
+    then take the study (its grid, and the journal, a connection of its own) when the parent
+    gives it."""
+    global _grid, _journal, _said
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_IGN)
     if sys.platform.startswith("linux"):
         ctypes.CDLL(None).prctl(_PR_SET_PDEATHSIG, signal.SIGKILL)
     if os.getppid() != parent:  # the parent died before the request took effect
         os._exit(1)
-    said.put(("started", os.getpid()))
-    try:
-        kernels.prepare(lambda: said.put(("compiling", os.getpid())))
-    except Exception:  # each analysis meets the same failure, and records its message
-        pass
+    _said = said
+    with contextlib.suppress(Exception):  # an analysis meets the same failure, and records it
+        kernels.prepare(compiling=False)
     setup = setups.get()
-    if setup is None:  # the pool ends unused (the run was refused or stopped)
-        return
-    grid, output, config_hash = setup
-    _grid = grid
-    _journal = Journal(output, config_hash)
-    said.put(("ready", os.getpid()))
+    if setup is not None:  # None: the pool ends unused (the run was refused or stopped)
+        grid, output, config_hash = setup
+        _grid = grid
+        _journal = Journal(output, config_hash)
 
 
 def _run_batch(cells: list[Cell]) -> list[Outcome]:
     assert _grid is not None and _journal is not None, "a worker runs cells after _start_worker"
+    kernels.prepare(_announce)
     return _journalled(_journal, run_cells(_grid, cells))
 
 
+def _announce() -> None:
+    """Tell the parent of a local pool that this worker compiles the kernels."""
+    if _said is not None:
+        _said.put("compiling")
+
+
 def _prepared(function: Callable, *args: Any) -> Any:
-    """``function(*args)`` on a Dask worker, its kernels made ready first (`kernels.prepare`)."""
-    kernels.prepare()
+    """``function(*args)`` on a worker, its kernels made ready first (`kernels.prepare`)."""
+    kernels.prepare(_announce)
     return function(*args)
 
 

@@ -6,7 +6,8 @@ taking a core for 15–30 s, and the progress would count the compile as analysi
 loads them under a lock per installation on this machine: shared while they load from the cache
 (every worker at once), exclusive where one must be compiled (one process at a time: the first
 compiles and fills the cache, the next ones load from it). A process that compiles says so, once,
-before it starts.
+before it starts. A worker that starts before it knows whether it will run anything (its run may
+yet be refused) only loads, and compiles once given work.
 """
 
 from __future__ import annotations
@@ -34,7 +35,7 @@ _ready = False
 """Whether this process has its kernels."""
 
 
-def prepare(announce: Callable[[], None] | None = None) -> None:
+def prepare(announce: Callable[[], None] | None = None, compiling: bool = True) -> bool:
     """Load the kernels of an analysis into this process (`warmup.analysis_kernels`), compiling
     those numba's cache does not hold, one process of this installation at a time.
 
@@ -42,10 +43,17 @@ def prepare(announce: Callable[[], None] | None = None) -> None:
     ----------
     announce
         Called, once, if this process compiles a kernel, before it starts.
+    compiling
+        False: load them only if none needs compiling (a worker that does not know yet whether
+        it will run anything), else leave them for a later call.
+
+    Returns
+    -------
+    Whether this process has its kernels.
     """
     global _ready
     if _ready:
-        return
+        return True
     from .. import warmup  # the compiled kernels: a worker's, not the parent's
 
     def load() -> None:
@@ -55,9 +63,12 @@ def prepare(announce: Callable[[], None] | None = None) -> None:
         with _kernel_lock(exclusive=False), warmup.announced(_refuse):
             load()
     except _Cold:  # one kernel at least must be compiled: by one process at a time
+        if not compiling:
+            return False
         with _kernel_lock(exclusive=True), warmup.announced(announce):
             load()
     _ready = True
+    return True
 
 
 class _Cold(Exception):
