@@ -98,7 +98,11 @@ def write_study(
 
 
 def measure(
-    analyses: int, histories: str, workers: int, fidelity: str, bridges: int = len(BRIDGES),
+    analyses: int,
+    histories: str,
+    workers: int,
+    fidelity: str,
+    bridges: int = len(BRIDGES),
     command: bool = False,
 ) -> dict:
     with tempfile.TemporaryDirectory() as folder:

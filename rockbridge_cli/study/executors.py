@@ -322,7 +322,7 @@ def _in_this_process(
     hears if they are compiled); a stopping signal stops the run once the batch is journalled
     (`interrupts.held`), as it stops a pool once the batches in flight are."""
     with held():  # compiled kernels, in this process
-        kernels.prepare(None if notice is None else lambda: notice(kernels.COMPILING))
+        _kernels(notice=notice)
     for batch in _batches(cells, 1, pace):
         with held():
             outcomes = _journalled(journal, run_cells(grid, batch))
@@ -370,8 +370,7 @@ def _start_worker(setups: Any, said: Any, parent: int) -> None:
     if os.getppid() != parent:  # the parent died before the request took effect
         os._exit(1)
     _said = said
-    with contextlib.suppress(Exception):  # an analysis meets the same failure, and records it
-        kernels.prepare(compiling=False)
+    _kernels(compiling=False)
     setup = setups.get()
     if setup is not None:  # None: the pool ends unused (the run was refused or stopped)
         grid, output, config_hash = setup
@@ -381,19 +380,28 @@ def _start_worker(setups: Any, said: Any, parent: int) -> None:
 
 def _run_batch(cells: list[Cell]) -> list[Outcome]:
     assert _grid is not None and _journal is not None, "a worker runs cells after _start_worker"
-    kernels.prepare(_announce)
+    _kernels()
     return _journalled(_journal, run_cells(_grid, cells))
 
 
-def _announce() -> None:
-    """Tell the parent of a local pool that this worker compiles the kernels."""
-    if _said is not None:
-        _said.put("compiling")
+def _kernels(compiling: bool = True, notice: Notice | None = None) -> None:
+    """`kernels.prepare` in a worker, which tells its parent (a local pool's, or ``notice`` in
+    this process) that it compiles them; a failure is left to each analysis to meet and record
+    with its message."""
+
+    def announce() -> None:
+        if notice is not None:
+            notice(kernels.COMPILING)
+        elif _said is not None:
+            _said.put("compiling")
+
+    with contextlib.suppress(Exception):
+        kernels.prepare(announce, compiling)
 
 
 def _prepared(function: Callable, *args: Any) -> Any:
     """``function(*args)`` on a worker, its kernels made ready first (`kernels.prepare`)."""
-    kernels.prepare(_announce)
+    _kernels()
     return function(*args)
 
 
