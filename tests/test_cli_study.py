@@ -406,8 +406,9 @@ def test_every_reader_says_a_file_is_incomplete(tmp_path, monkeypatch):
     file's counts. They said nothing (issue 31)."""
     results = interrupted_run(tmp_path, monkeypatch, STRIPES, after=3)
     notice = f"warning: {results}: incomplete: 2 of 8 analyses; run its study again to resume it"
-    for command in (["peaks"], ["peaks", "--csv", "-"], ["fragility"], ["plot", "peaks"],
-                    ["plot", "fragility"], ["report"]):  # fmt: skip
+    for command in (["peaks"], ["peaks", "--csv", "-"], ["fragility"],
+                    ["plot", "peaks", "--level", "0.2"], ["plot", "fragility"],
+                    ["report"]):  # fmt: skip
         result = invoke(*command, results)
         assert result.exit_code == 0, result.output
         assert result.output.count(notice) == 1, command
