@@ -16,7 +16,7 @@ from studies import BRIDGES, write_study
 from rockbridge_cli.cli import main
 from rockbridge_cli.config.bridge import load_bridge
 from rockbridge_cli.core.analysis import analyze
-from rockbridge_cli.core.fidelity import PRESETS, check_work, knobs
+from rockbridge_cli.core.fidelity import PRESETS, check_work, resolve
 
 
 @pytest.fixture(autouse=True)
@@ -144,8 +144,8 @@ def test_the_presets_are_within_the_limits_and_the_work_estimate_is_a_count():
     20 s tail are 120 s, 12 001 ground samples, 12 000 history samples at 0.01 s, 1e7 steps at
     max_step 1.2e-5 s (within 1e8) and 1.2e8 at 1e-6 s (beyond)."""
     for preset in PRESETS:
-        check_work(knobs(preset), 10001, 0.01)
-    values = knobs("default", tail=20.0, max_step=1.2e-5)
+        check_work(resolve(preset).knobs, 10001, 0.01)
+    values = resolve("default", tail=20.0, max_step=1.2e-5).knobs
     check_work(values, 10001, 0.01)
     with pytest.raises(ValueError, match=r"120 s of analysis would need 1\.2e\+08 steps"):
         check_work({**values, "max_step": 1e-6}, 10001, 0.01)

@@ -113,7 +113,7 @@ def test_plain_h5py_reads_it(done):
             assert dataset.attrs["units"] == unit and dataset.attrs["description"]
             assert dataset.compression == "gzip" and dataset.chunks is not None
         time = analysis["histories/time"][()]
-        np.testing.assert_allclose(np.diff(time), study.knobs["output_step"])
+        np.testing.assert_allclose(np.diff(time), study.fidelity.knobs["output_step"])
 
 
 def test_readers(done):

@@ -119,7 +119,7 @@ def test_energy_is_conserved_between_impacts_and_across_them_with_the_mass_ratio
         eta_n=math.sqrt(mass[-1.0] / mass[1.0]),
         pounding=1.0,
     )
-    settings = fidelity.settings(fidelity.knobs("reference"))
+    settings = fidelity.resolve("reference").settings()
     result = integrate(frame, conservative, EXACT, np.zeros(2001), DT, settings, 0.004, 0.0)
     events = result.events
     hits = events[events[:, EVENT_KIND] == IMPACT]
@@ -264,7 +264,7 @@ def test_compiled_and_plain_python_kernels_agree():
     """The compiled integrator and its plain-Python source give the same response."""
     bridge = studied_bridge(1.25)
     acc = ground_motion(duration=4.0, seed=9)
-    settings = fidelity.settings(fidelity.knobs("default"))
+    settings = fidelity.resolve("default").settings()
     compiled = integrate(bridge, Bridge(bridge).laws(), EXACT, acc, DT, settings, 0.0, 0.0)
     plain = integrate.py_func(bridge, Bridge(bridge).laws(), EXACT, acc, DT, settings, 0.0, 0.0)
     for x, y in zip(compiled, plain, strict=True):
@@ -317,7 +317,7 @@ def test_an_event_is_located_just_past_it_within_the_tolerance(preset, watch):
     the root of the very function `locate` sees (the watched function after a re-step of length
     τ), found here independently by 200 bisections."""
     block = single_block(B=1.0, H=5.0, density=2500.0, g=G)
-    settings = fidelity.settings(fidelity.knobs(preset))
+    settings = fidelity.resolve(preset).settings()
     segment, ground = Segment(block, 1.0, False), Ground(np.zeros(3), 1.0)
     y, w, h = (0.01, -0.5, 0.2) if watch == WATCH_IMPACT else (0.01, 0.05, 0.2)
     start = State(y, w, acceleration(block, 1.0, y, w, 0.0, False, EXACT))

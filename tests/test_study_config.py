@@ -9,8 +9,8 @@ import pytest
 from studies import BRIDGES, REPO, STUDIED, write_records, write_study
 
 from rockbridge_cli.config.bridge import load_bridge
-from rockbridge_cli.config.study import Fidelity, load_study
-from rockbridge_cli.core.fidelity import knobs
+from rockbridge_cli.config.study import FidelityConfig, load_study
+from rockbridge_cli.core.fidelity import resolve
 from rockbridge_cli.core.quantities import HISTORY_UNITS
 from rockbridge_cli.errors import InputError
 from rockbridge_cli.records.files import Record, write_record
@@ -28,9 +28,7 @@ def test_defaults(tmp_path, monkeypatch):
     study = load_study(write_study(tmp_path))
     assert [b.id for b in study.bridges] == list(STUDIED)  # ids are the file stems
     assert [r.id for r in study.records] == ["R1", "R2"]
-    assert study.preset == "default"
-    assert study.knobs == knobs("default")
-    assert study.overrides == {}
+    assert study.fidelity == resolve("default")
     assert study.histories == tuple(HISTORY_UNITS)
     assert study.output.as_posix() == "results/study.h5"  # relative to the current folder
     assert study.bridges[0].config == load_bridge(BRIDGES / f"{STUDIED[0]}.yaml")
@@ -61,19 +59,18 @@ output:
   histories: [u_deck, theta1]
 """
     study = load_study(write_study(tmp_path, extra=extra))
-    assert study.preset == "fast"
-    assert study.knobs == knobs("fast", scheme="rk4", step=0.0005, output_step=0.02)
+    assert study.fidelity == resolve("fast", scheme="rk4", step=0.0005, output_step=0.02)
     assert study.histories == ("theta1", "u_deck")  # in HISTORY_UNITS order
     assert study.output == tmp_path / "out" / "x.h5"  # relative to the study file
     replaced = load_study(tmp_path / "study.yaml", preset="paper", output=tmp_path / "y.h5")
-    assert replaced.preset == "paper" and replaced.knobs["scheme"] == "rk4"
-    assert replaced.knobs["step"] == 0.0005  # the study's knob overrides still apply
+    assert replaced.fidelity.preset == "paper" and replaced.fidelity.knobs["scheme"] == "rk4"
+    assert replaced.fidelity.knobs["step"] == 0.0005  # the study's knob overrides still apply
     assert replaced.output == tmp_path / "y.h5"
 
 
 def test_fidelity_shorthand(tmp_path):
     study = load_study(write_study(tmp_path, extra="fidelity: paper\n"))
-    assert study.preset == "paper" and study.knobs == knobs("paper")
+    assert study.fidelity == resolve("paper")
 
 
 def test_inline_bridge(tmp_path):
@@ -233,4 +230,5 @@ def test_config_hash_follows_the_inputs_not_their_place(tmp_path):
 
 def test_fidelity_fields_are_the_core_knobs():
     """A knob added to the core must be added to the config (output_step lives in `output`)."""
-    assert set(Fidelity.model_fields) - {"preset"} == set(knobs("default")) - {"output_step"}
+    fields = set(FidelityConfig.model_fields) - {"preset"}
+    assert fields == set(resolve("default").knobs) - {"output_step"}

@@ -178,10 +178,10 @@ def _units(data: dict) -> dict[str, str]:
 def _check_work(path: Path, motion, fidelity: str, tail: float) -> None:
     """Refuse a tail out of range, or an analysis of the record that could not end
     (`core.fidelity.check_work`)."""
-    from ..core.fidelity import check_work, knobs
+    from ..core.fidelity import check_work, resolve
 
     try:
-        values = knobs(fidelity, tail=tail)
+        values = resolve(fidelity, tail=tail).knobs
     except ValueError as exc:
         raise click.BadParameter(str(exc), param_hint="--tail") from None
     try:

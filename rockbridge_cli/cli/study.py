@@ -10,6 +10,7 @@ from pathlib import Path
 import click
 
 from ..core.fidelity import PRESETS
+from ..errors import InputError
 from ..motions.intensity import MEASURES
 from . import main, plot
 from .output import (
@@ -141,7 +142,10 @@ def run(
         resolved = load_study(study, preset=fidelity, output=output)
         changed = {k: v for k, v in (("tail", tail), ("recheck", recheck)) if v is not None}
         if changed:
-            resolved = _with_knobs(resolved, changed)
+            try:
+                resolved = resolved.with_knobs(**changed)
+            except InputError as exc:  # the option's value, not the study's
+                raise click.BadParameter(exc.problems[0][1], param_hint="--tail") from None
         for warning in resolved.warnings:
             say(f"warning: {warning}", err=True)
         if part is not None and output is None:
@@ -235,22 +239,6 @@ def _heading(study, workers: int, scheduler: str | None, chosen: bool, part) -> 
     if (study.intensity or {}).get("ida"):
         heading += "\nIDA: each round runs the levels the verdicts so far call for; the total grows"
     return heading
-
-
-def _with_knobs(study, changed: dict):
-    """The study with the knobs of its command-line options (``--tail``, ``--recheck``), once
-    they are checked (`core.fidelity.knobs`, `core.fidelity.check_work`)."""
-    from ..core.fidelity import check_work, knobs
-
-    overrides = {**study.overrides, **changed}
-    try:
-        settled = knobs(study.preset, **overrides)
-        for item in study.records:
-            if item.record is not None:
-                check_work(settled, item.record.acceleration.size, item.record.time_step)
-    except ValueError as exc:
-        raise click.BadParameter(str(exc), param_hint="--tail") from None
-    return dataclasses.replace(study, knobs=settled, overrides=overrides)
 
 
 def _shard(shard: str | None, count: int | None) -> tuple[int, int] | None:

@@ -17,6 +17,7 @@ import dataclasses
 import hashlib
 import json
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Annotated, Any, Literal
@@ -32,7 +33,7 @@ from pydantic import (
     model_validator,
 )
 
-from ..core.fidelity import PRESETS, check_work, knobs
+from ..core.fidelity import PRESETS, Fidelity, check_work, resolve
 from ..core.quantities import HISTORY_UNITS
 from ..errors import InputError
 from . import loading
@@ -66,7 +67,7 @@ class InlineBridge(BridgeConfig):
     id: str = Field(pattern=ID_PATTERN, description="Bridge id in the results [-]")
 
 
-class Fidelity(StrictModel):
+class FidelityConfig(StrictModel):
     """A fidelity preset and any knobs to change (`rockbridge_cli.core.fidelity`); a plain preset
     name is short for ``{preset: <name>}``."""
 
@@ -169,7 +170,9 @@ class StudyConfig(StrictModel):
         None, description="Instead of records: the overturning spectrum of the one bridge under "
         "a pulse (config.spectrum)",
     )  # fmt: skip
-    fidelity: Fidelity = Field(default_factory=Fidelity, description="Numerical fidelity")
+    fidelity: FidelityConfig = Field(
+        default_factory=FidelityConfig, description="Numerical fidelity"
+    )
     output: Output = Field(default_factory=Output, description="The results file")
 
     @model_validator(mode="after")
@@ -212,9 +215,8 @@ class Study:
     path : the study file
     text : the study file as written
     bridges, records : resolved, in the study's order (the order of the results)
-    preset : fidelity preset name
-    knobs : every fidelity knob, overrides applied (`rockbridge_cli.core.fidelity.knobs`)
-    overrides : the knobs the study changes (passed to `analyze`)
+    fidelity : the preset and every knob, settled once and checked with each record
+        (`core.fidelity.resolve`, `check_work`): what every analysis runs at
     histories : names of the histories to store
     output : the HDF5 file
     warnings : legal but implausible inputs (`plausibility`), ``source: field: reason`` each
@@ -229,9 +231,7 @@ class Study:
     text: str
     bridges: tuple[StudyBridge, ...]
     records: tuple[StudyRecord, ...]
-    preset: str
-    knobs: dict[str, Any]
-    overrides: dict[str, Any]
+    fidelity: Fidelity
     histories: tuple[str, ...]
     output: Path
     warnings: tuple[str, ...] = ()
@@ -251,14 +251,19 @@ class Study:
                 for b in self.bridges
             ],  # fmt: skip
             "records": [{"id": r.id, "source": r.source, "sha256": r.digest} for r in self.records],
-            "fidelity": {
-                "preset": self.preset,
-                "knobs": self.knobs,
-            },
+            "fidelity": {"preset": self.fidelity.preset, "knobs": self.fidelity.knobs},
             "histories": list(self.histories),
             **({"intensity": self.intensity} if self.intensity is not None else {}),
             **({"spectrum": self.spectrum} if self.spectrum is not None else {}),
         }
+
+    def with_knobs(self, **changed: Any) -> Study:
+        """The study with more fidelity knobs changed (a command line's ``--tail``), checked as
+        the study's own are (`InputError` naming the study)."""
+        knobs = {**self.fidelity.knobs, **changed}
+        return dataclasses.replace(
+            self, fidelity=_settled(self.fidelity.preset, knobs, self.records, self.path)
+        )
 
     @property
     def config_hash(self) -> str:
@@ -363,7 +368,7 @@ def study_from_data(
     overrides = config.fidelity.overrides()
     if config.output.output_step is not None:
         overrides["output_step"] = config.output.output_step
-    settled = _settled_knobs(config.fidelity.preset, overrides, records, path)
+    settled = _settled(config.fidelity.preset, overrides, records, path)
     _check_size(len(bridges), len(records), config.intensity, path)
     if config.intensity is not None:
         records = [scalable(item, config.intensity) for item in records]
@@ -386,9 +391,7 @@ def study_from_data(
         text=text,
         bridges=tuple(bridges),
         records=tuple(records),
-        preset=config.fidelity.preset,
-        knobs=settled,
-        overrides=overrides,
+        fidelity=settled,
         histories=(
             () if spectrum and "histories" not in config.output.model_fields_set
             else config.output.kept()
@@ -428,20 +431,20 @@ def _check_size(bridges: int, records: int, intensity: Intensity | None, study: 
         raise InputError(study, [("", reason)])
 
 
-def _settled_knobs(
-    preset: str, overrides: dict[str, Any], records: list[StudyRecord], study: Path
-) -> dict[str, Any]:
-    """Every fidelity knob (`core.fidelity.knobs`), once checked in range and, with each record,
-    within what an analysis can do (`core.fidelity.check_work`)."""
+def _settled(
+    preset: str, overrides: dict[str, Any], records: Sequence[StudyRecord], study: Path
+) -> Fidelity:
+    """The study's fidelity (`core.fidelity.resolve`), once checked in range and, with each
+    record, within what an analysis can do (`core.fidelity.check_work`)."""
     try:
-        settled = knobs(preset, **overrides)
+        settled = resolve(preset, **overrides)
     except ValueError as exc:
         raise InputError(study, [("fidelity", str(exc))]) from None
     problems = []
     for item in records:
         if item.record is not None:
             try:
-                check_work(settled, item.record.acceleration.size, item.record.time_step)
+                check_work(settled.knobs, item.record.acceleration.size, item.record.time_step)
             except ValueError as exc:
                 problems.append((f"records ({item.id})", str(exc)))
     if problems:

@@ -1,4 +1,4 @@
-"""One response-history analysis: a bridge, a ground motion and a fidelity preset in, a `Response`
+"""One response-history analysis: a bridge, a ground motion and a fidelity in, a `Response`
 out."""
 
 from __future__ import annotations
@@ -9,9 +9,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import fidelity
 from ._jit import jit
 from .bridge import Bridge
+from .fidelity import Fidelity, check_work, resolve
 from .geometry import Model, kind
 from .kinematics import EXACT, Displacements, Kinematics, displacements, simplified
 from .memo import BoundedCache
@@ -138,7 +138,7 @@ def analyze(
     bridge: Bridge,
     acceleration: np.ndarray,
     time_step: float,
-    preset: str = "default",
+    fidelity: str | Fidelity = "default",
     initial: tuple[float, float] = (0.0, 0.0),
     histories: bool = True,
     **overrides: object,
@@ -153,8 +153,9 @@ def analyze(
         Ground acceleration at uniform samples, positive to the right [m/s²].
     time_step
         Sample interval of ``acceleration`` [s].
-    preset
-        Fidelity preset (`fidelity.PRESETS`).
+    fidelity
+        A preset's name (`fidelity.PRESETS`), or a fidelity settled once (`fidelity.resolve`,
+        as a study's analyses take it).
     initial
         Initial rotation θ1 [rad] and angular velocity θ̇1 [rad/s] of the tall pier; non-zero
         values start the bridge rocking at t = 0 (free vibration).
@@ -162,7 +163,7 @@ def analyze(
         False leaves ``time`` and ``histories`` of the response empty (a study that stores
         none): computing the displacements at every sample costs a tenth of a `fast` analysis.
     overrides
-        Fidelity knobs to change (`fidelity.knobs`). ``tail`` [s] continues the analysis after
+        Fidelity knobs to change (`fidelity.resolve`). ``tail`` [s] continues the analysis after
         the record with zero ground acceleration, so that a bridge still rocking when the record
         ends can come to rest, or fail, within that time.
 
@@ -190,8 +191,11 @@ def analyze(
         raise ValueError("the ground motion has non-finite values")
     if not (time_step > 0.0 and np.isfinite(time_step)):
         raise ValueError(f"the time step must be positive, got {time_step}")
-    knobs = fidelity.knobs(preset, **overrides)
-    fidelity.check_work(knobs, acc.size, time_step)
+    chosen = resolve(fidelity, **overrides) if isinstance(fidelity, str) else (
+        fidelity.changed(**overrides) if overrides else fidelity
+    )  # fmt: skip
+    knobs = chosen.knobs
+    check_work(knobs, acc.size, time_step)
     acc = np.concatenate([acc, np.zeros(int(round(knobs["tail"] / time_step)))])
     kin = _kinematics(model, knobs["kinematics"])
     sign = bridge.sign
@@ -204,19 +208,18 @@ def analyze(
         kin,
         sign * acc,
         float(time_step),
-        fidelity.settings(knobs),
+        chosen.settings(),
         sign * float(initial[0]),
         sign * float(initial[1]),
     )
     solve_time = time.perf_counter() - start
-    return _response(bridge, kin, preset, knobs, result, solve_time, histories)
+    return _response(bridge, kin, chosen, result, solve_time, histories)
 
 
 def _response(
     bridge: Bridge,
     kin: Kinematics,
-    preset: str,
-    knobs: dict,
+    fidelity: Fidelity,
     result: Integration,
     solve_time: float,
     histories: bool,
@@ -229,7 +232,7 @@ def _response(
         peaks[[PEAK_NAMES.index(name) for name in _ABSENT_IN_A_BLOCK]] = np.nan
     times, stored = np.zeros(0), {}
     if histories:
-        times = np.arange(result.theta1.size) * knobs["output_step"]
+        times = np.arange(result.theta1.size) * fidelity.knobs["output_step"]
         stored = _histories(model, kin, sign, result)
     kinds = events[:, EVENT_KIND].astype(int)
     failed = result.failure != NOT_FAILED
@@ -240,8 +243,8 @@ def _response(
     onsets = events[kinds == ONSET, EVENT_TIME]
     return Response(
         model=kind(model),
-        fidelity=preset,
-        knobs=knobs,
+        fidelity=fidelity.preset,
+        knobs=fidelity.knobs,
         time=times,
         histories=stored,
         events={

@@ -16,7 +16,7 @@
 from __future__ import annotations
 
 import numbers
-from typing import Any
+from typing import Any, NamedTuple
 
 _COMMON = {
     "rest_velocity": 1e-5, "output_step": 0.01, "max_events": 200_000, "tail": 0.0,
@@ -79,20 +79,42 @@ MAX_STEPS = 100_000_000
 (``step`` for RK4): about two minutes."""
 
 
-def knobs(preset: str, **overrides: Any) -> dict[str, Any]:
-    """The knobs of a preset, with any of them overridden.
+class Fidelity(NamedTuple):
+    """A preset with every knob settled and checked (`resolve`): what an analysis runs at, and
+    what a results file states."""
+
+    preset: str
+    knobs: dict[str, Any]
+
+    def changed(self, **overrides: Any) -> Fidelity:
+        """The same preset with more knobs changed (checked again)."""
+        return resolve(self.preset, **{**self.knobs, **overrides})
+
+    def settings(self):
+        """The solver's `Settings` (``kinematics``, ``tail`` and ``recheck`` are not the
+        solver's). The solver, and with it the compiler, is imported here, not with this module,
+        so that listing the presets stays cheap."""
+        from .solver import Settings
+
+        values = {**self.knobs, "scheme": SCHEMES.index(self.knobs["scheme"])}
+        return Settings(**{name: values[name] for name in Settings._fields})
+
+
+def resolve(preset: str, **overrides: Any) -> Fidelity:
+    """A preset's knobs, with any of them overridden, checked in range.
 
     Parameters
     ----------
     preset
         One of `PRESETS`.
     overrides
-        Knob values to change, for example ``rtol=1e-9`` or ``output_step=0.005``.
+        Knob values to change, for example ``rtol=1e-9`` or ``output_step=0.005``; None keeps
+        the preset's.
 
     Raises
     ------
     ValueError
-        Unknown preset or knob.
+        Unknown preset or knob, or a knob out of range (`LIMITS`).
     """
     if preset not in PRESETS:
         raise ValueError(f"unknown fidelity {preset!r}; choose one of {', '.join(PRESETS)}")
@@ -102,7 +124,7 @@ def knobs(preset: str, **overrides: Any) -> dict[str, Any]:
         raise ValueError(f"unknown fidelity knob(s): {', '.join(sorted(unknown))}")
     values.update({k: v for k, v in overrides.items() if v is not None})
     _check(values)
-    return values
+    return Fidelity(preset, values)
 
 
 def _check(values: dict[str, Any]) -> None:
@@ -162,15 +184,3 @@ def check_work(values: dict[str, Any], samples: int, time_step: float) -> None:
         if not amount <= most:
             raise ValueError(f"{duration:g} s of analysis would need {amount:.3g} {what}, more "
                              f"than {most:.3g}: give {knob}")  # fmt: skip
-
-
-def settings(values: dict[str, Any]):
-    """The solver's `Settings` from a knob dictionary (``kinematics`` is not a solver knob).
-
-    The solver (and with it the compiler) is imported here, not with this module, so that listing
-    the presets stays cheap.
-    """
-    from .solver import Settings
-
-    solver_values = {**values, "scheme": SCHEMES.index(values["scheme"])}  # tail: not the solver's
-    return Settings(**{name: solver_values[name] for name in Settings._fields})

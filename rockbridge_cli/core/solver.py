@@ -92,7 +92,7 @@ _EVENTS_PER_ITERATION = 3
 
 
 class Settings(NamedTuple):
-    """The fidelity knobs of one analysis, as the solver reads them (`fidelity.settings`).
+    """The fidelity knobs of one analysis, as the solver reads them (`fidelity.Fidelity.settings`).
 
     Attributes
     ----------

@@ -71,7 +71,8 @@ def plot_sweep(
     rows, level = _rows(results, columns, intensity, quantity, capacity, level)
     columns = {name: values[rows] for name, values in columns.items()}
     bridges = [b for b in dict.fromkeys(columns["bridge"]) if field in varies.get(b, ())]
-    lines = _lines(columns, {b: swept[b] for b in bridges}, field, quantity, capacity, intensity)
+    mine = {b: swept[b] for b in bridges}
+    lines = _lines(columns, mine, field, quantity, intensity if capacity else None)
     factor, unit = (1.0, MEASURES[intensity["measure"]].unit if intensity else "-")
     if not capacity:
         factor, unit = QUANTITY_SCALE.get(units[quantity], (1.0, units[quantity]))
@@ -118,20 +119,21 @@ def _rows(
 
 
 def _lines(
-    columns: dict, swept: dict[str, dict[str, float]], field: str, quantity: str, capacity: bool,
-    intensity: dict | None,
+    columns: dict, swept: dict[str, dict[str, float]], field: str, quantity: str,
+    capacity: dict | None,
 ) -> dict[tuple, list[tuple[float, float, float, float]]]:  # fmt: skip
     """Per line (bridge file, values of the other swept fields), the points (field value, median,
-    low, high) of the bridges in ``swept`` (their swept values, by bridge id)."""
+    low, high) of the bridges in ``swept`` (their swept values, by bridge id): of a peak, or of
+    the capacity ``quantity`` names, given the study's intensity section as ``capacity``."""
     fits = {}
-    if capacity:
+    if capacity is not None:
         mine = np.isin(columns["bridge"], list(swept))
-        found = fragilities_of({k: v[mine] for k, v in columns.items()}, intensity)
+        found = fragilities_of({k: v[mine] for k, v in columns.items()}, capacity)
         fits = {f.bridge: f for f in found if f.limit_state == quantity}
     lines: dict[tuple, list[tuple[float, float, float, float]]] = {}
     for bridge, values in swept.items():
         others = tuple((p, v) for p, v in values.items() if p != field)
-        if capacity:
+        if capacity is not None:
             fit = fits.get(bridge)
             middle = np.nan if fit is None or fit.median is None else fit.median
             low, high = fit.median_90 if fit is not None and fit.median_90 else (middle, middle)

@@ -296,9 +296,9 @@ def _write_header(file: h5py.File, study: Study, created: str) -> None:
             "study_yaml": study.text,
             "config": json.dumps(resolved),  # one line: the C encoder, 10x faster
             "config_hash": study.config_hash,
-            "fidelity": study.preset,
+            "fidelity": study.fidelity.preset,
             "knobs": json.dumps(knobs),
-            "output_step": float(study.knobs["output_step"]),
+            "output_step": float(study.fidelity.knobs["output_step"]),
             "significant_impact_rate": SIGNIFICANT_RATE,
             "histories": json.dumps(list(study.histories)),
             "warnings": json.dumps(list(study.warnings)),

@@ -6,12 +6,13 @@ from __future__ import annotations
 
 import heapq
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
 from ..config.intensity import scaled_id
 from ..core.bridge import Bridge
+from ..core.fidelity import Fidelity, resolve
 
 if TYPE_CHECKING:
     from ..config.study import Study
@@ -49,6 +50,11 @@ class Cell(NamedTuple):
     scale: float = 1.0
 
 
+RECHECK_KEEPS = ("tail", "output_step")
+"""Knobs a recheck at ``reference`` keeps from the study (what is analysed and stored, not how
+precisely)."""
+
+
 @dataclass(frozen=True)
 class Grid:
     """Everything needed to run any cell of a study, and nothing else.
@@ -56,21 +62,21 @@ class Grid:
     Attributes
     ----------
     bridges, records : the study's, in its order
-    preset, overrides : fidelity preset and the knobs the study changes
+    fidelity : what every analysis runs at, settled with the study (`core.fidelity.resolve`)
     keep : names of the histories to store
     config_hash : the study's hash (`Study.config_hash`)
-    recheck : run again at ``reference`` what ends near or beyond a capacity (`fidelity`)
+    recheck : the fidelity at which to run again what ends near or beyond a capacity
+        (``reference``, keeping `RECHECK_KEEPS`), None where the study does not ask it
     measure : the intensity measure of the study, empty without
     listed : the cells, when not every bridge × record (an IDA's)
     """
 
     bridges: tuple[BridgeCase, ...]
     records: tuple[RecordCase, ...]
-    preset: str
-    overrides: dict[str, Any]
+    fidelity: Fidelity
     keep: tuple[str, ...]
     config_hash: str
-    recheck: bool = False
+    recheck: Fidelity | None = None
     measure: str = ""
     listed: tuple[Cell, ...] | None = None
 
@@ -88,9 +94,13 @@ class Grid:
             for r in study.records
         )  # fmt: skip
         measure = study.intensity["measure"] if study.intensity else ""
+        fidelity = study.fidelity
+        recheck = None
+        if fidelity.knobs["recheck"] and fidelity.preset != "reference":
+            recheck = resolve("reference", **{k: fidelity.knobs[k] for k in RECHECK_KEEPS})
         return cls(
-            bridges, records, study.preset, study.overrides, study.histories, study.config_hash,
-            bool(study.knobs.get("recheck", False)), measure, cells,
+            bridges, records, fidelity, study.histories, study.config_hash, recheck, measure,
+            cells,
         )  # fmt: skip
 
     @property

@@ -1,7 +1,10 @@
-"""The plan of an incremental dynamic analysis: the rounds in which a study runs the IDA rule
-(`assessment.ida`) on every curve at once — each round the levels the verdicts so far call for —
-and, on resuming, the replay of the rule from the stored verdicts without re-running anything. The
-workers hold the records as read; each analysis scales its record itself (`grid.Cell`).
+"""The plan of a study: the rounds in which it runs, and what it has run.
+
+A plain study is one round: every cell without a verdict yet (`OneRound`). An incremental dynamic
+analysis runs the IDA rule (`assessment.ida`) on every curve at once — each round the levels the
+verdicts so far call for — and, on resuming, replays the rule from the stored verdicts without
+re-running anything (`Plan`). The workers hold the records as read; each analysis scales its
+record itself (`grid.Cell`).
 
 An overturning spectrum (`config.spectrum`) is such an IDA that also maps: its first round runs
 every scan level of every curve (the map), and its bisections then start from the map's verdicts.
@@ -18,8 +21,36 @@ from ..config.study import Study
 from .grid import Cell, Grid
 
 
+def plan_of(study: Study, grid: Grid, cells: list[Cell]) -> OneRound | Plan:
+    """The plan of a study's ``cells`` (all of its grid's, or a shard's): an IDA's, or one
+    round."""
+    if study.intensity is not None and study.intensity.get("ida") is not None:
+        return Plan(study, grid, cells)
+    return OneRound(grid, cells)
+
+
+class OneRound:
+    """A study whose analyses are all known from the start: one round, the cells without a
+    verdict; its results file is complete when it holds them all (``sized``)."""
+
+    sized = True
+
+    def __init__(self, grid: Grid, cells: list[Cell]):
+        self.grid, self.cells = grid, cells
+
+    def round(self, verdicts: Mapping[tuple[str, str], Verdict]) -> list[Cell]:
+        """The cells without a verdict: all that are left at first, none once they have run."""
+        return [cell for cell in self.cells if self.grid.ids(cell) not in verdicts]
+
+    def ran(self, verdicts: Mapping[tuple[str, str], Verdict]) -> list[Cell]:
+        """The study's cells, whichever have run."""
+        return self.cells
+
+
 class Plan:
-    """The IDA of a study, or of some of its curves: its rounds, and what it has run.
+    """The IDA of a study, or of some of its curves: its rounds, and what it has run. Its
+    results file is complete only once its rule calls for no more levels (not ``sized``: how
+    many analyses it needs is found as it runs).
 
     Parameters
     ----------
@@ -30,6 +61,8 @@ class Plan:
     curves
         The curves to follow (a shard's); default every cell of ``grid``.
     """
+
+    sized = False
 
     def __init__(self, study: Study, grid: Grid, curves: Iterable[Cell] | None = None):
         intensity = Intensity.model_validate(study.intensity)

@@ -22,7 +22,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from datetime import datetime, timezone
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import h5py
 import numpy as np
@@ -45,9 +45,9 @@ from ..results.reading import (
 )
 from ..results.writing import ResultsWriter, describe_study
 from .executors import LocalPool, Notice, executor
-from .grid import Cell, Grid
+from .grid import Grid
 from .journal import Journal, remove_journal
-from .plan import Plan
+from .plan import OneRound, Plan, plan_of
 from .shards import shard_label
 from .work import Finished
 
@@ -128,11 +128,9 @@ def run_study(
         Skip the analyses already complete in the results file or its journal (those that could
         not run, status ``error``, are tried again). False recomputes everything.
     overwrite
-        Start afresh: delete the results file and its journal, whatever study they belong to or
-        if they cannot be read, and recompute everything. Without it, a results file or journal
-        of another study, or one that cannot be read, is refused and left untouched. A file at
-        the output that is not a results file (the study, an input, a device) is refused
-        either way (`paths.checked_output`).
+        Start afresh: delete the results file and its journal, whatever study they belong to,
+        and recompute everything; without it, those of another study, or that cannot be read,
+        are refused. What is not a results file is refused either way (`paths.checked_output`).
     progress
         Called after each analysis (`Progress`).
     assembly
@@ -144,12 +142,10 @@ def run_study(
         Address of a Dask distributed scheduler (``tcp://host:8786``) to run the analyses on,
         instead of local worker processes; ``workers`` is then ignored.
     notice
-        Called with a line to show while the run goes on: that the kernels are being compiled
-        (once per installation, `kernels.COMPILING`).
+        Called with a line to show while the run goes on (`kernels.COMPILING`).
     pool
-        Local worker processes started before (`executors.LocalPool`, for example while the
-        study was being loaded), used instead of ``workers`` new ones; the run closes it (its
-        `with` block, for a run that is refused before it starts).
+        Local worker processes started before (`executors.LocalPool`: while the study loaded),
+        used instead of ``workers`` new ones; the run closes it.
 
     Raises
     ------
@@ -157,83 +153,114 @@ def run_study(
         The output cannot be written, is not a results file, another run is writing it, or it
         holds results of another study (without ``overwrite``).
     TypeError, ValueError
-        ``study`` is not a `config.study.Study` (a path: load it with ``load_study``), or
-        ``workers`` or ``shard`` is not a count, or not a shard.
+        ``study`` is not a `config.study.Study` (a path: `load_study` it), or ``workers`` or
+        ``shard`` is not a count, or not a shard.
     KeyboardInterrupt
-        After the results file has been written from the analyses finished so far;
-        `interrupts.Terminated` if SIGTERM or SIGHUP stopped the run.
+        Once the analyses finished are written (`interrupts.Terminated`: SIGTERM, SIGHUP).
     """
     _check_arguments(study, workers, shard)
-    started = time.perf_counter()
+    started, created = time.perf_counter(), _timestamp()
     workers = workers or usable_cpus()
-    created = _timestamp()
     output = checked_output(study.output, ours=is_results_file, what="a rockbridge results file")
     grid = Grid.of(study)
-    cells = grid.cells if shard is None else grid.shard(*shard)
-    plan = Plan(study, grid, cells) if _is_ida(study) else None
-    scope = grid.config_hash if shard is None else f"{grid.config_hash} shard {shard[0]}/{shard[1]}"
+    plan = plan_of(study, grid, grid.cells if shard is None else grid.shard(*shard))
     with _exclusive(output), stoppable():
-        for stale in output.parent.glob(f".{output.name}.*.tmp"):  # a killed run's
-            stale.unlink()
-        if overwrite:
-            remove_journal(output)
-            output.unlink(missing_ok=True)
-        earlier = _stored_in_output(output, study, shard)
-        journal = Journal(output, scope)
+        journal, verdicts = _resumed(output, study, shard, resume, overwrite)
+        resumed, rounds = len(verdicts), _Rounds()
         try:
-            if not resume:  # recompute everything; what is stored stays until it is replaced
-                journal.remove()
-                journal = Journal(output, scope)
-            journalled = journal.verdicts()
-            verdicts = {  # what need not run again; analyses that could not run are retried
-                ids: verdict
-                for ids, verdict in ((earlier if resume else {}) | journalled).items()
-                if verdict.status != "error"
-            }
-            resumed = len(verdicts)
-            solve_time, done, total = 0.0, 0, 0
-            summaries: list[dict] | None = None  # the bridges', from a worker (the kernels')
-            tally = None
-            ended = False  # every round run: an IDA whose rule calls for no more levels
             try:
                 with executor(grid, journal, workers, scheduler, notice, pool) as offered:
-                    bridges = [case.bridge for case in grid.bridges]
-                    summarized = offered.call(summarize_all, bridges)
-                    for pending in _rounds(grid, cells, plan, verdicts):
-                        total += len(pending)
-                        for batch in offered.run(pending):  # journalled
-                            for outcome in batch:
-                                if plan is not None:  # what an IDA's next round rests on
-                                    verdicts[grid.ids(outcome.cell)] = outcome.finished.verdict
-                                if math.isfinite(outcome.finished.solve_time_s):
-                                    solve_time += outcome.finished.solve_time_s
-                                done += 1
-                                if progress is not None:
-                                    progress(outcome.finished, done, total)
-                    summaries = summarized()
-                ended = True
-            finally:
-                if plan is not None:  # the IDA as far as it got, the batches in flight included
-                    cells = plan.ran(verdicts | journal.verdicts())
-                    grid = dataclasses.replace(grid, listed=tuple(cells))
-                if len(journal) or not output.exists():
-                    tally = _write(output, study, grid, cells, shard, journal, created, assembly,
-                                   summaries, ended or plan is None)  # fmt: skip
-                journal.remove()
+                    rounds.run(offered, plan, grid, verdicts, progress)
+            finally:  # the plan as far as it got, the batches in flight included
+                ran = tuple(plan.ran(verdicts | journal.verdicts()))
+                grid = dataclasses.replace(grid, listed=ran)
+                tally = _finish(output, study, grid, shard, journal, created, assembly, rounds,
+                                plan.sized)  # fmt: skip
         finally:
             journal.close()
     statuses, failures = tally or _tally(output)
-    return RunReport(
-        output=output,
-        total=len(cells),
-        resumed=min(resumed, len(cells)),
-        ran=done,
-        workers=workers,
-        wall_time_s=time.perf_counter() - started,
-        solve_time_s=float(solve_time),
-        statuses=statuses,
-        failures=failures,
-    )
+    total = len(grid.cells)
+    return RunReport(output, total, min(resumed, total), rounds.done, workers,
+                     time.perf_counter() - started, rounds.solve_time, statuses,
+                     failures)  # fmt: skip
+
+
+def _resumed(
+    output: Path, study: Study, shard: tuple[int, int] | None, resume: bool, overwrite: bool
+) -> tuple[Journal, dict[tuple[str, str], Verdict]]:
+    """The run's journal (of the study, or of its shard), and the verdicts of the analyses that
+    need not run again: those of the earlier results file and of the journal (none of either
+    without ``resume``, none of the file with ``overwrite``); analyses that could not run
+    (status ``error``) are retried."""
+    earlier = _earlier_verdicts(output, study, shard, overwrite)
+    scope = study.config_hash + ("" if shard is None else f" shard {shard[0]}/{shard[1]}")
+    journal = Journal(output, scope)
+    try:
+        if not resume:  # recompute everything; what is stored stays until it is replaced
+            journal.remove()
+            journal = Journal(output, scope)
+        return journal, {
+            ids: verdict
+            for ids, verdict in ((earlier if resume else {}) | journal.verdicts()).items()
+            if verdict.status != "error"
+        }
+    except BaseException:
+        journal.close()
+        raise
+
+
+def _finish(
+    output: Path, study: Study, grid: Grid, shard: tuple[int, int] | None, journal: Journal,
+    created: str, assembly: Assembly | None, rounds: _Rounds, sized: bool,
+) -> tuple[dict[str, int], int] | None:  # fmt: skip
+    """Write the results file of ``grid``'s cells where the journal holds anything new (or no
+    file exists yet), then remove the journal; the statuses and failures written, None where
+    nothing was. A plan that is not ``sized`` (an IDA) is complete only if its rounds ended."""
+    tally = None
+    if len(journal) or not output.exists():
+        tally = _write(output, study, grid, shard, journal, created, assembly, rounds.summaries,
+                       rounds.ended or sized)  # fmt: skip
+    journal.remove()
+    return tally
+
+
+@dataclass
+class _Rounds:
+    """What a run's rounds have done so far (read when they end, or are stopped).
+
+    Attributes
+    ----------
+    done, total : analyses finished, and offered, in this run
+    solve_time : their integration time [s]
+    summaries : the bridges' (`core.summary.summarize_all`, from a worker: the kernels'), None
+        until they come back
+    ended : every round run (an IDA: its rule calls for no more levels)
+    """
+
+    done: int = 0
+    total: int = 0
+    solve_time: float = 0.0
+    summaries: list[dict] | None = None
+    ended: bool = False
+
+    def run(
+        self, offered: Any, plan: OneRound | Plan, grid: Grid,
+        verdicts: dict[tuple[str, str], Verdict], progress: Progress | None,
+    ) -> None:  # fmt: skip
+        """Run the plan's rounds on the executor ``offered``, each on the verdicts so far."""
+        summarized = offered.call(summarize_all, [case.bridge for case in grid.bridges])
+        while pending := plan.round(verdicts):
+            self.total += len(pending)
+            for batch in offered.run(pending):  # journalled
+                for outcome in batch:
+                    verdicts[grid.ids(outcome.cell)] = outcome.finished.verdict
+                    if math.isfinite(outcome.finished.solve_time_s):
+                        self.solve_time += outcome.finished.solve_time_s
+                    self.done += 1
+                    if progress is not None:
+                        progress(outcome.finished, self.done, self.total)
+        self.summaries = summarized()
+        self.ended = True
 
 
 def _check_arguments(study: Study, workers: int | None, shard: tuple[int, int] | None) -> None:
@@ -253,29 +280,12 @@ def _check_arguments(study: Study, workers: int | None, shard: tuple[int, int] |
         raise ValueError(f"shard is (index, count) with 0 ≤ index < count, not {shard!r}")
 
 
-def _rounds(
-    grid: Grid, cells: list[Cell], plan: Plan | None, verdicts: dict[tuple[str, str], Verdict]
-) -> Iterator[list[Cell]]:
-    """The analyses to run, a round at a time: the cells without a verdict; for an IDA, the
-    levels its rule calls for next, until it calls for none (the verdicts grow as the analyses
-    of a round finish)."""
-    if plan is None:
-        yield [cell for cell in cells if grid.ids(cell) not in verdicts]
-        return
-    while pending := plan.round(verdicts):
-        yield pending
-
-
-def _is_ida(study: Study) -> bool:
-    return study.intensity is not None and study.intensity.get("ida") is not None
-
-
 def _write(
-    output: Path, study: Study, grid: Grid, cells: list[Cell], shard: tuple[int, int] | None,
-    journal: Journal, created: str, assembly: Assembly | None, summaries: list[dict] | None,
-    finished: bool = True,
+    output: Path, study: Study, grid: Grid, shard: tuple[int, int] | None, journal: Journal,
+    created: str, assembly: Assembly | None, summaries: list[dict] | None, finished: bool = True,
 ) -> tuple[dict[str, int], int]:  # fmt: skip
-    """Write the results file from the journal and the earlier file, in the study's order, into
+    """Write the results file of ``grid``'s cells from the journal and the earlier file, in the
+    study's order, into
     a temporary file renamed over the output at the end; ``summaries`` are the bridges' (`None`:
     computed here); ``finished`` False for an IDA stopped before its rule called for no more
     levels (the file is incomplete however many of its analyses it holds). Returns how many
@@ -284,6 +294,7 @@ def _write(
     try:
         with h5py.File(temporary, "w") as file, _earlier_results(output, grid) as earlier:
             describe_study(file, study, created, shard, summaries)
+            cells = grid.cells
             writer = ResultsWriter(file, len(cells))
             merged = _merged(journal, earlier, {cell.index for cell in cells})
             writer.add(merged, None if assembly is None else lambda n: assembly(n, len(cells)))
@@ -337,10 +348,12 @@ def _earlier_results(output: Path, grid: Grid) -> Iterator[Iterator[tuple[int, A
         )
 
 
-def _stored_in_output(
-    output: Path, study: Study, shard: tuple[int, int] | None
+def _earlier_verdicts(
+    output: Path, study: Study, shard: tuple[int, int] | None, overwrite: bool
 ) -> dict[tuple[str, str], Verdict]:
-    """The verdict of each analysis an earlier results file of the same study (and shard) holds.
+    """The verdict of each analysis an earlier results file of the same study (and shard) holds;
+    none with ``overwrite``, which first deletes the file and its journal (and a killed run's
+    temporary files either way).
 
     Raises
     ------
@@ -348,6 +361,11 @@ def _stored_in_output(
         The file cannot be read, belongs to another study (the message names what differs), or
         holds another shard.
     """
+    for stale in output.parent.glob(f".{output.name}.*.tmp"):  # a killed run's
+        stale.unlink()
+    if overwrite:
+        remove_journal(output)
+        output.unlink(missing_ok=True)
     if not output.exists():
         return {}
     hint = "rerun with --overwrite to replace it, or choose another output"

@@ -70,11 +70,6 @@ def run_cells(grid: Grid, cells: Sequence[Cell]) -> list[tuple[Outcome, Packed]]
     return analysed
 
 
-RECHECK_KEEPS = ("tail", "output_step")
-"""Knobs a recheck at ``reference`` keeps from the study (what is analysed and stored, not how
-precisely)."""
-
-
 def analyse(grid: Grid, cell: Cell) -> AnalysisResult:
     """Run one analysis; any exception becomes a result with status ``error`` and its message.
 
@@ -97,16 +92,15 @@ def _analyse(grid: Grid, bridge: BridgeCase, record: RecordCase) -> AnalysisResu
     start = time.perf_counter()
     try:
         response = analyze(
-            bridge.bridge, record.acceleration, record.time_step, grid.preset,
-            histories=bool(grid.keep), **grid.overrides,
+            bridge.bridge, record.acceleration, record.time_step, grid.fidelity,
+            histories=bool(grid.keep),
         )  # fmt: skip
         rechecked = 0
-        if grid.recheck and grid.preset != "reference" and _near_a_limit(response):
-            keep = {k: v for k, v in grid.overrides.items() if k in RECHECK_KEEPS}
+        if grid.recheck is not None and _near_a_limit(response):
             verdict = response.failure_mode
             response = analyze(
-                bridge.bridge, record.acceleration, record.time_step, "reference",
-                histories=bool(grid.keep), **keep,
+                bridge.bridge, record.acceleration, record.time_step, grid.recheck,
+                histories=bool(grid.keep),
             )  # fmt: skip
             rechecked = 1 + (response.failure_mode != verdict)  # 2: the verdict changed
     except Exception as exc:  # one failed analysis must not stop the others
