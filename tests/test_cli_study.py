@@ -19,7 +19,11 @@ from rockbridge_cli.core.analysis import analyze
 from rockbridge_cli.paths import checked_output
 from rockbridge_cli.results import read_peaks
 from rockbridge_cli.study import kernels
+from rockbridge_cli.study.grid import Cell
 from rockbridge_cli.study.work import Finished
+
+CELL = Cell(0, 0, 0)
+"""A cell for what the progress display is shown (it reads only what an analysis says)."""
 
 
 @pytest.fixture(autouse=True)
@@ -169,7 +173,9 @@ def test_progress_display(capsys, terminal):
     for done in range(1, 31):
         status = "error" if done == 7 else "ok"
         display(
-            Finished("b", f"AR{done:02d}", status, "boom" if done == 7 else "", 0.01, "none", 0.0),
+            Finished(
+                CELL, "b", f"AR{done:02d}", status, "boom" if done == 7 else "", 0.01, "none", 0.0
+            ),
             done,
             30,
         )
@@ -190,7 +196,9 @@ def test_progress_stays_short_for_a_big_study(capsys, terminal):
     for done in range(1, 10_001):
         status = "solver_error" if done % 20 == 0 else "ok"
         display(
-            Finished("b", f"R{done}", status, "x" if status != "ok" else "", 0.001, "none", 0.0),
+            Finished(
+                CELL, "b", f"R{done}", status, "x" if status != "ok" else "", 0.001, "none", 0.0
+            ),
             done,
             10_000,
         )
@@ -327,7 +335,7 @@ def test_the_time_left_counts_from_the_first_analyses_back(capsys, monkeypatch):
     clock = [0.0]
     monkeypatch.setattr("rockbridge_cli.cli.progress.time.monotonic", lambda: clock[0])
     display = ProgressDisplay(terminal=False)
-    ok = Finished("b", "r", "ok", "", 0.01, "none", 0.0)
+    ok = Finished(CELL, "b", "r", "ok", "", 0.01, "none", 0.0)
     for done in range(1, 17):
         clock[0] = 30.0 if done <= 8 else 31.0
         display(ok, done, 100)

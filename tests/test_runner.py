@@ -22,7 +22,7 @@ from rockbridge_cli.results import AnalysisResult, read_history, read_peaks
 from rockbridge_cli.study.grid import Cell
 from rockbridge_cli.study.journal import Journal, journal_path
 from rockbridge_cli.study.run import run_study
-from rockbridge_cli.study.work import Finished, Outcome
+from rockbridge_cli.study.work import Finished
 
 
 @pytest.fixture(autouse=True)
@@ -235,8 +235,8 @@ def test_a_journal_of_another_study_is_refused(tmp_path):
     study.output.parent.mkdir(parents=True)
     journal = Journal(study.output, "another study's hash")
     nan = float("nan")
-    failed = Finished("studied-hbar1.00", "R1", "error", "x", nan, "", nan)
-    journal.add([(Outcome(Cell(0, 0, 0), failed), AnalysisResult.failed("b", "r", "x").pack())])
+    failed = Finished(Cell(0, 0, 0), "studied-hbar1.00", "R1", "error", "x", nan, "", nan)
+    journal.add([(failed, AnalysisResult.failed("b", "r", "x").pack())])
     journal.close()
     with pytest.raises(InputError, match="journal.db: holds analyses of a different study"):
         run_study(study, workers=1)
@@ -253,8 +253,8 @@ def test_a_damaged_journal_is_diagnosed_and_kept(tmp_path, damage):
     study.output.parent.mkdir(parents=True)
     journal = Journal(study.output, study.config_hash)
     nan = float("nan")
-    failed = Finished("studied-hbar1.00", "R1", "error", "x", nan, "", nan)
-    journal.add([(Outcome(Cell(0, 0, 0), failed), AnalysisResult.failed("b", "r", "x").pack())])
+    failed = Finished(Cell(0, 0, 0), "studied-hbar1.00", "R1", "error", "x", nan, "", nan)
+    journal.add([(failed, AnalysisResult.failed("b", "r", "x").pack())])
     path = journal_path(study.output)
     without_log = path.read_bytes()  # as a killed run leaves it, less its log
     journal.close()
@@ -408,8 +408,8 @@ def test_batches_hold_a_second_of_work_and_shrink_at_the_end(cells, workers, sec
 
     pace = Pace()
     if seconds is not None:
-        done = Finished("b", "r", "ok", "", 0.9 * seconds, "none", 0.0, seconds)
-        pace.record([Outcome(Cell(0, 0, 0), done)] * 10)
+        done = Finished(Cell(0, 0, 0), "b", "r", "ok", "", 0.9 * seconds, "none", 0.0, seconds)
+        pace.record([done] * 10)
     timed = {None: FIRST_BATCH, 0.0: MAX_BATCH}.get(seconds) or int(BATCH_SECONDS / seconds)
     grid = [Cell(index, 0, index) for index in range(cells)]
     batches = list(_batches(grid, workers, pace))

@@ -10,6 +10,7 @@ from pathlib import Path
 import click
 
 from ..core.fidelity import PRESETS
+from ..core.quantities import SHOWN
 from ..errors import InputError
 from ..motions.intensity import MEASURES
 from . import main, plot
@@ -23,12 +24,8 @@ from .output import (
     table_text,
 )
 
-_DISPLAY = (
-    ("u_deck_max", "u_deck [mm]", 1e3),
-    ("v_deck_max", "v_deck [mm]", 1e3),
-    ("theta_deck_max", "θ_deck [mrad]", 1e3),
-    ("theta1_max", "θ1 [mrad]", 1e3),
-    ("theta2_max", "θ2 [mrad]", 1e3),
+_DISPLAY = tuple(
+    (f"{name}_max", f"{shown.text} [{shown.unit}]", shown.factor) for name, shown in SHOWN.items()
 )
 """Peak columns shown in tables: column, header with the display unit, scale from SI."""
 
@@ -126,7 +123,6 @@ def run(
     Analyses already in the results file are skipped, so an interrupted run resumes where it
     stopped.
     """
-    from ..config.study import load_study
     from ..cpus import usable_cpus
     from ..interrupts import exit_status, stopped_by
     from ..study.executors import LocalPool
@@ -139,19 +135,7 @@ def run(
     count = workers or usable_cpus()
     local = scheduler is None and count > 1
     with LocalPool(count) if local else nullcontext() as pool:  # loading their kernels meanwhile
-        resolved = load_study(study, preset=fidelity, output=output)
-        changed = {k: v for k, v in (("tail", tail), ("recheck", recheck)) if v is not None}
-        if changed:
-            try:
-                resolved = resolved.with_knobs(**changed)
-            except InputError as exc:  # the option's value, not the study's
-                raise click.BadParameter(exc.problems[0][1], param_hint="--tail") from None
-        for warning in resolved.warnings:
-            say(f"warning: {warning}", err=True)
-        if part is not None and output is None:
-            stem = resolved.output.stem
-            name = f"{stem}.part-{part[0] + 1}-of-{part[1]}{resolved.output.suffix}"
-            resolved = dataclasses.replace(resolved, output=resolved.output.with_name(name))
+        resolved = _loaded(study, fidelity, output, tail, recheck, part)
         display = ProgressDisplay(heading=_heading(resolved, count, scheduler, chosen, part))
         try:
             report = run_study(
@@ -189,6 +173,30 @@ def run(
             err=True,
         )
         ctx.exit(1)
+
+
+def _loaded(
+    study: Path, fidelity: str | None, output: Path | None, tail: float | None,
+    recheck: bool | None, part: tuple[int, int] | None,
+):  # fmt: skip
+    """The study as ``run``'s options change it (`config.study.load_study`), its warnings said;
+    a shard's output named after its part where no ``--output`` is given."""
+    from ..config.study import load_study
+
+    resolved = load_study(study, preset=fidelity, output=output)
+    changed = {k: v for k, v in (("tail", tail), ("recheck", recheck)) if v is not None}
+    if changed:
+        try:
+            resolved = resolved.with_knobs(**changed)
+        except InputError as exc:  # the option's value, not the study's
+            raise click.BadParameter(exc.problems[0][1], param_hint="--tail") from None
+    for warning in resolved.warnings:
+        say(f"warning: {warning}", err=True)
+    if part is not None and output is None:
+        stem = resolved.output.stem
+        name = f"{stem}.part-{part[0] + 1}-of-{part[1]}{resolved.output.suffix}"
+        resolved = dataclasses.replace(resolved, output=resolved.output.with_name(name))
+    return resolved
 
 
 @main.command()

@@ -59,7 +59,7 @@ class Response:
     Attributes
     ----------
     model : kind of model that ran (``asymmetric-bridge``, ``single-block``, …)
-    fidelity : name of the preset; ``knobs`` its settings
+    fidelity : what it ran at, the preset and every knob (`fidelity.resolve`)
     time : sample times of the histories [s]
     histories : name → array at ``time``; units in `HISTORY_UNITS`
     events : dict of arrays: ``time`` [s], ``kind`` (name), ``mode`` after (+1, −1, 0 at rest),
@@ -81,8 +81,7 @@ class Response:
     """
 
     model: str
-    fidelity: str
-    knobs: dict
+    fidelity: Fidelity
     time: np.ndarray
     histories: dict[str, np.ndarray]
     events: dict[str, np.ndarray]
@@ -111,7 +110,7 @@ class Response:
             n_impacts_significant=self.n_impacts_significant, failure_mode=self.failure_mode,
             failure_time=self.failure_time, dcr_backfill=self.dcr_backfill,
             dcr_overturning=self.dcr_overturning, status=self.status, model=self.model,
-            fidelity=self.fidelity,
+            fidelity=self.fidelity.preset,
             solve_time_s=self.solve_time_s, steps=self.steps, rejected_steps=self.rejected_steps,
         )  # fmt: skip
         return out
@@ -243,8 +242,7 @@ def _response(
     onsets = events[kinds == ONSET, EVENT_TIME]
     return Response(
         model=kind(model),
-        fidelity=fidelity.preset,
-        knobs=fidelity.knobs,
+        fidelity=fidelity,
         time=times,
         histories=stored,
         events={

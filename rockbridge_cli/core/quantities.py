@@ -3,6 +3,7 @@ reach: a vocabulary shared by the core, the configs, the results file and the as
 importable without the compiled core."""
 
 import re
+from typing import NamedTuple
 
 HISTORY_UNITS = {
     "theta1": "rad", "theta1_rate": "rad/s", "mode": "-", "theta2": "rad", "theta_deck": "rad",
@@ -15,6 +16,38 @@ PEAK_NAMES = ("u_deck", "v_deck", "theta_deck", "theta1", "theta2", "u_pier1", "
 
 PEAK_UNITS = {name: HISTORY_UNITS[name] for name in PEAK_NAMES}
 """Peak quantities: maxima of the absolute values, except v_deck (largest uplift)."""
+
+DISPLAY_UNITS = {"m": ("mm", 1e3), "rad": ("mrad", 1e3)}
+"""How a value in an SI unit is shown in tables and figures: the unit shown, the factor from SI."""
+
+
+def display_unit(unit: str) -> tuple[str, float]:
+    """The unit a value in ``unit`` (SI) is shown in, and the factor to it (`DISPLAY_UNITS`)."""
+    return DISPLAY_UNITS.get(unit, (unit, 1.0))
+
+
+class Shown(NamedTuple):
+    """How a response is named where it is shown: ``text`` in tables, ``tex`` (Matplotlib's
+    mathtext) on a figure's axis; ``unit`` the shown unit, ``factor`` from SI to it."""
+
+    text: str
+    tex: str
+    unit: str
+    factor: float
+
+
+SHOWN = {
+    name: Shown(text, tex, *display_unit(HISTORY_UNITS[name]))
+    for name, text, tex in (
+        ("u_deck", "u_deck", r"$u_{deck}^{CG}$"),
+        ("v_deck", "v_deck", r"$v_{deck}^{CG}$"),
+        ("theta_deck", "θ_deck", r"$\theta_{deck}$"),
+        ("theta1", "θ1", r"$\theta_1$ (tall pier)"),
+        ("theta2", "θ2", r"$\theta_2$ (short pier)"),
+    )
+}
+"""The responses the tables and figures show (Figs. 9 and 10), in their order: the histories, and
+their peaks as ``<name>_max`` columns of the peak table."""
 
 ABUTMENT, PIER1_OVERTURNING, PIER2_OVERTURNING = FAILURE_MODES = (
     "abutment", "overturning_pier1", "overturning_pier2",

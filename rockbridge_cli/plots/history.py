@@ -17,7 +17,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
-from ..core.quantities import FAILURE_EVENTS, STANDARD_GRAVITY
+from ..core.quantities import FAILURE_EVENTS, SHOWN, STANDARD_GRAVITY
 from ..errors import InputError, nearest
 from ..results.reading import (
     bridge_attributes,
@@ -28,13 +28,7 @@ from ..results.reading import (
 )
 from .common import FAILURE_LINE, GAP_LINE, check_format, panel_label, save, series_labels, style
 
-PANELS = (
-    ("u_deck", 1e3, r"$u_{deck}^{CG}$ [mm]"),
-    ("v_deck", 1e3, r"$v_{deck}^{CG}$ [mm]"),
-    ("theta_deck", 1e3, r"$\theta_{deck}$ [mrad]"),
-    ("theta1", 1e3, r"$\theta_1$ (tall pier) [mrad]"),
-    ("theta2", 1e3, r"$\theta_2$ (short pier) [mrad]"),
-)
+PANELS = tuple((name, shown.factor, f"{shown.tex} [{shown.unit}]") for name, shown in SHOWN.items())
 """Response panels: history, scale from SI to the axis unit, axis label."""
 
 
@@ -98,7 +92,7 @@ def plot_history(
         _grid(axes, next(letters))
         for gap in gaps if name == "u_deck" else ():
             for sign in (1.0, -1.0):
-                axes.axhline(sign * gap * 1e3, **GAP_LINE)
+                axes.axhline(sign * gap * SHOWN["u_deck"].factor, **GAP_LINE)
     failures = [t for t in map(_failure_time, events.values()) if t is not None]
     for when in failures:
         for axes in axes_list:

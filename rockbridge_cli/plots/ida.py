@@ -11,13 +11,12 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from ..assessment.fragility import fragilities_of
-from ..core.quantities import NO_FAILURE
+from ..core.quantities import NO_FAILURE, display_unit
 from ..errors import InputError
 from ..motions.intensity import MEASURES
 from ..results.reading import open_results, peak_columns, peak_units
 from .common import check_format, panel_label, save, style
 
-QUANTITY_SCALE = {"m": (1e3, "mm"), "rad": (1e3, "mrad")}
 """Units drawn in thousandths."""
 
 PANEL_WIDTH, MIN_WIDTH = 4.0, 6.0
@@ -55,7 +54,7 @@ def plot_ida(results: str | Path, output: str | Path, quantity: str = "u_deck_ma
         choices = [n for n, v in columns.items() if v.dtype.kind == "f"]
         raise InputError(results, [("quantity", f"not a peak column: {quantity!r}; choose "
                                                 f"from {', '.join(choices)}")])  # fmt: skip
-    factor, unit = QUANTITY_SCALE.get(units[quantity], (1.0, units[quantity]))
+    unit, factor = display_unit(units[quantity])
     ok = columns["status"] != "error"
     columns = {name: values[ok] for name, values in columns.items()}
     capacities = {(f.bridge, f.limit_state): f.capacities

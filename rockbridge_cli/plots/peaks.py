@@ -17,6 +17,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from ..assessment.levels import rows_at_level
+from ..core.quantities import SHOWN
 from ..errors import InputError
 from ..motions.intensity import MEASURES
 from ..results.reading import bridge_attributes, open_results, peak_columns
@@ -32,11 +33,10 @@ from .common import (
 )
 
 PANELS = (
-    ("u_deck_max", 1e3, r"$u_{deck}^{CG}$ [mm]"),
-    ("v_deck_max", 1e3, r"$v_{deck}^{CG}$ [mm]"),
-    ("theta_deck_max", 1e3, r"$\theta_{deck}$ [mrad]"),
-    ("theta1_max", 1e3, r"$\theta_1$ (tall pier) [mrad]"),
-    ("theta2_max", 1e3, r"$\theta_2$ (short pier) [mrad]"),
+    *(
+        (f"{name}_max", shown.factor, f"{shown.tex} [{shown.unit}]")
+        for name, shown in SHOWN.items()
+    ),
     ("dcr_backfill", 100.0, r"backfill demand/capacity [%]"),
 )
 """Column of the peak table, scale from SI to the axis unit, axis label."""
@@ -135,13 +135,15 @@ def plot_peaks(results: str | Path, output: str | Path, level: float | None = No
 def _limits(axes, bridges: dict) -> None:
     """Horizontal lines of the end-joint gap and of abutment failure (bridges with abutments):
     one black pair when the bridges share them, else one pair per bridge in its shade."""
+    shown = SHOWN["u_deck"]
     limits = {(a["model_u_jo"], a["model_u_ab"]): index for index, a in
               enumerate(bridges.values()) if math.isfinite(a["model_u_jo"])}  # fmt: skip
     if len(limits) == 1:
         ((gap, ultimate),) = limits
-        axes.axhline(gap * 1e3, **GAP_LINE, label=f"contact, $u_{{jo}}$ = {gap * 1e3:.0f} mm")
-        failure = (gap + ultimate) * 1e3
-        label = f"failure, $u_{{jo}} + u_{{ab}}$ = {failure:.0f} mm"
+        contact, failure = gap * shown.factor, (gap + ultimate) * shown.factor
+        label = f"contact, $u_{{jo}}$ = {contact:.0f} {shown.unit}"
+        axes.axhline(contact, **GAP_LINE, label=label)
+        label = f"failure, $u_{{jo}} + u_{{ab}}$ = {failure:.0f} {shown.unit}"
         axes.axhline(failure, **FAILURE_LINE, label=label)
         return
     if len(limits) > MAX_LIMITS:
@@ -149,8 +151,8 @@ def _limits(axes, bridges: dict) -> None:
         return
     for (gap, ultimate), index in limits.items():
         shade = {"color": style(index)["color"]}
-        axes.axhline(gap * 1e3, **{**GAP_LINE, **shade})
-        axes.axhline((gap + ultimate) * 1e3, **{**FAILURE_LINE, **shade})
+        axes.axhline(gap * shown.factor, **{**GAP_LINE, **shade})
+        axes.axhline((gap + ultimate) * shown.factor, **{**FAILURE_LINE, **shade})
     if limits:  # one legend entry for each kind of line
         axes.plot([], [], **GAP_LINE, label=r"contact, $u_{jo}$ (each bridge's, in its shade)")
         axes.plot([], [], **FAILURE_LINE, label=r"failure, $u_{jo} + u_{ab}$")

@@ -13,12 +13,11 @@ from matplotlib.figure import Figure
 
 from ..assessment.fragility import fragilities_of
 from ..assessment.levels import rows_at_level
-from ..core.quantities import check_limit_state
+from ..core.quantities import check_limit_state, display_unit
 from ..errors import InputError
 from ..motions.intensity import MEASURES
 from ..results.reading import open_results, peak_columns, peak_units, swept_values
 from .common import check_format, save, style
-from .ida import QUANTITY_SCALE
 
 
 def plot_sweep(
@@ -75,7 +74,7 @@ def plot_sweep(
     lines = _lines(columns, mine, field, quantity, intensity if capacity else None)
     factor, unit = (1.0, MEASURES[intensity["measure"]].unit if intensity else "-")
     if not capacity:
-        factor, unit = QUANTITY_SCALE.get(units[quantity], (1.0, units[quantity]))
+        unit, factor = display_unit(units[quantity])
     figure = Figure(figsize=(6.5, 4.5), layout="constrained")
     axes = figure.subplots()
     for index, ((source, others), points) in enumerate(lines.items()):

@@ -22,7 +22,7 @@ import numpy as np
 
 from .. import __version__
 from ..assessment.levels import IDA_POINTER, record_count, summary_groups
-from ..core.quantities import NO_FAILURE
+from ..core.quantities import NO_FAILURE, display_unit
 from ..errors import InputError, nearest
 from ..paths import MARK, checked_output, replace_atomically
 from ..results.reading import (
@@ -44,9 +44,6 @@ TABLE_COLUMNS = (
     "t_onset", "n_impacts_significant", "n_poundings", "failure_mode", "dcr_backfill", "status",
 )  # fmt: skip
 """The peak table's columns the page shows (all of them are in the results file)."""
-
-DISPLAY_UNITS = {"m": ("mm", 1e3), "rad": ("mrad", 1e3)}
-"""SI units shown in smaller ones, with the factor."""
 
 STYLE = """
 body { font: 16px/1.45 system-ui, -apple-system, "Segoe UI", Roboto, sans-serif; color: #111;
@@ -124,10 +121,7 @@ def write_report(
     parts = [
         f"<h1>{escaped(title)}</h1>",
         _incomplete(attributes),
-        f'<p class="note">{escaped(results.name)}: {len(columns["bridge"])} analyses of '
-        f"{len(bridges)} bridges under {record_count(columns)} records{_levels(intensity, columns)}"
-        f", written by rockbridge {escaped(attributes.get('rockbridge_version', '?'))} on "
-        f"{escaped(attributes.get('finished', attributes.get('created', '?')))}</p>",
+        _written_by(results, attributes, columns, len(bridges), intensity),
         _provenance(attributes),
         inputs,
         _summary(columns, bridges, intensity),
@@ -144,6 +138,24 @@ def write_report(
         record_sets(attributes, sources),
         _warnings(attributes),
     ]
+    return _write_page(output, title, parts)
+
+
+def _written_by(
+    results: Path, attributes: dict, columns: dict, bridges: int, intensity: dict | None
+) -> str:
+    """The line under the title: what the file holds, and which rockbridge wrote it when."""
+    return (
+        f'<p class="note">{escaped(results.name)}: {len(columns["bridge"])} analyses of '
+        f"{bridges} bridges under {record_count(columns)} records{_levels(intensity, columns)}"
+        f", written by rockbridge {escaped(attributes.get('rockbridge_version', '?'))} on "
+        f"{escaped(attributes.get('finished', attributes.get('created', '?')))}</p>"
+    )
+
+
+def _write_page(output: Path, title: str, parts: list[str]) -> Path:
+    """Write the page of ``parts`` (HTML fragments, empty ones left out) to ``output``, whole
+    or not at all (a temporary file renamed over it)."""
     page = (
         '<!DOCTYPE html>\n<html lang="en">\n<head>\n<meta charset="utf-8">\n'
         f'<meta name="generator" content="{MARK} {__version__}">\n'
@@ -426,7 +438,7 @@ def _peak_table(columns: dict[str, np.ndarray], units: dict[str, str]) -> str:
     headers, scales = [], []
     for name in shown:
         unit = units.get(name, "-")
-        unit, scale = DISPLAY_UNITS.get(unit, (unit, 1.0))
+        unit, scale = display_unit(unit)
         headers.append(name if unit in ("-", "") else f"{name} [{unit}]")
         scales.append(scale)
     count = len(columns["bridge"])

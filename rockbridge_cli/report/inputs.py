@@ -9,11 +9,13 @@ from typing import Any
 
 import numpy as np
 
+from ..motions.intensity import MEASURES
 from .markup import MAX_ROWS, escaped, number, table_html
 
 RECORD_COLUMNS = (
     ("source", "source"), ("file units", "file_units"), ("dt [s]", "time_step"),
-    ("duration [s]", "duration"), ("PGA [g]", "pga_g"), ("PGV [m/s]", "pgv"),
+    ("duration [s]", "duration"), (MEASURES["pga_g"].label, "pga_g"),
+    (MEASURES["pgv"].label, "pgv"),
     ("earthquake", "earthquake"), ("year", "year"), ("M", "magnitude"), ("station", "station"),
     ("R_rup [km]", "distance_rrup_km"), ("T_p [s]", "pulse_period_s"),
     ("pulse PI", "pulse_indicator"),

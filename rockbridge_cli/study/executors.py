@@ -3,7 +3,7 @@ distributed cluster.
 
 Workers receive the study's `Grid` once, and then batches of cells. Local worker
 processes commit their results to the journal themselves and send back only the outcomes
-(`work.Outcome`), so that what the parent does per analysis is small next to the analysis
+(`work.Finished`), so that what the parent does per analysis is small next to the analysis
 itself; the workers of a Dask cluster, which may not reach the journal's disk, send the packed
 results too, and the parent journals them. Workers also compute what else a run asks of the
 compiled kernels (the bridges' summaries for the results file), so that the parent need not load
@@ -37,7 +37,7 @@ from ..results.packing import Packed
 from . import kernels
 from .grid import Cell, Grid
 from .journal import Journal
-from .work import Outcome, run_cells
+from .work import Finished, run_cells
 
 BATCH_SECONDS = 1.0
 """The work a batch holds, at most [s]: what the parent does per batch (send it, wake up three
@@ -78,11 +78,11 @@ class Pace:
         self.seconds = 0.0
         self.analyses = 0
 
-    def record(self, outcomes: list[Outcome]) -> list[Outcome]:
+    def record(self, outcomes: list[Finished]) -> list[Finished]:
         """Count a batch's times in (`work.Finished.busy_s`); the outcomes, unchanged."""
-        for outcome in outcomes:
-            if math.isfinite(outcome.finished.busy_s):
-                self.seconds += outcome.finished.busy_s
+        for finished in outcomes:
+            if math.isfinite(finished.busy_s):
+                self.seconds += finished.busy_s
                 self.analyses += 1
         return outcomes
 
@@ -104,7 +104,7 @@ RESENDS = 8
 """Times a run sends batches again after a worker died before it gives up: a local pool is
 started anew (its batches in flight run again), a Dask cluster gets the grid again."""
 
-Run = Callable[[Sequence[Cell]], Iterator[list[Outcome]]]
+Run = Callable[[Sequence[Cell]], Iterator[list[Finished]]]
 """Runs cells of the grid and yields their outcomes, a batch at a time, as the batches finish and
 are journalled."""
 
@@ -240,84 +240,103 @@ def local_workers(
     the pool: a new one starts and runs the batches that were in flight again, as Dask would, up
     to `RESENDS` times a run. ``notice`` hears, once, that the kernels are being compiled.
     """
-    pool: LocalPool | None = None
-    count = 1
-    calls: list[tuple[Callable, tuple, list[Future]]] = []
-    pace = Pace()
-    restarts = 0
+    local = _LocalWorkers(grid, journal, workers, notice, started)
+    try:
+        yield Workers(local.run, local.call)
+    except BaseException as exc:
+        _saving(exc, journal, notice)
+        raise
+    finally:  # wait for the few batches in flight
+        local.close()
 
-    def call(function: Callable, *args: Any) -> Callable[[], Any]:
+
+class _LocalWorkers:
+    """The pool of `local_workers` as it goes: started on the first cells, restarted where a
+    worker died; ``calls`` are the functions asked of it, each with its futures."""
+
+    def __init__(
+        self, grid: Grid, journal: Journal, workers: int, notice: Notice | None,
+        started: LocalPool | None,
+    ):  # fmt: skip
+        self.grid, self.journal, self.workers, self.notice = grid, journal, workers, notice
+        self.started = started
+        self.pool: LocalPool | None = None
+        self.count = 1
+        self.calls: list[tuple[Callable, tuple, list[Future]]] = []
+        self.pace = Pace()
+        self.restarts = 0
+
+    def call(self, function: Callable, *args: Any) -> Callable[[], Any]:
         futures: list[Future] = []
-        calls.append((function, args, futures))
-        if pool is not None:
-            futures.append(pool.executor.submit(_prepared, function, *args))
+        self.calls.append((function, args, futures))
+        if self.pool is not None:
+            futures.append(self.pool.executor.submit(_prepared, function, *args))
         return _collector(function, args, futures)
 
-    def start(size: int) -> LocalPool:
-        nonlocal started
-        if started is None:
-            with journal.released():  # no SQLite connection may cross a fork
-                started = LocalPool(size)
-        begun, started = started, None
-        begun.serve(grid, journal)
-        for function, args, futures in calls:
-            if not futures:  # asked before the first pool started (after, computed here)
-                futures.append(begun.executor.submit(_prepared, function, *args))
-        return begun
-
-    def run(cells: Sequence[Cell]) -> Iterator[list[Outcome]]:
-        nonlocal pool, count, restarts
-        if pool is None and started is None and (workers <= 1 or len(cells) <= 1):
-            yield from _in_this_process(grid, journal, cells, pace, notice)
+    def run(self, cells: Sequence[Cell]) -> Iterator[list[Finished]]:
+        if self.pool is None and self.started is None and (self.workers <= 1 or len(cells) <= 1):
+            yield from _in_this_process(self.grid, self.journal, cells, self.pace, self.notice)
             return
-        if pool is None:
-            count = started.size if started is not None else min(workers, len(cells))
-            pool = start(count)
-        batches = _batches(cells, count, pace)
+        if self.pool is None:
+            started = self.started
+            self.count = started.size if started is not None else min(self.workers, len(cells))
+            self.pool = self._start(self.count)
+        batches = _batches(cells, self.count, self.pace)
         again: list[list[Cell]] = []  # the batches a dead worker took down with the pool
         in_flight: dict[Future, list[Cell]] = {}
         try:
             while True:
-                while len(in_flight) < 2 * count and (ready := _next(again, batches)):
-                    in_flight[pool.executor.submit(_run_batch, ready)] = ready
+                while len(in_flight) < 2 * self.count and (ready := _next(again, batches)):
+                    in_flight[self.pool.executor.submit(_run_batch, ready)] = ready
                 if not in_flight:
                     return
                 done, _ = wait(in_flight, timeout=LISTEN_S, return_when=FIRST_COMPLETED)
-                if pool.listen() and notice is not None:
-                    notice(kernels.COMPILING)
+                if self.pool.listen() and self.notice is not None:
+                    self.notice(kernels.COMPILING)
                 for future in done:
                     sent = in_flight.pop(future)
                     if isinstance(future.exception(), BrokenProcessPool):
                         again.append(sent)
                     else:
-                        yield pace.record(future.result())
+                        yield self.pace.record(future.result())
                 if again:  # a worker died (killed, out of memory): a new pool runs them again
-                    if restarts == RESENDS:
-                        raise RuntimeError(f"worker processes died {RESENDS + 1} times (out of "
-                                           "memory?); the finished analyses are saved")  # fmt: skip
-                    restarts += 1
+                    self._restart()
                     again += in_flight.values()
                     in_flight.clear()
-                    pool.close()
-                    pool = start(count)
         finally:  # interrupted: drop the batches not started
             for future in in_flight:
                 future.cancel()
 
-    try:
-        yield Workers(run, call)
-    except BaseException as exc:
-        _saving(exc, journal, notice)
-        raise
-    finally:  # wait for the few batches in flight
-        for unused in (pool, started):
+    def close(self) -> None:
+        for unused in (self.pool, self.started):
             if unused is not None:
                 unused.close()
+
+    def _start(self, size: int) -> LocalPool:
+        if self.started is None:
+            with self.journal.released():  # no SQLite connection may cross a fork
+                self.started = LocalPool(size)
+        begun, self.started = self.started, None
+        begun.serve(self.grid, self.journal)
+        for function, args, futures in self.calls:
+            if not futures:  # asked before the first pool started (after, computed here)
+                futures.append(begun.executor.submit(_prepared, function, *args))
+        return begun
+
+    def _restart(self) -> None:
+        """A new pool in place of one a worker's death broke, up to `RESENDS` times a run."""
+        if self.restarts == RESENDS:
+            raise RuntimeError(f"worker processes died {RESENDS + 1} times (out of memory?); "
+                               "the finished analyses are saved")  # fmt: skip
+        self.restarts += 1
+        assert self.pool is not None
+        self.pool.close()
+        self.pool = self._start(self.count)
 
 
 def _in_this_process(
     grid: Grid, journal: Journal, cells: Sequence[Cell], pace: Pace, notice: Notice | None
-) -> Iterator[list[Outcome]]:
+) -> Iterator[list[Finished]]:
     """Run the cells in this process, a batch at a time, its kernels made ready first (``notice``
     hears if they are compiled); a stopping signal stops the run once the batch is journalled
     (`interrupts.held`), as it stops a pool once the batches in flight are."""
@@ -351,10 +370,10 @@ def _batches(cells: Sequence[Cell], workers: int, pace: Pace) -> Iterator[list[C
         start += size
 
 
-def _journalled(journal: Journal, analysed: list[tuple[Outcome, Packed]]) -> list[Outcome]:
+def _journalled(journal: Journal, analysed: list[tuple[Finished, Packed]]) -> list[Finished]:
     """Commit a batch's results to the journal; its outcomes."""
     journal.add(analysed)
-    return [outcome for outcome, _ in analysed]
+    return [finished for finished, _ in analysed]
 
 
 def _start_worker(setups: Any, said: Any, parent: int) -> None:
@@ -378,7 +397,7 @@ def _start_worker(setups: Any, said: Any, parent: int) -> None:
         _journal = Journal(output, config_hash)
 
 
-def _run_batch(cells: list[Cell]) -> list[Outcome]:
+def _run_batch(cells: list[Cell]) -> list[Finished]:
     assert _grid is not None and _journal is not None, "a worker runs cells after _start_worker"
     _kernels()
     return _journalled(_journal, run_cells(_grid, cells))
@@ -436,7 +455,7 @@ def dask_workers(
     resends = 0
     pace = Pace()
 
-    def run(cells: Sequence[Cell]) -> Iterator[list[Outcome]]:
+    def run(cells: Sequence[Cell]) -> Iterator[list[Finished]]:
         nonlocal shared, resends
         if not cells:
             return

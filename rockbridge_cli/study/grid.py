@@ -39,13 +39,14 @@ class RecordCase(NamedTuple):
 
 
 class Cell(NamedTuple):
-    """One analysis: its position in the results, the bridge and record it combines, and the
-    intensity level and factor the record is scaled by for this analysis alone (an IDA's; NaN
-    and 1 when the record is analysed as listed)."""
+    """One analysis: its position in the results, the indices of the bridge and the record it
+    combines (in `Grid.bridges`, `Grid.records`), and the intensity level and factor the record
+    is scaled by for this analysis alone (an IDA's; NaN and 1 when the record is analyzed as
+    listed)."""
 
     index: int  # type: ignore[assignment]  # the cell's index, not tuple.index
-    bridge: int
-    record: int
+    bridge_index: int
+    record_index: int
     level: float = float("nan")
     scale: float = 1.0
 
@@ -114,14 +115,14 @@ class Grid:
 
     def ids(self, cell: Cell) -> tuple[str, str]:
         """(bridge id, record id) of a cell."""
-        record = self.records[cell.record]
+        record = self.records[cell.record_index]
         if cell.level != cell.level:  # NaN: as listed
-            return self.bridges[cell.bridge].id, record.id
-        return self.bridges[cell.bridge].id, scaled_id(record.id, cell.level, self.measure)
+            return self.bridges[cell.bridge_index].id, record.id
+        return self.bridges[cell.bridge_index].id, scaled_id(record.id, cell.level, self.measure)
 
     def record_of(self, cell: Cell) -> RecordCase:
         """The record a cell analyses, scaled as the cell says."""
-        record = self.records[cell.record]
+        record = self.records[cell.record_index]
         if cell.level != cell.level:
             return record
         acceleration = None if record.acceleration is None else cell.scale * record.acceleration
@@ -132,7 +133,7 @@ class Grid:
     def cost(self, cell: Cell) -> int:
         """The expected cost of a cell: the samples of its record (an analysis steps through
         each), and 0 for a record that could not be read."""
-        record = self.records[cell.record]
+        record = self.records[cell.record_index]
         return 0 if record.acceleration is None else record.acceleration.size
 
     def shard(self, index: int, count: int) -> list[Cell]:

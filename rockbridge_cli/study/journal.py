@@ -20,7 +20,7 @@ from ..assessment.limit_states import Verdict
 from ..errors import InputError
 from ..paths import journal_path
 from ..results.packing import Packed
-from .work import Outcome
+from .work import Finished
 
 PAGE_BYTES = 65536
 """SQLite's page size for the journal, its largest: an analysis (≈ 5 kB without histories) fits in
@@ -117,7 +117,7 @@ class Journal:
             reason = "holds analyses of a different study or different inputs (an interrupted run)"
             raise InputError(self.path, [("", f"{reason}; {hint}")])
 
-    def add(self, analysed: Iterable[tuple[Outcome, Packed]]) -> None:
+    def add(self, analysed: Iterable[tuple[Finished, Packed]]) -> None:
         """Commit finished analyses, each with its packed result, in one transaction (an analysis
         journalled again replaces the earlier entry).
 
@@ -131,9 +131,9 @@ class Journal:
                 self.connection.execute("BEGIN")
                 self.connection.executemany(
                     "INSERT OR REPLACE INTO analyses VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
-                    ((outcome.cell.index, packed.bridge, packed.record, *outcome.finished.verdict,
+                    ((finished.cell.index, packed.bridge, packed.record, *finished.verdict,
                       packed.texts, packed.numbers, packed.events, packed.histories)
-                     for outcome, packed in analysed),
+                     for finished, packed in analysed),
                 )  # fmt: skip
         except sqlite3.Error as exc:
             raise OSError(f"{self.path}: cannot write the journal ({exc})") from None

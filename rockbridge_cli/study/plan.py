@@ -101,8 +101,8 @@ class Plan:
         bridge, record and level."""
         level = self.lattice.level(n)
         return Cell(
-            curve.index * self.lattice.count + n, curve.bridge, curve.record, level,
-            level / self.natives[curve.record],
+            curve.index * self.lattice.count + n, curve.bridge_index, curve.record_index, level,
+            level / self.natives[curve.record_index],
         )  # fmt: skip
 
     def _cells(self, verdicts: Mapping[tuple[str, str], Verdict], which: str) -> list[Cell]:

@@ -252,13 +252,13 @@ class _Rounds:
         while pending := plan.round(verdicts):
             self.total += len(pending)
             for batch in offered.run(pending):  # journalled
-                for outcome in batch:
-                    verdicts[grid.ids(outcome.cell)] = outcome.finished.verdict
-                    if math.isfinite(outcome.finished.solve_time_s):
-                        self.solve_time += outcome.finished.solve_time_s
+                for finished in batch:
+                    verdicts[grid.ids(finished.cell)] = finished.verdict
+                    if math.isfinite(finished.solve_time_s):
+                        self.solve_time += finished.solve_time_s
                     self.done += 1
                     if progress is not None:
-                        progress(outcome.finished, self.done, self.total)
+                        progress(finished, self.done, self.total)
         self.summaries = summarized()
         self.ended = True
 

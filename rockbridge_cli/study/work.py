@@ -1,4 +1,4 @@
-"""What a worker does with a batch of cells: run each analysis and pack its result."""
+"""What a worker does with a batch of cells: analyze each and pack its result."""
 
 from __future__ import annotations
 
@@ -17,10 +17,12 @@ if TYPE_CHECKING:
 
 
 class Finished(NamedTuple):
-    """One analysis done (a tuple: it travels back from a worker with every analysis).
+    """One cell analyzed: which, and what it says (a tuple: it travels back from a worker with
+    every analysis, whose results wait in the journal).
 
     Attributes
     ----------
+    cell : the cell
     bridge, record : ids
     status : ``ok``, ``solver_error`` or ``error`` (`results.STATUSES`)
     message : why it stopped early or could not run; empty if ok
@@ -30,6 +32,7 @@ class Finished(NamedTuple):
     busy_s : how long the worker took, from the start of the analysis to its packed result [s]
     """
 
+    cell: Cell
     bridge: str
     record: str
     status: str
@@ -45,32 +48,25 @@ class Finished(NamedTuple):
         return Verdict(self.status, self.failure_mode, self.dcr_backfill)
 
 
-class Outcome(NamedTuple):
-    """A finished cell: which, and what it says (its results wait in the journal)."""
-
-    cell: Cell
-    finished: Finished
-
-
-def run_cells(grid: Grid, cells: Sequence[Cell]) -> list[tuple[Outcome, Packed]]:
-    """Run the analyses of ``cells``: each one's outcome and packed result. An exception fails
-    only its own analysis."""
+def run_cells(grid: Grid, cells: Sequence[Cell]) -> list[tuple[Finished, Packed]]:
+    """Analyze ``cells``: what each says, and its packed result. An exception fails only its own
+    analysis."""
     analysed = []
     for cell in cells:
         start = time.perf_counter()
-        result = analyse(grid, cell)
+        result = analyze_cell(grid, cell)
         packed = result.pack()
         values = result.values
         finished = Finished(
-            result.bridge, result.record, values["status"], values["message"],
+            cell, result.bridge, result.record, values["status"], values["message"],
             values["solve_time_s"], values["failure_mode"], values["dcr_backfill"],
             time.perf_counter() - start,
         )  # fmt: skip
-        analysed.append((Outcome(cell, finished), packed))
+        analysed.append((finished, packed))
     return analysed
 
 
-def analyse(grid: Grid, cell: Cell) -> AnalysisResult:
+def analyze_cell(grid: Grid, cell: Cell) -> AnalysisResult:
     """Run one analysis; any exception becomes a result with status ``error`` and its message.
 
     With ``grid.recheck``, an analysis at a cheaper preset that ends in a failure of the bridge,
@@ -78,13 +74,13 @@ def analyse(grid: Grid, cell: Cell) -> AnalysisResult:
     result is that one (``rechecked`` = 1, or 2 where its failure mode differs from the cheaper
     preset's): a cheap preset's verdict can be wrong near a limit.
     """
-    bridge, record = grid.bridges[cell.bridge], grid.record_of(cell)
-    result = _analyse(grid, bridge, record)
+    bridge, record = grid.bridges[cell.bridge_index], grid.record_of(cell)
+    result = _analyzed(grid, bridge, record)
     result.values.update(base_record=record.base, intensity=record.level, scale=record.scale)
     return result
 
 
-def _analyse(grid: Grid, bridge: BridgeCase, record: RecordCase) -> AnalysisResult:
+def _analyzed(grid: Grid, bridge: BridgeCase, record: RecordCase) -> AnalysisResult:
     from ..core.analysis import analyze  # the compiled kernels: a worker's, not the parent's
 
     if record.acceleration is None:
