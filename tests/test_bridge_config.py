@@ -21,7 +21,7 @@ from conftest import (
 from rockbridge_cli.config.bridge import BridgeConfig, load_bridge
 from rockbridge_cli.core.analysis import analyze
 from rockbridge_cli.core.geometry import kind
-from rockbridge_cli.core.summary import summarize
+from rockbridge_cli.core.summary import describe, summarize
 from rockbridge_cli.errors import InputError
 
 # Each config against the Model built here from the paper's data (conftest docstring).
@@ -245,3 +245,17 @@ def test_the_bridge_as_analysed_carries_the_mirror_and_the_restitution(tmp_path)
     assert summary["eta_pn"] == summary["eta_np"] == 0.9  # the override, as in bridge.laws()
     assert bridge.laws().eta_p == bridge.laws().eta_n == 0.9
     assert summary["eta_frame_pn"] != 0.9  # the law's frame value stays as computed
+
+
+def test_describe_gives_what_the_ratios_divide_by(tmp_path):
+    """`describe` (``rockbridge describe``): the gap, backfill capacity and half-width are the
+    paper's u_jo = 0.12 m, u_ab = 0.10 m and B = 1.3 m of the studied bridge ("Failure
+    Criteria"; 2B = 2.6 m); a frame has none of the first two, and no restitution is set."""
+    described = describe(load_bridge(CONFIGS / "studied-hbar1.25.yaml").to_bridge())
+    assert described["gap"] == pytest.approx(0.12, rel=1e-12)
+    assert described["backfill_capacity"] == pytest.approx(0.10, rel=1e-12)
+    assert described["half_width"] == pytest.approx(1.3, rel=1e-12)
+    assert described["rocking_restitution"] is None and described["eta_pn"] > 0.0
+    text = BRIDGE_TEXT.format(left=26.0, right=13.0).split("abutments:")[0]
+    frame = describe(load_bridge(yaml_file(tmp_path, text)).to_bridge())
+    assert frame["gap"] is None and frame["backfill_capacity"] is None

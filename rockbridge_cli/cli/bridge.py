@@ -18,19 +18,12 @@ def describe(bridge: Path, as_json: bool) -> None:
     """Print the model used and the quantities a designer checks first for BRIDGE (a YAML file)."""
     from ..config.bridge import load_bridge  # pydantic: loaded on use
     from ..config.plausibility import bridge_warnings
-    from ..core.summary import summarize  # the compiled core: loaded on use
+    from ..core.summary import describe as described  # the compiled core: loaded on use
 
     config = load_bridge(bridge)
     for warning in bridge_warnings(config):
         click.echo(f"warning: {bridge}: {warning}", err=True)
-    analysed = config.to_bridge()
-    model = analysed.model
-    summary = summarize(analysed)
-    summary["rocking_restitution"] = analysed.restitution
-    # what the demand/capacity ratios divide by (docs/model.md §8) [m]
-    summary.update(gap=model.u_jo if model.has_abutments else None,
-                   backfill_capacity=model.u_ab if model.has_abutments else None,
-                   half_width=model.B)  # fmt: skip
+    summary = described(config.to_bridge())
     if as_json:
         echo_json({"name": config.label(bridge.stem), **summary})
         return

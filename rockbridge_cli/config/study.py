@@ -22,7 +22,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
-import yaml
 from pydantic import (
     BeforeValidator,
     Field,
@@ -213,7 +212,7 @@ class Study:
     Attributes
     ----------
     path : the study file
-    text : the study file as written
+    text : the study file as written; empty for a study built in code (`single_analysis`)
     bridges, records : resolved, in the study's order (the order of the results)
     fidelity : the preset and every knob, settled once and checked with each record
         (`core.fidelity.resolve`, `check_work`): what every analysis runs at
@@ -322,8 +321,8 @@ def single_analysis(
     preset
         Fidelity preset.
     output
-        The HDF5 results file; the study is named after it, ``<output>.study.yaml``, in messages
-        and in the file (every path in it is absolute).
+        The HDF5 results file. The study has no file of its own: messages and the results file
+        name it by ``output`` (every path in it is absolute).
     tail
         Free vibration after the record [s] (`core.fidelity`).
     """
@@ -331,13 +330,11 @@ def single_analysis(
     entry: dict[str, Any] = {"path": str(Path(record).resolve()), "id": record_id}
     entry.update({k: v for k, v in (("units", units), ("time_step", time_step)) if v is not None})
     data = {
-        "description": f"rockbridge analyze {bridge} {record}",
         "bridges": [str(Path(bridge).resolve())],
         "records": {"files": [entry]},
         "fidelity": {"preset": preset, **({"tail": tail} if tail else {})},
     }
-    source = Path(output).with_suffix(".study.yaml")
-    return study_from_data(data, source, yaml.safe_dump(data, sort_keys=False), None, output)
+    return study_from_data(data, Path(output), "", None, output)
 
 
 def study_from_data(

@@ -23,6 +23,21 @@ def summarize_all(bridges: Sequence[Bridge]) -> list[dict[str, object]]:
     return [summarize(bridge) for bridge in bridges]
 
 
+def describe(bridge: Bridge) -> dict[str, object]:
+    """What ``rockbridge describe`` shows of a bridge: `summarize`, with the restitution the
+    config sets (``rocking_restitution``, None where the model's is used) and what the
+    demand/capacity ratios divide by (docs/model.md §8): ``gap`` u_jo and ``backfill_capacity``
+    u_ab [m] (None without abutments), ``half_width`` B [m]."""
+    model = bridge.model
+    abutments = model.has_abutments
+    return summarize(bridge) | {
+        "rocking_restitution": bridge.restitution,
+        "gap": model.u_jo if abutments else None,
+        "backfill_capacity": model.u_ab if abutments else None,
+        "half_width": model.B,
+    }
+
+
 def summarize(bridge: Bridge) -> dict[str, object]:
     """Derived constants, onset, restitution and failure capacities of a bridge.
 
