@@ -118,23 +118,23 @@ def main() -> None:
     args = parser.parse_args()
     set_name, records = load_records(args)
     bridges = [load_bridge(path) for path in BRIDGES]
-    analysed = [b.to_bridge() for b in bridges]
+    analyzed = [b.to_bridge() for b in bridges]
 
     # Warm up the compiled kernels (compilation is not part of any timing).
     name, dt, acc = records[0]
     for _, preset, overrides in VARIANTS:
-        analyze(analysed[0], acc[:500], dt, preset, **overrides)
+        analyze(analyzed[0], acc[:500], dt, preset, **overrides)
 
     results = {}
     for label, preset, overrides in VARIANTS:
         results[label] = [
             analyze(bridge, acc, dt, preset, **overrides)
-            for bridge in analysed
+            for bridge in analyzed
             for _, dt, acc in records
         ]
     reference = results["reference"]
 
-    print(f"records: {set_name} ({len(records)}), bridges: {len(analysed)}, "
+    print(f"records: {set_name} ({len(records)}), bridges: {len(analyzed)}, "
           f"analyses per row: {len(reference)}")  # fmt: skip
     header = f"{'variant':<26}{'median ms':>10}{'total s':>9}{'steps':>7}"
     header += "".join(f"{'err ' + p:>15}" for p in PEAKS) + f"{'vs ref':>8}"
@@ -152,7 +152,7 @@ def main() -> None:
         print(line)
     if args.plot:
         plot(rows, args.plot)
-    ensemble(records, analysed, results)
+    ensemble(records, analyzed, results)
     verdicts(records)
 
 
@@ -161,18 +161,18 @@ FIG9 = (*PEAKS, "dcr_backfill")
 """The Fig. 9 quantities whose ensemble means the second table compares."""
 
 
-def ensemble(records, analysed, results) -> None:
+def ensemble(records, analyzed, results) -> None:
     """The second table: time, errors and failure verdicts per preset over the ensemble."""
     reference = results["reference"]
-    samples = [acc.size for bridge in analysed for _, _, acc in records]
-    design = [0.69 * G / np.abs(acc).max() for bridge in analysed for _, _, acc in records]
-    near = [capacity(bridge, acc, dt) for bridge in analysed for _, dt, acc in records]
+    samples = [acc.size for bridge in analyzed for _, _, acc in records]
+    design = [0.69 * G / np.abs(acc).max() for bridge in analyzed for _, _, acc in records]
+    near = [capacity(bridge, acc, dt) for bridge in analyzed for _, dt, acc in records]
     cases = {  # the factor of each bridge × record, and the margins around it
         "1x": (design, (1.0,)), "2x": ([2.0 * f for f in design], (1.0,)),
         "±1%": (near, (0.99, 1.01)),
     }  # fmt: skip
     expected = {
-        case: verdicts_at(analysed, records, "reference", *how) for case, how in cases.items()
+        case: verdicts_at(analyzed, records, "reference", *how) for case, how in cases.items()
     }
     print(f"\nensemble: {len(reference)} analyses; failure verdicts that differ from reference "
           "at 1x and 2x the design PGA 0.69 g and at 0.99x and 1.01x each record's "
@@ -191,7 +191,7 @@ def ensemble(records, analysed, results) -> None:
         means = [abs(mean(responses, q) / mean(reference, q) - 1.0) for q in FIG9]
         differ = []
         for case, how in cases.items():
-            found = verdicts_at(analysed, records, preset, *how)
+            found = verdicts_at(analyzed, records, preset, *how)
             count = sum(a != b for a, b in zip(found, expected[case], strict=True))
             differ.append(f"{count}/{len(found)}")
         print(f"{preset:<10}{statistics.median(times) * 1e3:>12.2f}{per_sample * 1e6:>10.3f}"
@@ -228,10 +228,10 @@ def capacity(bridge, acc, dt, tolerance: float = 0.0025) -> float:
     return high
 
 
-def verdicts_at(analysed, records, preset, factors, margins) -> list[str]:
+def verdicts_at(analyzed, records, preset, factors, margins) -> list[str]:
     """The failure mode of each bridge × record scaled by its factor times each margin (records
     without a factor, NaN, are left out)."""
-    pairs = [(bridge, dt, acc) for bridge in analysed for _, dt, acc in records]
+    pairs = [(bridge, dt, acc) for bridge in analyzed for _, dt, acc in records]
     return [
         analyze(bridge, margin * factor * acc, dt, preset).failure_mode
         for (bridge, dt, acc), factor in zip(pairs, factors, strict=True)
@@ -263,11 +263,11 @@ def extreme_models():
 
 
 def verdicts(records, intensity: float = 2.0) -> None:
-    analysed = [config.to_bridge() for _, config in extreme_models()]
+    analyzed = [config.to_bridge() for _, config in extreme_models()]
     runs = {
         preset: [
             analyze(bridge, intensity * acc, dt, preset)
-            for bridge in analysed
+            for bridge in analyzed
             for _, dt, acc in records
         ]
         for preset in ("reference", *PRESETS_COMPARED)

@@ -58,16 +58,16 @@ def verdict(paper: float, ours: float, digits: float) -> str:
     return "close" if abs(ours - paper) <= 0.1 * abs(paper) else "differs"
 
 
-def analysed(name: str):
+def analyzed(name: str):
     return load_bridge(BRIDGES / f"{name}.yaml").to_bridge()
 
 
 def model(name: str):
-    return analysed(name).model
+    return analyzed(name).model
 
 
 def closed_forms() -> None:
-    studied = {h: summarize(analysed(name)) for h, name in STUDIED.items()}
+    studied = {h: summarize(analyzed(name)) for h, name in STUDIED.items()}
     for h, (m2, gamma, q) in {
         1.0: (44, 2.3, 0.761),
         1.25: (35, 2.6, 0.771),
@@ -111,7 +111,7 @@ def closed_forms() -> None:
             verdict(paper, worse, 0.01),
             note,
         )
-    fig3 = summarize(analysed("fig3-hbar6.4"))
+    fig3 = summarize(analyzed("fig3-hbar6.4"))
     row(
         "Fig. 3 onset at h̄ = 6.4 [g]",
         "0.35",

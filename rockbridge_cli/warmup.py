@@ -6,7 +6,7 @@ the folder named by ``NUMBA_CACHE_DIR`` if set, else ``__pycache__`` beside the 
 cache folder (``~/.cache/numba`` on Linux). Compiling the whole package (the core and the
 ground-motion numerics) takes 15–30 s. A container image runs ``python -m rockbridge_cli.warmup``
 at build time with ``NUMBA_CACHE_DIR`` set for good (see the Dockerfile), so that every container of
-a batch job starts analysing at once. Any installation can run it after ``pip install`` for the
+a batch job starts analyzing at once. Any installation can run it after ``pip install`` for the
 same effect: run from a checkout, whose ``rockbridge_cli`` folder Python imports before the
 installed one, it compiles both, so that the ``rockbridge`` command finds its kernels too.
 

@@ -101,10 +101,10 @@ def test_mirrored_bridge(tmp_path):
     for p, n in swaps:
         assert b[p] == a[n] and b[n] == a[p]
     assert b["mirrored"] is True and a["mirrored"] is False
-    for limit, rotation in b["capacities"].items():
+    for limit, rotation in b["failure_rotations"].items():
         # user's p (counter-clockwise) is the model's n: rotations change sign
-        assert rotation["p"] == -a["capacities"][limit]["n"]
-        assert rotation["n"] == -a["capacities"][limit]["p"]
+        assert rotation["p"] == -a["failure_rotations"][limit]["n"]
+        assert rotation["n"] == -a["failure_rotations"][limit]["p"]
         assert rotation["p"] > 0 > rotation["n"]
 
 

@@ -228,7 +228,7 @@ def test_describe_frame(cli, tmp_path):
     data = json.loads(result.stdout)
     assert data["model"] == "asymmetric-frame"
     assert data["eta_pn"] == data["eta_frame_pn"] and data["pounding_ratio"] == 1.0
-    assert "abutment" not in data["capacities"]
+    assert "abutment" not in data["failure_rotations"]
 
 
 def test_describe_prints_what_the_model_has(cli, tmp_path):

@@ -239,13 +239,14 @@ def test_an_ida_runs_in_rounds_and_keeps_every_level(ida_run):
 def test_no_level_runs_above_a_failure_and_overturning_is_unreachable(ida_run):
     """The model has one degree of freedom: u_deck and the piers' rotations are functions of θ1,
     so a bridge whose tall pier reaches the abutment's failure rotation before either overturning
-    rotation, in both directions (`summarize`'s capacities), fails its abutment before any pier
-    can overturn. The studied bridges are such bridges: every curve ends at its abutment's
-    failure, no analysis runs above a failure, and overturning is unreachable on every curve."""
+    rotation, in both directions (`summarize`'s failure rotations), fails its abutment before
+    any pier can overturn. The studied bridges are such bridges: every curve ends at its
+    abutment's failure, no analysis runs above a failure, and overturning is unreachable on
+    every curve."""
     study, _ = ida_run
     peaks = read_peaks(study.output)
     for bridge in study.bridges:
-        caps = summarize(bridge.config.to_bridge())["capacities"]
+        caps = summarize(bridge.config.to_bridge())["failure_rotations"]
         for direction in ("p", "n"):
             abutment = abs(caps["abutment"][direction])
             assert abutment < min(abs(caps[m][direction]) for m in caps if m != "abutment")

@@ -1,5 +1,5 @@
 """Onset of rocking (Eq. 8), restitution at the rocking interfaces (Eqs. 21–30), the published
-values of docs/model.md §10, the classical limits, and the failure capacities."""
+values of docs/model.md §10, the classical limits, and the failure rotations."""
 
 from __future__ import annotations
 
@@ -23,7 +23,7 @@ from rockbridge_cli.core.bridge import Bridge
 from rockbridge_cli.core.dynamics import acceleration, coefficients, energy
 from rockbridge_cli.core.geometry import single_block
 from rockbridge_cli.core.impacts import (
-    capacities,
+    failure_rotations,
     governing_failure,
     onset_threshold,
     restitution,
@@ -350,15 +350,15 @@ def test_fig8b_restitution_against_the_central_span():
 
 
 # ---------------------------------------------------------------------------------------------
-# Failure capacities
+# Failure rotations
 # ---------------------------------------------------------------------------------------------
 
 
 @pytest.mark.parametrize("h_bar", [1.0, 1.25, 2.0, 6.4])
-def test_capacities(h_bar):
+def test_failure_rotations(h_bar):
     m = studied_bridge(h_bar)
     link = RefLinkage.of(m)
-    caps = capacities(m)
+    caps = failure_rotations(m)
     assert set(caps) == {"abutment", "overturning_pier1", "overturning_pier2"}
     for mode, s in (("p", 1.0), ("n", -1.0)):
         # the tall pier overturns at θ1 = s·α1 (Eq. 4: u1 = R1·cos φ ∓ B = ∓B at φ = π/2)
@@ -377,7 +377,7 @@ def test_capacities(h_bar):
 
 def test_governing_failure_is_overturning_with_a_huge_gap():
     m = studied_bridge(2.0, gap=2.0, u_ab=1.0)  # u_jo + u_ab = 3 m > B = 1.3 m
-    caps = capacities(m)
+    caps = failure_rotations(m)
     # the deck would reach 3 m only after the tall pier has passed its overturning rotation α1
     assert abs(caps["abutment"]["p"]) > m.alpha1 and abs(caps["abutment"]["n"]) > m.alpha1
     first = min(caps, key=lambda k: min(abs(v) for v in caps[k].values()))
@@ -387,9 +387,9 @@ def test_governing_failure_is_overturning_with_a_huge_gap():
 
 def test_capacities_of_a_frame_and_a_block():
     frame = studied_bridge(2.0, abutments=False)
-    assert set(capacities(frame)) == {"overturning_pier1", "overturning_pier2"}
+    assert set(failure_rotations(frame)) == {"overturning_pier1", "overturning_pier2"}
     block = single_block(1.0, 8.0, 2500.0, 9.81)
-    caps = capacities(block)
+    caps = failure_rotations(block)
     assert set(caps) == {"overturning_pier1"}
     assert caps["overturning_pier1"]["p"] == pytest.approx(math.atan(1 / 8), abs=1e-12)
     assert governing_failure(block) == "overturning_pier1"
@@ -401,7 +401,7 @@ def test_capacities_of_a_frame_and_a_block():
 
 
 def flat_numbers(summary):
-    """Every number of a summary, capacities included, keyed by a dotted name."""
+    """Every number of a summary, failure rotations included, keyed by a dotted name."""
     out = {}
     for key, value in summary.items():
         if isinstance(value, dict):
@@ -415,14 +415,14 @@ def flat_numbers(summary):
 
 def check_sensible(summary):
     numbers = flat_numbers(summary)
-    assert all(math.isfinite(v) for k, v in numbers.items() if not k.startswith("capacities")), (
-        numbers
-    )
+    assert all(
+        math.isfinite(v) for k, v in numbers.items() if not k.startswith("failure_rotations")
+    ), numbers
     for key in ("eta_pn", "eta_np", "eta_frame_pn", "eta_frame_np", "pounding_ratio"):
         assert 0.0 < summary[key] <= 1.0, (key, summary[key])
     assert summary["ug_min_p"] > 0 and summary["ug_min_n"] > 0
     assert summary["eta_frame_pn"] <= summary["eta_pn"] + 1e-15
-    for modes in summary["capacities"].values():
+    for modes in summary["failure_rotations"].values():
         assert modes["p"] > 0 > modes["n"]
 
 
@@ -473,7 +473,7 @@ def test_slenderness_range(alpha):
     check_sensible(summary)
     # λ ≥ 1: never easier to start than a single pier (paper after Eq. 8)
     assert summary["ug_min_p"] >= 9.81 * math.tan(alpha) * (1 - 1e-12)
-    assert summary["capacities"]["overturning_pier1"]["p"] == pytest.approx(alpha, rel=1e-12)
+    assert summary["failure_rotations"]["overturning_pier1"]["p"] == pytest.approx(alpha, rel=1e-12)
 
 
 @pytest.mark.parametrize("side", [1e-9, 0.0])

@@ -46,7 +46,7 @@ def scipy_optimum(function, start, span, args):
 
 
 def random_stripes(rng):
-    """Levels, records reaching the state and records analysed, drawn from a random lognormal;
+    """Levels, records reaching the state and records analyzed, drawn from a random lognormal;
     None where the levels separate the records (β not fixed: `fit_lognormal` says so)."""
     count = int(rng.integers(2, 15))
     levels = np.sort(rng.uniform(0.05, 4.0, count))

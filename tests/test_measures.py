@@ -107,7 +107,7 @@ def ida_study(tmp_path, measure: str, lattice: tuple[float, float, float], recor
 @pytest.mark.parametrize("record", ["AR03", "AR07"])
 def test_capacities_converted_to_pgv_equal_an_ida_run_on_pgv(tmp_path, record):
     """An IDA in PGA, its capacities converted to PGV, against an IDA run in PGV on the lattice
-    the record's PGV/PGA maps the first one to: both analyse the same scaled records, so the
+    the record's PGV/PGA maps the first one to: both analyze the same scaled records, so the
     capacities agree to round-off (1e-9 here, far inside the IDA's 1 % tolerance). On other
     lattices they need not agree record by record: rocking IDA curves are not monotonic, and a
     scan on other levels may meet another first crossing (assessment.ida)."""

@@ -206,7 +206,7 @@ def test_truncated_rockbridge_file(tmp_path):
 
 def test_a_record_in_g_and_the_same_in_m_s2_give_identical_analyses(tmp_path):
     """The unit g of a file is standard gravity, 9.80665 m/s², whatever the bridge's gravity:
-    a record written in g and the same record written in m/s² with 9.80665 analyse bit for bit
+    a record written in g and the same record written in m/s² with 9.80665 analyze bit for bit
     alike (issue 9: with 9.81 some peaks on recorded motions moved by up to 27 %)."""
     from conftest import studied_bridge
 

@@ -176,7 +176,7 @@ def test_ctrl_c_says_at_once_what_it_saves(tmp_path, study):
     path, _ = study
     slower = SLOW_RUN.replace("time.sleep(0.5)", "time.sleep(1.5)")
     child, started = start_run(tmp_path, path, workers=2, script=slower)
-    wait_for(lambda: len(pids(started) - {child.pid}) >= 1)  # a worker is analysing
+    wait_for(lambda: len(pids(started) - {child.pid}) >= 1)  # a worker is analyzing
     child.send_signal(signal.SIGINT)
     saving = f"interrupted: saving the analyses finished so far to {tmp_path / 'out.h5'} "
     said = tmp_path / "stderr.txt"
@@ -193,7 +193,7 @@ def test_ctrl_c_says_at_once_what_it_saves(tmp_path, study):
 def test_the_workers_end_with_the_run(tmp_path, study, how):
     path, _ = study
     child, started = start_run(tmp_path, path, workers=2)
-    wait_for(lambda: len(pids(started) - {child.pid}) >= 1)  # a worker is analysing
+    wait_for(lambda: len(pids(started) - {child.pid}) >= 1)  # a worker is analyzing
     workers = pids(started) - {child.pid}
     child.send_signal(how)
     child.wait(timeout=120)
@@ -206,7 +206,7 @@ def test_the_batches_of_a_killed_worker_run_again(tmp_path, study):
     Dask does, and the run ends ok with the file an uninterrupted run writes."""
     path, expected = study
     child, started = start_run(tmp_path, path, workers=2)
-    wait_for(lambda: len(pids(started) - {child.pid}) >= 1)  # a worker is analysing
+    wait_for(lambda: len(pids(started) - {child.pid}) >= 1)  # a worker is analyzing
     os.kill(min(pids(started) - {child.pid}), signal.SIGKILL)
     child.wait(timeout=120)
     assert child.returncode == 0, (tmp_path / "stderr.txt").read_text()

@@ -18,7 +18,7 @@ from rockbridge_cli.core.analysis import analyze
 from rockbridge_cli.core.bridge import Bridge
 from rockbridge_cli.core.dynamics import acceleration, coefficients
 from rockbridge_cli.core.geometry import single_block
-from rockbridge_cli.core.impacts import capacities
+from rockbridge_cli.core.impacts import failure_rotations
 from rockbridge_cli.core.kinematics import EXACT, displacements
 from rockbridge_cli.core.tables import BELOW_REST, INTERVALS, MARGIN, tabulated
 
@@ -38,7 +38,7 @@ def test_the_tables_reach_past_the_first_failure_and_below_rest(model):
     table = tabulated(model)
     below = int(BELOW_REST * INTERVALS)
     assert table.table.shape == (2, below + INTERVALS, 14, 4)
-    first = max(min(abs(r[mode]) for r in capacities(model).values()) for mode in ("p", "n"))
+    first = max(min(abs(r[mode]) for r in failure_rotations(model).values()) for mode in ("p", "n"))
     assert table.limit == pytest.approx(MARGIN * first, rel=1e-12)
     assert table.step == pytest.approx(table.limit / INTERVALS)
     assert table.start == pytest.approx(-BELOW_REST * table.limit, rel=1e-12)

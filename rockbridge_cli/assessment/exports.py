@@ -15,7 +15,7 @@ fit with a β (the returned list says which and why). The engine requires an ``a
 and checks no value: ``lifelines``, the manual's example besides buildings.
 
 **pelicun** (its demand sample CSV): one file per bridge and stripe, an intensity level at which
-every record of the bridge was analysed (every level of a multiple-stripe study; the scan levels
+every record of the bridge was analyzed (every level of a multiple-stripe study; the scan levels
 all records ran in an IDA). Columns are named ``event-type-location-direction``, the second
 row holds units, then one row per record. ``DEC`` is the deck's peak displacement, ``ABP`` the
 backfill's peak passive displacement (|u_deck| beyond the gap), ``FNR`` the peak rocking

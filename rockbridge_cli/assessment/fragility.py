@@ -102,12 +102,12 @@ def fit_lognormal(levels: np.ndarray, reached: np.ndarray, tried: np.ndarray):
     levels
         Intensity levels x_j (> 0).
     reached, tried
-        Records that reach the state at each level, and records analysed there.
+        Records that reach the state at each level, and records analyzed there.
 
     Returns
     -------
     (median θ, β), or None when the data cannot fix them (no record reaches the state, or every
-    record at every level does). Where the levels separate the records — each level analysed has
+    record at every level does). Where the levels separate the records — each level analyzed has
     all or none of its records reaching the state, the share growing with the level, except at
     most one level — the likelihood grows as β shrinks to 0 and does not fix β: β is None and the
     median is that one level, or without it the geometric mean of the last level that no record
@@ -116,21 +116,21 @@ def fit_lognormal(levels: np.ndarray, reached: np.ndarray, tried: np.ndarray):
     levels, reached, tried = (np.asarray(a, dtype=float) for a in (levels, reached, tried))
     if reached.sum() == 0 or np.all(reached == tried):
         return None
-    analysed = tried > 0
-    fractions = reached[analysed] / tried[analysed]
+    analyzed = tried > 0
+    fractions = reached[analyzed] / tried[analyzed]
     mixed = (fractions > 0.0) & (fractions < 1.0)
     if np.count_nonzero(mixed) <= 1 and np.all(np.diff(fractions) >= 0.0):
         if mixed.any():
-            return float(levels[analysed][mixed][0]), None
+            return float(levels[analyzed][mixed][0]), None
         above = int(np.argmax(fractions == 1.0))
-        return math.sqrt(levels[analysed][above - 1] * levels[analysed][above]), None
+        return math.sqrt(levels[analyzed][above - 1] * levels[analyzed][above]), None
     logs = np.log(levels)
     sample = lognormal.Sample(
         known=np.empty(0), bounds=np.concatenate([logs, logs]),
         counts=np.concatenate([reached, tried - reached]),
         below=np.repeat([True, False], logs.size),
     )  # fmt: skip
-    crossing = np.interp(0.5, np.maximum.accumulate(fractions), logs[analysed])  # half reach it
+    crossing = np.interp(0.5, np.maximum.accumulate(fractions), logs[analyzed])  # half reach it
     mean, beta = lognormal.fit(sample, (logs.min(), logs.max()), (crossing, 0.3))
     return math.exp(mean), beta
 
@@ -259,7 +259,7 @@ def _stripe_fragility(bridge, mine, intensity, rng, bootstrap) -> list[Fragility
     found = []
     for state in LIMIT_STATES:
         table = _reached(mine, limit_states.reached(state, mine), records, levels)
-        counts = _counts(table)  # records × levels above, NaN where not analysed
+        counts = _counts(table)  # records × levels above, NaN where not analyzed
         fit = fit_lognormal(levels, *counts)
         draws = _bootstrap(fit, table, rng, bootstrap, lambda t: fit_lognormal(levels, *_counts(t)))
         reached_at = {
@@ -382,7 +382,7 @@ def _interval(draws: tuple[tuple[float, float], ...]) -> tuple[float, float] | N
 
 
 def _reached(mine: dict, reached: np.ndarray, records: list[str], levels: np.ndarray):
-    """1 where a record reaches the state at a level, 0 where not, NaN where it was not analysed."""
+    """1 where a record reaches the state at a level, 0 where not, NaN where it was not analyzed."""
     table = np.full((len(records), levels.size), np.nan)
     row = {record: i for i, record in enumerate(records)}
     column = {level: j for j, level in enumerate(levels.tolist())}
@@ -392,7 +392,7 @@ def _reached(mine: dict, reached: np.ndarray, records: list[str], levels: np.nda
 
 
 def _counts(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Records reaching the state, and records analysed, at each level."""
+    """Records reaching the state, and records analyzed, at each level."""
     return np.nansum(table, axis=0), np.sum(~np.isnan(table), axis=0)
 
 

@@ -52,7 +52,7 @@ def analyze(
     output: Path | None,
     overwrite: bool,
 ) -> None:
-    """Analyse BRIDGE (a YAML file) under the ground motion in RECORD.
+    """Analyze BRIDGE (a YAML file) under the ground motion in RECORD.
 
     Exits 1 if the integrator stopped before the end of the record (its peaks are then NaN).
     """
@@ -103,7 +103,7 @@ G = 9.80665
 
 TAIL_HINT_ALPHA = 0.25
 """A bridge still rocking at the end of its record, with θ1 in the last second at this fraction
-of α1 or more, gets a hint of ``--tail``: its motion after the record is not analysed."""
+of α1 or more, gets a hint of ``--tail``: its motion after the record is not analyzed."""
 
 
 def _inputs(bridge: Path, record: Path, units, time_step, fidelity: str, tail: float):
@@ -129,7 +129,7 @@ def _inputs(bridge: Path, record: Path, units, time_step, fidelity: str, tail: f
 
 def _set_up(config, motion, fidelity: str) -> float:
     """What an analysis costs once per process, before its solve: loading the compiled kernels
-    and building the bridge's tables, timed by analysing two samples of rest [s]."""
+    and building the bridge's tables, timed by analyzing two samples of rest [s]."""
     import time
 
     import numpy as np
@@ -158,7 +158,7 @@ def _tail_hint(config, summary: dict, times, theta1, mode, tail: float) -> str:
     after = f"its {tail:g} s tail" if tail else "the record"
     return (
         f"the bridge still rocks as {after} ends (θ1 up to {last / alpha:.2f} α1 in its last "
-        f"second): what follows is not analysed; --tail {max(20.0, 2 * tail):g} runs on with the "
+        f"second): what follows is not analyzed; --tail {max(20.0, 2 * tail):g} runs on with the "
         "ground at rest until it rests or fails"
     )
 

@@ -34,7 +34,7 @@ def _rows(name: str, s: dict) -> list[tuple[str, str]]:
     """The table of ``describe``: the quantities the model has (a block has no deck, pier 2,
     ratios or abutments; a frame no abutments, so no q, pounding or seat impulses)."""
     block, bridge = s["model"] == "single-block", s["model"].endswith("-bridge")
-    mirrored = "  (tall pier on the right: analysed mirrored)" if s["mirrored"] else ""
+    mirrored = "  (tall pier on the right: analyzed mirrored)" if s["mirrored"] else ""
     rows = [("bridge" if bridge else "structure", name), ("model", s["model"] + mirrored)]
     if block:
         rows += [
@@ -64,18 +64,18 @@ def _rows(name: str, s: dict) -> list[tuple[str, str]]:
 
 
 def _limits(s: dict) -> list[tuple[str, str]]:
-    """The rows of the restitution used, the capacities and what the ratios divide by."""
+    """The rows of the restitution used, the failure rotations and what the ratios divide by."""
     rows = []
     if s["rocking_restitution"] is not None:
         rows.append(("eta used (config)", f"{s['rocking_restitution']:.4f} in both directions"))
     elif min(s["eta_pn"], s["eta_np"]) <= 0.0:
-        rows.append(("warning", "eta ≤ 0: set rocking_restitution to analyse this bridge"))
-    for limit, rotation in s["capacities"].items():
+        rows.append(("warning", "eta ≤ 0: set rocking_restitution to analyze this bridge"))
+    for limit, rotation in s["failure_rotations"].items():
         text = ", ".join(
             f"{mode} {_number(abs(v) if math.isfinite(v) else None, '.2f', 1e3, ' mrad')}"
             for mode, v in rotation.items()
         )
-        rows.append((f"capacity {limit} (theta1)", text))
+        rows.append((f"failure rotation {limit} (theta1)", text))
     rows.append(("governing failure", s["governing_failure"]))
     if s["gap"] is not None:
         rows.append(

@@ -3,7 +3,7 @@
 Lengths are the full dimensions a designer draws (pier width 2B, heights 2H, deck depth 2h), in SI
 units. Optional parts are optional: without ``abutments`` the bridge is a rocking frame; with a
 single pier height and no deck it is Housner's block. Heights are listed left to right; a bridge
-whose taller pier stands on the right is analysed as the mirror image of one with the tall pier on
+whose taller pier stands on the right is analyzed as the mirror image of one with the tall pier on
 the left (docs/model.md §1), and `BridgeConfig.mirrored` says so.
 """
 

@@ -32,7 +32,7 @@ def differences(stored: dict[str, Any], current: dict[str, Any]) -> list[str]:
     return found
 
 
-def summary(stored: dict[str, Any], current: dict[str, Any]) -> str:
+def what_differs(stored: dict[str, Any], current: dict[str, Any]) -> str:
     """`differences` in one phrase: the first `SHOWN`, and how many more."""
     found = differences(stored, current)
     if not found:

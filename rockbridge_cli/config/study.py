@@ -374,7 +374,7 @@ def study_from_data(
         warnings += tuple(w for r in records if r.record for w in scale_warning(r.id, r.scale))
     problems = _check_ids("bridges", [b.id for b in bridges])
     problems += _check_ids("records", [r.id for r in records])
-    problems += [("records", "holds no records to analyse")] if not records else []
+    problems += [("records", "holds no records to analyze")] if not records else []
     if problems:
         raise InputError(path, problems)
     if output is not None:

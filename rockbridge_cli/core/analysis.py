@@ -147,7 +147,7 @@ def analyze(
     Parameters
     ----------
     bridge
-        The bridge as analysed (`config.bridge.BridgeConfig.to_bridge`, or `bridge.Bridge`).
+        The bridge as analyzed (`config.bridge.BridgeConfig.to_bridge`, or `bridge.Bridge`).
     acceleration
         Ground acceleration at uniform samples, positive to the right [m/s²].
     time_step

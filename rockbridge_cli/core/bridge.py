@@ -21,7 +21,7 @@ if TYPE_CHECKING:
 
 @dataclass(frozen=True)
 class Bridge:
-    """A bridge, as analysed.
+    """A bridge, as analyzed.
 
     Attributes
     ----------

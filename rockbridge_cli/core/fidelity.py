@@ -24,7 +24,7 @@ _COMMON = {
 }  # fmt: skip
 """Knobs every preset shares. ``tail``: free vibration after the record [s] (`analysis.analyze`);
 ``recheck``: a study runs again at ``reference`` every analysis that ends in a failure or comes
-within `RECHECK_MARGIN` of a capacity (`study.work.analyse`)."""
+within `RECHECK_MARGIN` of a capacity (`study.work.analyze_cell`)."""
 
 RECHECK_MARGIN = 0.05
 """A demand/capacity ratio above 1 − this is "within a few percent of a capacity" [-]."""

@@ -7,7 +7,8 @@
   closed form of Eq. 30).
 * Pounding on the backwall (Eq. 20) is `geometry.pounding_ratio`.
 * Failure (docs/model.md §7): the abutment–backfill fails at |u_deck| = u_jo + u_ab, a pier
-  overturns at |u_pier| = B; `capacities` finds the tall pier's rotation at which each is reached.
+  overturns at |u_pier| = B; `failure_rotations` finds the tall pier's rotation at which each is
+  reached.
 """
 
 from __future__ import annotations
@@ -107,7 +108,7 @@ def _rest_jacobian(model: Model, s: float) -> np.ndarray:
     )
 
 
-def capacities(model: Model) -> dict[str, dict[str, float]]:
+def failure_rotations(model: Model) -> dict[str, dict[str, float]]:
     """Rotation of the tall pier at which each failure limit is reached, per mode.
 
     Computed once per bridge and process (the tables and the bridge's summary both ask); the
@@ -119,11 +120,11 @@ def capacities(model: Model) -> dict[str, dict[str, float]]:
     without abutments), ``overturning_pier1`` and ``overturning_pier2`` (|u_pier| = B). A limit the
     linkage cannot reach below 1.5·α1 is ``inf``.
     """
-    return {name: dict(rotations) for name, rotations in _capacities(model).items()}
+    return {name: dict(rotations) for name, rotations in _failure_rotations(model).items()}
 
 
 @functools.lru_cache(maxsize=256)
-def _capacities(model: Model) -> dict[str, dict[str, float]]:
+def _failure_rotations(model: Model) -> dict[str, dict[str, float]]:
     limits = {  # failure mode: (the displacement that reaches it, the limit [m])
         ABUTMENT: ("u_deck", model.u_jo + model.u_ab),
         PIER1_OVERTURNING: ("u_pier1", model.B),
@@ -142,9 +143,9 @@ def _capacities(model: Model) -> dict[str, dict[str, float]]:
 def governing_failure(model: Model, caps: dict[str, dict[str, float]] | None = None) -> str:
     """The failure limit reached at the smallest rotation of the tall pier, over both modes.
 
-    ``caps`` are the model's `capacities`, when already computed.
+    ``caps`` are the model's `failure_rotations`, when already computed.
     """
-    caps = caps if caps is not None else capacities(model)
+    caps = caps if caps is not None else failure_rotations(model)
     return min(caps, key=lambda name: min(abs(v) for v in caps[name].values()))
 
 

@@ -76,7 +76,7 @@ decade around 1e-3 rad/s (354 between 3e-4 and 3e-3)."""
 
 STANDARD_GRAVITY = 9.80665
 """The unit g of a record file [m/s²]: standard gravity (CGPM 1901; the g of PEER NGA AT2, ESM
-and COSMOS files), whatever gravity the structure is analysed with (docs/model.md §1, §9)."""
+and COSMOS files), whatever gravity the structure is analyzed with (docs/model.md §1, §9)."""
 
 ROUND_OFF = 1e-12
 """A peak below this in SI units (a picometre, a picoradian) is round-off and is shown as 0: the

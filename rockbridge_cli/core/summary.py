@@ -15,7 +15,7 @@ SUMMARY_UNITS = {
     "eta_pn": "-", "eta_np": "-", "eta_frame_pn": "-", "eta_frame_np": "-",
     "pounding_ratio": "-",
 }  # fmt: skip
-"""Units of the numeric entries of `summarize` (its ``capacities`` are rotations [rad])."""
+"""Units of the numeric entries of `summarize` (its ``failure_rotations`` are rotations [rad])."""
 
 
 def summarize_all(bridges: Sequence[Bridge]) -> list[dict[str, object]]:
@@ -39,12 +39,12 @@ def describe(bridge: Bridge) -> dict[str, object]:
 
 
 def summarize(bridge: Bridge) -> dict[str, object]:
-    """Derived constants, onset, restitution and failure capacities of a bridge.
+    """Derived constants, onset, restitution and failure rotations of a bridge.
 
     Parameters
     ----------
     bridge
-        The bridge as analysed; when mirrored the modes p and n are swapped so that "p" is
+        The bridge as analyzed; when mirrored the modes p and n are swapped so that "p" is
         counter-clockwise rocking in the user's drawing, and an overridden restitution is the
         η reported.
 
@@ -54,8 +54,8 @@ def summarize(bridge: Bridge) -> dict[str, object]:
     ``alpha2`` [rad], ``h_bar``, ``b_bar``, ``L_bar``, ``gamma`` [-], ``q`` [m/N], onset
     accelerations ``ug_min_p``, ``ug_min_n`` [m/s², magnitudes] and in g (``*_g``), ``eta_pn``,
     ``eta_np`` (the η the analysis uses), ``eta_frame_pn``, ``eta_frame_np`` (same bridge
-    without seat impulses),
-    ``pounding_ratio`` [-], ``capacities`` (tall-pier rotation at each failure limit [rad]) and
+    without seat impulses), ``pounding_ratio`` [-], ``failure_rotations`` (tall-pier rotation at
+    each failure limit [rad]) and
     ``governing_failure``. Ratios that mean nothing for the model (q without abutments; h̄, b̄, L̄,
     γ for a single block) are None.
     """
@@ -64,7 +64,7 @@ def summarize(bridge: Bridge) -> dict[str, object]:
     model, mirrored = bridge.model, bridge.mirrored
     modes = bridge.user_modes()
     onset = [abs(impacts.onset_threshold(model, s)) for s in modes]
-    caps = impacts.capacities(model)
+    caps = impacts.failure_rotations(model)
     governing = impacts.governing_failure(model, caps)
     if mirrored:
         caps = {name: {"p": -v["n"], "n": -v["p"]} for name, v in caps.items()}
@@ -92,7 +92,7 @@ def summarize(bridge: Bridge) -> dict[str, object]:
         "eta_frame_pn": impacts.restitution(model, modes[0], abutment_seats=False),
         "eta_frame_np": impacts.restitution(model, modes[1], abutment_seats=False),
         "pounding_ratio": pounding_ratio(model),
-        "capacities": caps,
+        "failure_rotations": caps,
         "governing_failure": governing,
     }
     if out["model"] == "single-block":  # ratios of a deck and spans the block does not have

@@ -23,7 +23,7 @@ from scipy.interpolate import CubicSpline
 from ._jit import jit
 from .dynamics import coefficients
 from .geometry import Model
-from .impacts import capacities
+from .impacts import failure_rotations
 from .kinematics import (
     COEFFICIENTS,
     DISPLACEMENTS,
@@ -92,7 +92,8 @@ def reach(model: Model) -> float:
     """The largest s·θ1 an analysis visits in either mode: the rotation of the first failure the
     mode reaches, times `MARGIN`, or the largest the linkage closes at [rad]."""
     first = [
-        min(abs(rotation[mode]) for rotation in capacities(model).values()) for mode in ("p", "n")
+        min(abs(rotation[mode]) for rotation in failure_rotations(model).values())
+        for mode in ("p", "n")
     ]
     finite = [value for value in first if math.isfinite(value)]
     return MARGIN * max(finite) if finite else 1.5 * model.alpha1

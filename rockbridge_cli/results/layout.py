@@ -45,11 +45,11 @@ import numpy as np
 from ..core.quantities import EVENT_NAMES, FAILURE_MODES, NO_FAILURE, PEAK_UNITS
 
 FORMAT = "rockbridge-results"
-FORMAT_VERSION = 4
+FORMAT_VERSION = 5
 
-READABLE_VERSIONS = (2, 3, 4)
-"""Formats the readers read: 3 stored a scaled copy of each stripe's record, 2 also its event
-kinds as strings."""
+READABLE_VERSIONS = (2, 3, 4, 5)
+"""Formats the readers read: 4 named a bridge's failure rotations ``capacity_<limit>_<p|n>``; 3
+also stored a scaled copy of each stripe's record, 2 also its event kinds as strings."""
 
 STATUSES = {
     "ok": "the analysis ran to the end of the record or to a failure of the bridge",

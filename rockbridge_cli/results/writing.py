@@ -355,14 +355,14 @@ def _write_records(group: h5py.Group, study: Study) -> None:
 
 
 def _write_samples(node: h5py.Group, name: str, acceleration: np.ndarray) -> h5py.Dataset:
-    """A record's samples, ``acceleration`` (as analysed) or ``base_acceleration`` (as read, of
+    """A record's samples, ``acceleration`` (as analyzed) or ``base_acceleration`` (as read, of
     a record scaled by the group's ``scale``)."""
     dataset = node.create_dataset(name, data=acceleration, **COMPRESSION)
     dataset.attrs["units"] = "m/s2"
     dataset.attrs["description"] = (
         "ground acceleration, positive to the right, from t = 0 at time_step"
         + ("" if name == "acceleration" else "; of the record as read: the group's scale times "
-           "it is the motion analysed")
+           "it is the motion analyzed")
     )  # fmt: skip
     return dataset
 
@@ -437,11 +437,11 @@ def _write_bridges(group: h5py.Group, study: Study, summaries: Sequence[dict] | 
         for name, unit in SUMMARY_UNITS.items():
             node.attrs[name] = np.nan if summary[name] is None else summary[name]
             units[name] = unit
-        capacities = cast(dict[str, dict[str, float]], summary["capacities"])
-        for limit, rotations in capacities.items():  # capacity_<limit>_<p|n>
+        capacities = cast(dict[str, dict[str, float]], summary["failure_rotations"])
+        for limit, rotations in capacities.items():  # failure_rotation_<limit>_<p|n>
             for mode, value in rotations.items():
-                node.attrs[f"capacity_{limit}_{mode}"] = value
-                units[f"capacity_{limit}_{mode}"] = "rad"
+                node.attrs[f"failure_rotation_{limit}_{mode}"] = value
+                units[f"failure_rotation_{limit}_{mode}"] = "rad"
         for name in Model._fields:
             node.attrs[f"model_{name}"] = getattr(model, name)
             units[f"model_{name}"] = _MODEL_UNITS[name]

@@ -370,10 +370,10 @@ def _batches(cells: Sequence[Cell], workers: int, pace: Pace) -> Iterator[list[C
         start += size
 
 
-def _journalled(journal: Journal, analysed: list[tuple[Finished, Packed]]) -> list[Finished]:
+def _journalled(journal: Journal, analyzed: list[tuple[Finished, Packed]]) -> list[Finished]:
     """Commit a batch's results to the journal; its outcomes."""
-    journal.add(analysed)
-    return [finished for finished, _ in analysed]
+    journal.add(analyzed)
+    return [finished for finished, _ in analyzed]
 
 
 def _start_worker(setups: Any, said: Any, parent: int) -> None:
@@ -477,7 +477,7 @@ def dask_workers(
             for future in running:
                 batch = sent.pop(future)
                 try:
-                    analysed = future.result()
+                    analyzed = future.result()
                 except CancelledError:
                     if resends == RESENDS:
                         raise
@@ -485,7 +485,7 @@ def dask_workers(
                     shared = client.scatter(grid, broadcast=True, hash=False)
                     submit(batch)
                     continue
-                yield pace.record(_journalled(journal, analysed))
+                yield pace.record(_journalled(journal, analyzed))
                 for batch in itertools.islice(batches, 1):
                     submit(batch)
         finally:  # interrupted: nothing more is needed from the cluster

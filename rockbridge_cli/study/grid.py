@@ -52,7 +52,7 @@ class Cell(NamedTuple):
 
 
 RECHECK_KEEPS = ("tail", "output_step")
-"""Knobs a recheck at ``reference`` keeps from the study (what is analysed and stored, not how
+"""Knobs a recheck at ``reference`` keeps from the study (what is analyzed and stored, not how
 precisely)."""
 
 

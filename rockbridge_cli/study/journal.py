@@ -117,7 +117,7 @@ class Journal:
             reason = "holds analyses of a different study or different inputs (an interrupted run)"
             raise InputError(self.path, [("", f"{reason}; {hint}")])
 
-    def add(self, analysed: Iterable[tuple[Finished, Packed]]) -> None:
+    def add(self, analyzed: Iterable[tuple[Finished, Packed]]) -> None:
         """Commit finished analyses, each with its packed result, in one transaction (an analysis
         journalled again replaces the earlier entry).
 
@@ -133,7 +133,7 @@ class Journal:
                     "INSERT OR REPLACE INTO analyses VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
                     ((finished.cell.index, packed.bridge, packed.record, *finished.verdict,
                       packed.texts, packed.numbers, packed.events, packed.histories)
-                     for finished, packed in analysed),
+                     for finished, packed in analyzed),
                 )  # fmt: skip
         except sqlite3.Error as exc:
             raise OSError(f"{self.path}: cannot write the journal ({exc})") from None

@@ -22,7 +22,7 @@ import h5py
 
 from ..assessment.fragility import store as store_fragilities
 from ..assessment.limit_states import stored_verdicts
-from ..config.changes import summary
+from ..config.changes import what_differs
 from ..errors import InputError
 from ..paths import checked_output, replace_atomically
 from ..results.packing import AnalysisResult
@@ -128,7 +128,7 @@ def _check(parts: list[Path], files: list[h5py.File]) -> list[str]:
             if file.attrs.get(name) != first.get(name):
                 what = f"{file.attrs.get(name)} ≠ {first.get(name)}"
                 if name == "config_hash":  # name the fields that differ, not the hashes
-                    what = summary(json.loads(first.get("config", "{}")),
+                    what = what_differs(json.loads(first.get("config", "{}")),
                                    json.loads(file.attrs.get("config", "{}")))  # fmt: skip
                 reason = (f"{name} differs from {parts[0]}'s ({what}): parts must come from the "
                           "same study and the same rockbridge")  # fmt: skip

@@ -28,7 +28,7 @@ import h5py
 import numpy as np
 
 from ..assessment.limit_states import Verdict, stored_verdicts
-from ..config.changes import summary
+from ..config.changes import what_differs
 from ..core.quantities import NO_FAILURE
 from ..core.summary import summarize_all
 from ..cpus import usable_cpus
@@ -378,7 +378,7 @@ def _earlier_verdicts(
     except InputError as exc:  # unreadable or not a results file
         raise InputError(output, [("", f"{exc.problems[0][1]}; {hint}")]) from None
     if not same:
-        changed = summary(config, study.resolved())
+        changed = what_differs(config, study.resolved())
         reason = f"holds results of a different study or different inputs ({changed}); {hint}"
         raise InputError(output, [("", reason)])
     if stored_shard != shard:

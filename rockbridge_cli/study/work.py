@@ -51,7 +51,7 @@ class Finished(NamedTuple):
 def run_cells(grid: Grid, cells: Sequence[Cell]) -> list[tuple[Finished, Packed]]:
     """Analyze ``cells``: what each says, and its packed result. An exception fails only its own
     analysis."""
-    analysed = []
+    analyzed = []
     for cell in cells:
         start = time.perf_counter()
         result = analyze_cell(grid, cell)
@@ -62,8 +62,8 @@ def run_cells(grid: Grid, cells: Sequence[Cell]) -> list[tuple[Finished, Packed]
             values["solve_time_s"], values["failure_mode"], values["dcr_backfill"],
             time.perf_counter() - start,
         )  # fmt: skip
-        analysed.append((finished, packed))
-    return analysed
+        analyzed.append((finished, packed))
+    return analyzed
 
 
 def analyze_cell(grid: Grid, cell: Cell) -> AnalysisResult:
