@@ -158,7 +158,7 @@ def check_work(values: dict[str, Any], samples: int, time_step: float) -> None:
     Parameters
     ----------
     values
-        The knobs (`knobs`).
+        The knobs (`Fidelity.knobs`).
     samples
         Samples of the record [-].
     time_step

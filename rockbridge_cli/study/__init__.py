@@ -1,3 +1,4 @@
-"""Running a study: its grid of analyses (`grid`), the work a worker does (`work`), where the
-work runs (`executors`), the crash-safe journal of finished analyses (`journal`), and the run
-that ties them to the results file (`run`)."""
+"""Running a study: its grid of analyses (`grid`) and the rounds it runs them in (`plan`), the
+work a worker does (`work`) with its compiled kernels (`kernels`), where the work runs
+(`executors`), the crash-safe journal of finished analyses (`journal`), the run that ties them to
+the results file (`run`), and array jobs' shards (`shards`) and their merge (`merge`)."""

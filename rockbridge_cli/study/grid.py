@@ -84,7 +84,7 @@ class Grid:
     @classmethod
     def of(cls, study: Study, cells: tuple[Cell, ...] | None = None) -> Grid:
         """The grid of a resolved study: every bridge × record, or the ``cells`` listed (an
-        IDA's, `ida.Plan`)."""
+        IDA's, `plan.Plan`)."""
         bridges = tuple(BridgeCase(b.id, b.config.to_bridge()) for b in study.bridges)
         records = tuple(
             RecordCase(
