@@ -68,6 +68,13 @@ def model(name: str):
 
 def closed_forms() -> None:
     studied = {h: summarize(analyzed(name)) for h, name in STUDIED.items()}
+    table_1(studied)
+    onsets_and_restitution(studied)
+    figures_4_7_8()
+
+
+def table_1(studied: dict) -> None:
+    """The studied bridges' Table 1: masses, γ and q."""
     for h, (m2, gamma, q) in {
         1.0: (44, 2.3, 0.761),
         1.25: (35, 2.6, 0.771),
@@ -100,6 +107,11 @@ def closed_forms() -> None:
         verdict(204, studied[1.0]["m_deck"] / 1e4, 1),
         "ρ·A·L_tot; the printed 2ρ·A·L_tot is a typo",
     )
+
+
+def onsets_and_restitution(studied: dict) -> None:
+    """The onset of rocking (Eq. 8, Fig. 3) and the restitution (Eqs. 21–29) of the studied
+    bridges."""
     for h, paper in ((1.0, 0.10), (1.25, 0.13), (2.0, 0.15)):
         s = studied[h]
         worse = max(s["ug_min_p_g"], s["ug_min_n_g"])
@@ -127,6 +139,10 @@ def closed_forms() -> None:
             f"{s['eta_pn']:.4f} / {s['eta_np']:.4f}",
             verdict(paper, s["eta_pn"], 0.001 if h < 2 else 0.01),
         )
+
+
+def figures_4_7_8() -> None:
+    """Figs. 4, 7 and 8: q against h̄, the seat impulses' share of η, η against the spans."""
     fig78 = model("fig8-hbar1.5")
     for h, paper in ((1.0, 0.5), (5.0, 12.5)):
         m = with_short_pier(fig78, h)
