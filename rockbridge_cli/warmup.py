@@ -11,8 +11,9 @@ same effect: run from a checkout, whose ``rockbridge_cli`` folder Python imports
 installed one, it compiles both, so that the ``rockbridge`` command finds its kernels too.
 
 The calls below reach every compiled kernel with the argument types the package uses: one
-analysis at every fidelity preset, of a bridge and of a single block, a response spectrum and one
-short matched record. Compilation depends on the types only, so small inputs suffice.
+analysis at every fidelity preset, of a bridge and of a single block, and of a bridge under a
+vertical ground motion too, a response spectrum and one short matched record. Compilation
+depends on the types only, so small inputs suffice.
 """
 
 from __future__ import annotations
@@ -70,8 +71,13 @@ def analysis_kernels(models: tuple[geometry.Model, ...] | None = None) -> None:
 
 
 def compile_kernels() -> None:
-    """Call every compiled kernel once (compiling it, or loading it from the disk cache)."""
+    """Call every compiled kernel once (compiling it, or loading it from the disk cache); the
+    kernels of an analysis with a vertical ground motion too, compiled for it of their own
+    (`core.schemes.VerticalGround`)."""
     analysis_kernels()
+    for preset in PRESETS:
+        motion = pulse(duration=1.0)
+        analyze(Bridge(studied_bridge()), motion, TIME_STEP, preset, vertical=0.2 * motion)
     ground = pulse()
     periods = matching.compute_matching_periods((0.1, 1.0), 10, TIME_STEP)
     spectra.compute_psa(ground, TIME_STEP, periods, 0.05)

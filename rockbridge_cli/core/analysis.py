@@ -23,6 +23,7 @@ from .solver import (
     EVENT_RATE_BEFORE,
     EVENT_TIME,
     FAILURE_MODE,
+    FREE_FLIGHT,
     IMPACT,
     NO_ERROR,
     NOT_FAILED,
@@ -140,6 +141,7 @@ def analyze(
     fidelity: str | Fidelity = "default",
     initial: tuple[float, float] = (0.0, 0.0),
     histories: bool = True,
+    vertical: np.ndarray | None = None,
     **overrides: object,
 ) -> Response:
     """Response-history analysis of one bridge under one ground motion.
@@ -161,6 +163,10 @@ def analyze(
     histories
         False leaves ``time`` and ``histories`` of the response empty (a study that stores
         none): computing the displacements at every sample costs a tenth of a `fast` analysis.
+    vertical
+        Vertical ground acceleration at the same samples, positive up [m/s²]; None for a record
+        without one (the paper's model: docs/model.md §12). Where g + ü_v ≤ 0 the bridge would
+        leave the ground: the analysis stops there with a free-flight status.
     overrides
         Fidelity knobs to change (`fidelity.resolve`). ``tail`` [s] continues the analysis after
         the record with zero ground acceleration, so that a bridge still rocking when the record
@@ -172,8 +178,9 @@ def analyze(
         ``bridge`` is not a `bridge.Bridge` (a bare `Model` does not say which way it faces), or
         the accelerations or the time step are not real numbers.
     ValueError
-        An empty, non-finite or too short record, a non-positive time step, a knob out of its
-        range (`fidelity.LIMITS`), or an analysis too long for them (`fidelity.check_work`).
+        An empty, non-finite or too short record, a vertical component not of its length or
+        not finite, a non-positive time step, a knob out of its range (`fidelity.LIMITS`), or
+        an analysis too long for them (`fidelity.check_work`).
     """
     if not isinstance(bridge, Bridge):
         raise TypeError(
@@ -195,23 +202,28 @@ def analyze(
     )  # fmt: skip
     knobs = chosen.knobs
     check_work(knobs, acc.size, time_step)
-    acc = np.concatenate([acc, np.zeros(int(round(knobs["tail"] / time_step)))])
+    up = None if vertical is None else _vertical(vertical, acc.size)
+    samples, flight = acc.size, None if up is None else _flight(up, model.g)
+    if flight is None:
+        tail = np.zeros(int(round(knobs["tail"] / time_step)))
+        acc = np.concatenate([acc, tail])
+        up = None if up is None else np.concatenate([up, tail])
+    else:  # integrated until the last sample before the flight (one, if it starts at once)
+        acc, up = acc[: max(flight, 1)], up[: max(flight, 1)]  # type: ignore[index]
     kin = _kinematics(model, knobs["kinematics"])
     sign = bridge.sign
     laws = bridge.laws()
 
     start = time.perf_counter()
-    result = integrate(
-        model,
-        laws,
-        kin,
-        sign * acc,
-        float(time_step),
-        chosen.settings(),
-        sign * float(initial[0]),
-        sign * float(initial[1]),
-    )
+    arguments = (
+        model, laws, kin, sign * acc, float(time_step), chosen.settings(),
+        sign * float(initial[0]), sign * float(initial[1]),
+    )  # fmt: skip
+    # the vertical motion is the same in the mirror image
+    result = integrate(*arguments) if up is None else integrate(*arguments, up)
     solve_time = time.perf_counter() - start
+    if flight is not None:
+        result = _before_flight(result, flight, samples, time_step, knobs["output_step"])
     return _response(bridge, kin, chosen, result, solve_time, histories)
 
 
@@ -263,11 +275,58 @@ def _response(
         failure_time=float(result.end_time) if failed else float("nan"),
         dcr_backfill=dcr_backfill(model, peak["u_deck"]),
         dcr_overturning=max(peak["u_pier1"], peak["u_pier2"] if model.m2 else 0.0) / model.B,
-        status=SOLVER_ERRORS[result.error],
+        status=_status(result),
         solve_time_s=solve_time,
         steps=int(result.steps),
         rejected_steps=int(result.rejected),
     )
+
+
+def _vertical(vertical: np.ndarray, samples: int) -> np.ndarray:
+    """A vertical component checked against a horizontal one of ``samples`` samples [m/s²]."""
+    if np.iscomplexobj(vertical):
+        raise TypeError("analyze takes real vertical accelerations [m/s²]")
+    up = np.ascontiguousarray(vertical, dtype=float)
+    if up.shape != (samples,):
+        raise ValueError(
+            f"the vertical ground motion has {up.size} samples, the horizontal {samples}: "
+            "they must share their samples"
+        )
+    if not np.all(np.isfinite(up)):
+        raise ValueError("the vertical ground motion has non-finite values")
+    return up
+
+
+def _flight(vertical: np.ndarray, g: float) -> int | None:
+    """The first sample at which g + ü_v ≤ 0, where the bridge would leave the ground, or None."""
+    lifted = np.flatnonzero(g + vertical <= 0.0)
+    return int(lifted[0]) if lifted.size else None
+
+
+def _before_flight(
+    result: Integration, flight: int, samples: int, time_step: float, output_step: float
+) -> Integration:
+    """An integration that stopped before a free flight at sample ``flight`` of a record of
+    ``samples`` samples at ``time_step`` [s], as the record's: its histories NaN after its end
+    (every ``output_step`` [s]), and `FREE_FLIGHT` with the flight's time, unless it stopped
+    before (docs/model.md §12)."""
+    count = int(np.floor((samples - 1) * time_step / output_step + 1e-9)) + 1  # as `integrate`
+    missing = count - result.theta1.size
+    stretched = result._replace(
+        theta1=np.concatenate([result.theta1, np.full(missing, np.nan)]),
+        rate=np.concatenate([result.rate, np.full(missing, np.nan)]),
+        mode=np.concatenate([result.mode, np.zeros(missing, dtype=result.mode.dtype)]),
+    )
+    if result.failure != NOT_FAILED or result.error != NO_ERROR:
+        return stretched
+    return stretched._replace(error=FREE_FLIGHT, end_time=flight * time_step)
+
+
+def _status(result: Integration) -> str:
+    """``ok``, or why the integrator stopped early (`SOLVER_ERRORS`; a free flight with when)."""
+    if result.error == FREE_FLIGHT:
+        return f"{SOLVER_ERRORS[FREE_FLIGHT]} (at t = {result.end_time:.6g} s)"
+    return SOLVER_ERRORS[result.error]
 
 
 _DISPLACEMENTS = len(Displacements._fields)

@@ -5,7 +5,10 @@
 with the generalised mass M = Σ m_i·|∂p_i/∂φ|² + I1 + I2·ψ'² + I_deck·θ'², the potential
 V = g·Σ m_i·z_i (+ ½k(|u_deck| − u_jo)² while the deck presses on an abutment) and the generalised
 force Q = −ü_g·Σ m_i·∂x_i/∂φ (− c·(∂u_deck/∂φ)²·φ̇ while in contact). This is the paper's
-Eq. (18) without its two misprints (docs/model.md §4); φ̇ = θ̇1 and φ̈ = θ̈1.
+Eq. (18) without its two misprints (docs/model.md §4); φ̇ = θ̇1 and φ̈ = θ̈1. A vertical ground
+acceleration ü_v (positive up) adds the inertia force −m_i·ü_v to every body, so that g becomes
+g + ü_v in the gravity term (docs/model.md §12): the term is multiplied by its ``lift``
+(g + ü_v)/g, exactly 1 without one.
 """
 
 from __future__ import annotations
@@ -100,6 +103,7 @@ def acceleration(
     ground: float,
     contact: bool,
     kin: Kinematics,
+    lift: float = 1.0,
 ) -> float:
     """Angular acceleration θ̈1 of the tall pier.
 
@@ -113,13 +117,16 @@ def acceleration(
         Ground acceleration ü_g, positive to the right [m/s²].
     contact
         Whether the deck presses on an abutment (|u_deck| ≥ u_jo); switches the spring–dashpot on.
+    lift
+        (g + ü_v)/g, the factor on gravity of a vertical ground acceleration ü_v, positive up;
+        1 without one [-].
 
     Returns
     -------
     θ̈1 [rad/s²]
     """
     mass, dmass, gravity, inertia, u, du = coefficients(model, s, theta1, kin)
-    force = -ground * inertia - gravity - 0.5 * dmass * omega * omega
+    force = -ground * inertia - gravity * lift - 0.5 * dmass * omega * omega
     if contact:
         overlap = abs(u) - model.u_jo
         force -= model.k * overlap * np.sign(u) * du + model.c * du * du * omega

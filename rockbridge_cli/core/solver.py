@@ -4,7 +4,8 @@ The response is a chain of smooth segments cut by events (docs/model.md §5–7)
 small state machine:
 
 * **at rest** until the ground acceleration, linear between samples, crosses an onset threshold
-  (Eq. 8): the crossing time is solved exactly;
+  (Eq. 8; times (g + ü_v)/g under a vertical ground acceleration ü_v): the crossing time is
+  solved exactly;
 * **rocking in mode s** (+1 or −1), integrating θ̈1 = f(θ1, θ̇1, ü_g) with the end gap **open** or
   **closed** (spring–dashpot on), until an event:
 
@@ -50,7 +51,7 @@ from .events import (
 from .geometry import Model
 from .kinematics import Displacements, Kinematics, displacements
 from .quantities import PEAK_NAMES
-from .schemes import RK4, Ground, Segment, State, Step, ground_at, take_step
+from .schemes import RK4, Ground, Segment, State, Step, ground_at, ground_of, lift_at, take_step
 
 ONSET, IMPACT, POUNDING, REOPENING, REST, ABUTMENT_FAILURE, PIER1_OVERTURNING, PIER2_OVERTURNING = (
     range(8)
@@ -61,14 +62,17 @@ EVENT_TIME, EVENT_KIND, EVENT_MODE, EVENT_RATE_BEFORE, EVENT_RATE_AFTER = range(
 """Columns of the event log: time [s], kind (`EVENT_NAMES`), rocking mode after the event (0 at
 rest), θ̇1 before and after it [rad/s]."""
 
-NO_ERROR, STEP_UNDERFLOW, TOO_MANY_EVENTS, NON_FINITE_STATE = range(4)
+NO_ERROR, STEP_UNDERFLOW, TOO_MANY_EVENTS, NON_FINITE_STATE, FREE_FLIGHT = range(5)
 SOLVER_ERRORS = (
     "ok",
     "the step size fell below 1e-14 s",
     "too many events (chattering that the rest guard did not stop)",
     "the state became non-finite",
+    "free flight: the vertical ground acceleration reached -g, lifting the bridge off the "
+    "ground, which the model does not represent",
 )
-"""Why the integrator stopped before the end of the record, by code (`NO_ERROR` is none)."""
+"""Why the integrator stopped before the end of the record, by code (`NO_ERROR` is none).
+`FREE_FLIGHT` is the analysis's (`analysis.analyze`), which integrates only until g + ü_v ≤ 0."""
 
 NOT_FAILED = -1
 """`Integration.failure` of an analysis in which nothing failed."""
@@ -227,7 +231,7 @@ def _refreshed(segment: Segment, kin: Kinematics, ground: Ground, motion: Motion
         return motion
     model, s, contact = segment
     a_g = ground_at(ground.acc, ground.dt, k, t)
-    accel = acceleration(model, s, theta, rate, a_g, contact, kin)
+    accel = acceleration(model, s, theta, rate, a_g, contact, kin, lift_at(ground, model.g, k, t))
     g = watched(segment, kin, theta, rate)[0]
     return Motion(t, k, State(theta, rate, accel), g, sample)
 
@@ -285,18 +289,26 @@ def _started(problem: Problem, theta0: float, omega0: float):
 
 
 @jit
-def _next_onset(acc, dt, laws, k, t):
+def _next_onset(ground, g: float, laws: Laws, k: int, t: float):
     """At rest from time t in sample interval k: the mode (±1, or 0 if none before the record
-    ends), the time and the interval of the next onset (Eq. 8) on the piecewise-linear motion."""
+    ends), the time and the interval of the next onset (Eq. 8) on the piecewise-linear motion.
+
+    Under a vertical ground acceleration the thresholds are times (g + ü_v)/g (`lift_at`, ``g``
+    the model's gravity [m/s²]), linear between samples too, so that the crossing stays exact;
+    without one the factors are the constant 1, which the compiler folds away."""
+    acc, dt = ground.acc, ground.dt
     while k < acc.size - 1:
-        a0 = ground_at(acc, dt, k, max(t, k * dt))
-        a1 = acc[k + 1]
-        if a0 > laws.onset_p or a0 < laws.onset_n:
-            return (1.0 if a0 > laws.onset_p else -1.0), max(t, k * dt), k
-        if a1 > laws.onset_p or a1 < laws.onset_n:
-            s = 1.0 if a1 > laws.onset_p else -1.0
+        start = max(t, k * dt)
+        a0, lift0 = ground_at(acc, dt, k, start), lift_at(ground, g, k, start)
+        a1, lift1 = acc[k + 1], lift_at(ground, g, k, (k + 1) * dt)
+        if a0 > laws.onset_p * lift0 or a0 < laws.onset_n * lift0:
+            return (1.0 if a0 > laws.onset_p * lift0 else -1.0), start, k
+        if a1 > laws.onset_p * lift1 or a1 < laws.onset_n * lift1:
+            s = 1.0 if a1 > laws.onset_p * lift1 else -1.0
             target = laws.onset_p if s > 0.0 else laws.onset_n
-            t = min(max(t, k * dt + dt * (target - acc[k]) / (a1 - acc[k])), (k + 1) * dt)
+            before, after = target * lift_at(ground, g, k, k * dt), target * lift1  # thresholds
+            rise = (a1 - acc[k]) - (after - before)  # of ü_g less the threshold over the interval
+            t = min(max(t, k * dt + dt * (before - acc[k]) / rise), (k + 1) * dt)
             return s, t, k
         k += 1
     return 0.0, t, k
@@ -307,8 +319,8 @@ def _onset(problem: Problem, motion: Motion, log: Log, samples: int):
     """At rest: the segment and the motion from the next onset (Eq. 8) on, and the log with the
     onset; the history samples until then, of the ``samples``, stay zero. Without an onset before
     the record ends, the segment at rest and the motion in the record's last interval."""
-    acc, dt = problem.ground
-    s, t, k = _next_onset(acc, dt, problem.laws, motion.k, motion.t)
+    dt = problem.ground.dt
+    s, t, k = _next_onset(problem.ground, problem.model.g, problem.laws, motion.k, motion.t)
     segment = Segment(problem.model, s, problem.model.u_jo <= 0.0)
     if s == 0.0:
         return segment, Motion(t, k, motion.state, motion.g, motion.sample), log
@@ -390,9 +402,11 @@ def _impact(problem: Problem, segment: Segment, motion: Motion, log: Log):
     w = before * (laws.eta_p if segment.s > 0.0 else laws.eta_n)
     s = -segment.s
     log = _logged(log, t, IMPACT, s, before, w)
-    acc, dt = problem.ground
-    a_g = ground_at(acc, dt, min(motion.k, acc.size - 2), t)
-    driven = a_g > laws.onset_p if s > 0.0 else a_g < laws.onset_n
+    acc, dt = problem.ground.acc, problem.ground.dt
+    k = min(motion.k, acc.size - 2)
+    lift = lift_at(problem.ground, problem.model.g, k, t)
+    a_g = ground_at(acc, dt, k, t)
+    driven = a_g > laws.onset_p * lift if s > 0.0 else a_g < laws.onset_n * lift
     if abs(w) < problem.settings.rest_velocity and not driven:
         return 0.0, 0.0, _logged(log, t, REST, 0.0, before, 0.0)
     return s, w, log
@@ -444,6 +458,7 @@ def integrate(
     settings: Settings,
     theta0: float = 0.0,
     omega0: float = 0.0,
+    vertical: np.ndarray | None = None,
 ) -> Integration:
     """Integrate one ground motion.
 
@@ -459,12 +474,16 @@ def integrate(
     theta0, omega0
         Initial rotation [rad] and angular velocity [rad/s]; when either is non-zero the bridge
         starts rocking at t = 0 in the mode of their sign (free-vibration tests), else at rest.
+    vertical
+        Vertical ground acceleration at the same samples, positive up, with g + ü_v > 0 [m/s²];
+        None without one (the kernels are then compiled for a `Ground`, else for a
+        `VerticalGround`).
 
     Returns
     -------
     `Integration`
     """
-    ground = Ground(acc, dt)
+    ground = ground_of(acc, dt, vertical)
     problem = Problem(model, laws, kin, ground, settings)
     histories, peaks, segment, motion, log = _started(problem, theta0, omega0)
     count = WATCH_TURNING + 1 if settings.turning_points else WATCH_TURNING  # watched functions
