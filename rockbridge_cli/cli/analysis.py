@@ -23,6 +23,12 @@ from .output import echo_json, echo_table, shown
     help="Units of a record file that does not say them.",
 )
 @click.option("--time-step", type=float, help="Sample interval of a one-column record [s].")
+@click.option(
+    "--vertical",
+    type=click.Path(path_type=Path),
+    help="The record's vertical component (positive up): a file with the same time step and "
+    "samples. Without it, no vertical ground motion (the paper's model).",
+)
 @click.option("--fidelity", type=click.Choice(list(PRESETS)), default="default", show_default=True)
 @click.option(
     "--tail",
@@ -46,6 +52,7 @@ def analyze(
     record: Path,
     units: str | None,
     time_step: float | None,
+    vertical: Path | None,
     fidelity: str,
     tail: float,
     as_json: bool,
@@ -56,15 +63,16 @@ def analyze(
 
     Exits 1 if the integrator stopped before the end of the record (its peaks are then NaN).
     """
-    config, motion = _inputs(bridge, record, units, time_step, fidelity, tail)
+    config, motion = _inputs(bridge, record, units, time_step, vertical, fidelity, tail)
     setup = _set_up(config, motion, fidelity)
     if output is None:
         from ..core.analysis import analyze as run_analysis  # the compiled core: loaded on use
 
         with held():  # Ctrl-C stops the command once the compiled integrator has returned
             response = run_analysis(
-                config.to_bridge(), motion.acceleration, motion.time_step, fidelity, tail=tail
-            )
+                config.to_bridge(), motion.acceleration, motion.time_step, fidelity, tail=tail,
+                vertical=motion.vertical,
+            )  # fmt: skip
         summary = response.peak_row()
         times, theta1, mode = (response.time, response.histories["theta1"],
                                response.histories["mode"])  # fmt: skip
@@ -73,7 +81,7 @@ def analyze(
         from ..results import read_history
         from ..study.run import run_study
 
-        study = single_analysis(bridge, record, units, time_step, fidelity, output, tail)
+        study = single_analysis(bridge, record, units, time_step, fidelity, output, tail, vertical)
         report = run_study(study, workers=1, overwrite=overwrite)
         summary = {**report.peaks.iloc[0].to_dict(), "fidelity": fidelity}
         if summary["status"] == "error":
@@ -106,13 +114,15 @@ TAIL_HINT_ALPHA = 0.25
 of α1 or more, gets a hint of ``--tail``: its motion after the record is not analyzed."""
 
 
-def _inputs(bridge: Path, record: Path, units, time_step, fidelity: str, tail: float):
-    """The bridge config and the record, checked, with their plausibility warnings printed; a
-    record and a bridge given the other way round are named so."""
+def _inputs(bridge: Path, record: Path, units, time_step, vertical, fidelity: str, tail: float):
+    """The bridge config and the record (with its ``vertical`` component, a companion file, if
+    given), checked, with their plausibility warnings printed; a record and a bridge given the
+    other way round are named so."""
     from ..config.bridge import load_bridge  # pydantic: loaded on use
     from ..config.kinds import expecting, file_kind
     from ..config.plausibility import bridge_warnings, record_warnings
     from ..records.files import read_record
+    from ..records.vertical import with_vertical
 
     if file_kind(bridge) == "record" and file_kind(record) == "bridge":
         swapped = "a record file where the bridge goes: rockbridge analyze BRIDGE RECORD"
@@ -120,6 +130,9 @@ def _inputs(bridge: Path, record: Path, units, time_step, fidelity: str, tail: f
     config = load_bridge(bridge)
     with expecting(record, "record"):
         motion = read_record(record, units=units, time_step=time_step)
+    if vertical is not None:
+        with expecting(vertical, "record"):
+            motion = with_vertical(motion, vertical, units, time_step)
     _check_work(record, motion, fidelity, tail)
     warnings = [f"{bridge}: {w}" for w in bridge_warnings(config)]
     for warning in warnings + [f"{record}: {w}" for w in record_warnings(motion)]:

@@ -141,9 +141,31 @@ def format_report(report: RecordSetReport) -> str:
             if miss
         ),
         f"  overall: {'compliant' if c.compliant else 'NOT compliant'}",
+        *_vertical_lines(report.vertical),
         f"Wall time: {report.wall_time:.1f} s",
     ]
     return "\n".join(lines)
+
+
+def _vertical_lines(report: RecordSetReport | None) -> list[str]:
+    """The vertical components' fit to the EN 1998-1 §3.2.2.3 vertical spectrum and the rules
+    of §3.2.3.1.2 applied to it; nothing for a set without them."""
+    if report is None:
+        return []
+    c = report.compliance
+    low, high = report.band
+    return [
+        f"Vertical components, matched to the EN 1998-1 §3.2.2.3 vertical spectrum (a_vg = "
+        f"{c.surface_pga:.4g} m/s2) at {report.check_periods} periods over {low:g}-{high:g} s:",
+        "  record     PGA/a_vg   min    max   PGD[cm]  D5-95[s]  iterations",
+        *(f"  {s.name:<10} {s.peak_acceleration / c.surface_pga:7.5f} {s.min_ratio:6.3f} "
+          f"{s.max_ratio:6.3f} {s.peak_displacement * 100:8.1f} {s.significant_duration:9.1f}  "
+          f"{s.iterations:4d} ({s.attempts} attempts)" for s in report.records),
+        f"  {'mean':<10} {'':7} {c.mean_min_ratio:6.3f} {c.mean_max_ratio:6.3f}",
+        f"  (4)b mean zero-period value >= a_vg -> {_verdict(c.zero_period_ok)}; (4)c mean >= "
+        f"90% -> {_verdict(c.mean_ok)}; every record within {c.tolerance:.0%} -> "
+        f"{_verdict(c.records_ok)}; overall: {'compliant' if c.compliant else 'NOT compliant'}",
+    ]  # fmt: skip
 
 
 def _record_line(s: RecordSummary, surface_pga: float, dg: float) -> str:

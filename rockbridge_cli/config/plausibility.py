@@ -35,6 +35,10 @@ BACKFILL_STIFFNESS_N_M = 1e6
 PIER_ASPECT = (1.5, 40.0)
 """Pier height over width H/B outside this range has not been built as a rocking pier."""
 
+VERTICAL_PGA_G = 1.0
+"""A vertical component that peaks above this [g] lifts the bridge off the ground where it
+points down (g + ü_v ≤ 0): the model cannot follow a free flight, and the analysis stops there."""
+
 GRAVITY_M_S2 = (9.76, 9.84)
 """Gravity on Earth's surface, pole to equator and mountain to sea [m/s²]."""
 
@@ -104,7 +108,7 @@ def _outside_ranges(config: BridgeConfig) -> list[str]:
 
 def record_warnings(record: Record) -> list[str]:
     """Implausible features of a ground motion: its peak for its stated unit, a time column that
-    does not start at zero."""
+    does not start at zero, a vertical component that can lift the bridge off the ground."""
     found = list(record.metadata.get("notices", ()))
     pga = record.peak_acceleration / STANDARD_GRAVITY
     low, high = RECORD_PGA_G
@@ -120,6 +124,13 @@ def record_warnings(record: Record) -> list[str]:
     if not low <= record.time_step <= high:
         found.append(f"time step {record.time_step:g} s is not a ground motion's ({low:g}–"
                      f"{high:g} s): is the time column in seconds?")  # fmt: skip
+    from ..records.vertical import peak_vertical  # numpy: loaded on use
+
+    vertical = peak_vertical(record) / STANDARD_GRAVITY
+    if vertical > VERTICAL_PGA_G:
+        found.append(f"vertical peak {vertical:.3g} g exceeds {VERTICAL_PGA_G:g} g: where "
+                     "g + ü_v ≤ 0 the bridge would leave the ground (free flight), which the "
+                     "model does not follow: the analysis stops there")  # fmt: skip
     return found
 
 

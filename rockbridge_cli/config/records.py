@@ -43,11 +43,16 @@ class RecordFile(StrictModel):
     id: str | None = Field(
         None, pattern=ID_PATTERN, description="Record id in the results; default the file stem"
     )
+    vertical: Path | None = Field(
+        None, description="The record's vertical component (positive up), a companion file with "
+        "the same time step and samples, relative to the config file; analyzed only when the "
+        "records section says vertical: true",
+    )  # fmt: skip
 
-    @field_validator("path")
+    @field_validator("path", "vertical")
     @classmethod
-    def _exists(cls, path: Path, info: ValidationInfo) -> Path:
-        if not resolve_path(path, info).is_file():
+    def _exists(cls, path: Path | None, info: ValidationInfo) -> Path | None:
+        if path is not None and not resolve_path(path, info).is_file():
             raise ValueError(f"record file not found: {path}")
         return path
 
@@ -164,6 +169,11 @@ class Records(StrictModel):
     pulses: list[PulseEntry] | None = Field(
         None, min_length=1, description="Analytic pulses (rockbridge_cli.motions.pulses)"
     )
+    vertical: bool = Field(
+        False, description="Analyze each record with its vertical ground motion: a set's "
+        "vertical companions (generate-records with vertical: true), each file's `vertical`; "
+        "without, the paper's model (no vertical motion)",
+    )  # fmt: skip
 
     @field_validator("record_set")
     @classmethod
@@ -184,6 +194,29 @@ class Records(StrictModel):
         given = [self.record_set, self.files, self.fema_p695, self.pulses]
         if sum(source is not None for source in given) != 1:
             raise ValueError("give exactly one of 'set', 'files', 'fema_p695' and 'pulses'")
+        return self
+
+    @model_validator(mode="after")
+    def _verticals(self, info: ValidationInfo) -> Records:
+        """With ``vertical``, every record has a vertical component; without, none is given."""
+        if not self.vertical:
+            if any(f.vertical is not None for f in self.files or ()):
+                raise ValueError("a file gives a vertical component: say vertical: true to "
+                                 "analyze it, or leave it out")  # fmt: skip
+            return self
+        if self.fema_p695 is not None or self.pulses is not None:
+            raise ValueError("vertical: true needs record files or a set with vertical "
+                             "components; the FEMA P695 sets and the pulses have none")  # fmt: skip
+        lacking = [f.id or f.path.stem for f in self.files or () if f.vertical is None]
+        if self.record_set is not None:
+            entries = read_manifest(resolve_path(self.record_set, info))["records"]
+            lacking = [
+                e.get("name") or Path(e["file"]).stem for e in entries if "vertical" not in e
+            ]
+        if lacking:
+            more = f" (nor do {len(lacking) - 1} more)" if len(lacking) > 1 else ""
+            raise ValueError(f"vertical: true, but record {lacking[0]} has no vertical "
+                             f"component{more}")  # fmt: skip
         return self
 
 
@@ -321,6 +354,11 @@ class RecordSetConfig(StrictModel):
         description="Record names are the prefix and a two-digit number, e.g. AR01 [-].",
     )
     gravity: float = Field(9.81, gt=0.0, description="Acceleration of gravity [m/s^2].")
+    vertical: bool = Field(
+        False, description="Also generate a vertical component of each artificial record (file "
+        "<name>-V.txt), matched to the EN 1998-1 vertical elastic spectrum (§3.2.2.3: a_vg = "
+        "0.90*a_g for type 1, 0.45*a_g for type 2), with its own random phases [-].",
+    )  # fmt: skip
 
     @field_validator("seeds")
     @classmethod
@@ -340,6 +378,9 @@ class RecordSetConfig(StrictModel):
                      "envelope": self.envelope, "seed": self.seed}  # fmt: skip
         if self.seeds is None and self.adjust != "match":
             raise ValueError(f"adjust: {self.adjust} is for seeds; artificial records are matched")
+        if self.seeds is not None and self.vertical:
+            raise ValueError("vertical: only for artificial records (count); give a seed's "
+                             "vertical component as its own file instead")  # fmt: skip
         if self.seeds is not None:
             given = [key for key, value in synthetic.items() if value is not None]
             if given:

@@ -309,6 +309,7 @@ def single_analysis(
     preset: str,
     output: Path,
     tail: float = 0.0,
+    vertical: Path | None = None,
 ) -> Study:
     """The study of one bridge under one record (``rockbridge analyze -o``), written to ``output``.
 
@@ -325,13 +326,17 @@ def single_analysis(
         name it by ``output`` (every path in it is absolute).
     tail
         Free vibration after the record [s] (`core.fidelity`).
+    vertical
+        The record's vertical component, a companion file; None for none.
     """
     record_id = re.sub(r"[^A-Za-z0-9_.+-]", "_", Path(record).stem)
     entry: dict[str, Any] = {"path": str(Path(record).resolve()), "id": record_id}
     entry.update({k: v for k, v in (("units", units), ("time_step", time_step)) if v is not None})
+    if vertical is not None:
+        entry["vertical"] = str(Path(vertical).resolve())
     data = {
         "bridges": [str(Path(bridge).resolve())],
-        "records": {"files": [entry]},
+        "records": {"files": [entry], **({"vertical": True} if vertical is not None else {})},
         "fidelity": {"preset": preset, **({"tail": tail} if tail else {})},
     }
     return study_from_data(data, Path(output), "", None, output)

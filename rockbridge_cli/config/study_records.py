@@ -1,7 +1,8 @@
 """The records of a study, resolved: read from files, a record set, the FEMA P695 sets or
-analytic pulses (`resolve_records`), and scaled to the levels of an intensity section
-(`scaled`). A record that cannot be read does not stop the study: its `StudyRecord` carries the
-reason."""
+analytic pulses (`resolve_records`), with their vertical components where the study asks for
+them, and scaled to the levels of an intensity section (`scaled`; the vertical component by the
+same factor). A record that cannot be read does not stop the study: its `StudyRecord` carries
+the reason."""
 
 from __future__ import annotations
 
@@ -16,6 +17,7 @@ import numpy as np
 from ..errors import InputError
 from ..records.fema import read_fema_set
 from ..records.files import MAX_RECORD_BYTES, Record, check_set_file, read_manifest, read_record
+from ..records.vertical import vertical_entry, with_vertical
 from .intensity import Intensity, intensity_of, scaled_id
 from .records import Records
 
@@ -67,10 +69,12 @@ def scaled(records: list[StudyRecord], intensity: Intensity) -> list[StudyRecord
         for level in intensity.levels:
             scale = level / native
             record = None
-            if item.record is not None:
+            if item.record is not None:  # both components by the same factor
+                up = item.record.vertical
                 record = dataclasses.replace(
-                    item.record, acceleration=scale * item.record.acceleration
-                )
+                    item.record, acceleration=scale * item.record.acceleration,
+                    vertical=None if up is None else scale * up,
+                )  # fmt: skip
             digest = hashlib.sha256(f"{item.digest} x{scale!r}".encode()).hexdigest()
             scaled.append(StudyRecord(
                 scaled_id(item.id, level, intensity.measure), item.source, record, item.error,
@@ -94,38 +98,53 @@ def resolve_records(records: Records, study: Path) -> list[StudyRecord]:
     if records.pulses is not None:
         pulses = [entry.record() for entry in records.pulses]
         return [study_record(r, r.source, r.name) for r in pulses]
+    files: list[tuple[str, Path, str | None, float | None, Path | None]]
     if records.record_set is not None:
         folder = records.record_set
         manifest = read_manifest(base / folder)
+        files = []
         for index, entry in enumerate(manifest["records"]):  # the files the set was written with
             check_set_file(base / folder, entry, index)
-        files: list[tuple[str, Path, str | None, float | None]] = [
-            (entry.get("name") or Path(entry["file"]).stem, folder / entry["file"], None, None)
-            for entry in manifest["records"]
-        ]
+            companion = vertical_entry(base / folder, entry, index) if records.vertical else None
+            up = None if companion is None else folder / companion["file"]
+            name = entry.get("name") or Path(entry["file"]).stem
+            files.append((name, folder / entry["file"], None, None, up))
     else:
         assert records.files is not None
-        files = [(f.id or f.path.stem, f.path, f.units, f.time_step) for f in records.files]
+        files = [(f.id or f.path.stem, f.path, f.units, f.time_step,
+                  f.vertical if records.vertical else None) for f in records.files]  # fmt: skip
     read = functools.cache(_read)  # a file listed several times is read once
     return [
-        dataclasses.replace(read(base / source, units, step), id=name, source=source.as_posix())
-        for name, source, units, step in files
-    ]
+        dataclasses.replace(
+            read(base / source, units, step, None if up is None else base / up),
+            id=name, source=source.as_posix(),
+        )
+        for name, source, units, step, up in files
+    ]  # fmt: skip
 
 
-def _read(path: Path, units: str | None, time_step: float | None) -> StudyRecord:
-    """A record file as a `StudyRecord` (its id and source are set by the caller)."""
+def _read(
+    path: Path, units: str | None, time_step: float | None, vertical: Path | None
+) -> StudyRecord:
+    """A record file, with its ``vertical`` companion if given, as a `StudyRecord` (its id and
+    source are set by the caller)."""
     try:
         record = read_record(path, units=units, time_step=time_step)
+        if vertical is not None:
+            record = with_vertical(record, vertical, units, time_step)
     except InputError as exc:
         return StudyRecord("", "", None, str(exc), _file_digest(path))
     return study_record(record)
 
 
 def study_record(record: Record, source: str = "", id: str = "") -> StudyRecord:
-    """A record read, as a `StudyRecord` whose digest is that of its samples and time step."""
+    """A record read, as a `StudyRecord` whose digest is that of its samples and time step (and
+    of its vertical component's samples, where it has one)."""
     digest = hashlib.sha256(np.float64(record.time_step).tobytes())
     digest.update(record.acceleration.tobytes())
+    if record.vertical is not None:
+        digest.update(b"vertical")
+        digest.update(record.vertical.tobytes())
     return StudyRecord(id, source, record, "", digest.hexdigest())
 
 

@@ -219,6 +219,7 @@ def compute_vertical_spectrum(
     spectrum_type: int,
     design_acceleration: float,
     damping: float = 0.05,
+    extrapolate: bool = False,
 ) -> np.ndarray:
     """Vertical elastic response spectrum Sve(T) of EN 1998-1 §3.2.2.3, Eqs. (3.8)–(3.11).
 
@@ -233,6 +234,9 @@ def compute_vertical_spectrum(
         one is a_vg = 0.90·a_g (type 1) or 0.45·a_g (type 2).
     damping
         viscous damping ratio ξ [-].
+    extrapolate
+        continue Eq. (3.11) beyond 4 s, as `compute_elastic_spectrum` does (a margin for
+        spectral matching, not a rule of EN 1998-1).
 
     Returns
     -------
@@ -240,7 +244,8 @@ def compute_vertical_spectrum(
         Sve(T), the shape of ``periods`` [m/s²]; Sve(0) = a_vg, the vertical PGA.
     """
     periods = np.asarray(periods, dtype=float)
-    if np.any(~np.isfinite(periods)) or np.any(periods < 0.0) or np.any(periods > MAX_PERIOD):
+    beyond = False if extrapolate else np.any(periods > MAX_PERIOD)
+    if np.any(~np.isfinite(periods)) or np.any(periods < 0.0) or beyond:
         raise ValueError(f"EN 1998-1 Eqs. (3.8)-(3.11) hold for 0 <= T <= {MAX_PERIOD:g} s")
     if spectrum_type not in VERTICAL_SHAPES:
         raise ValueError(f"spectrum type must be 1 or 2, got {spectrum_type!r}")

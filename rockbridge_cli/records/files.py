@@ -96,6 +96,9 @@ class Record:
         where the record came from (usually its file).
     metadata
         anything else the file said (header keys, format, original units).
+    vertical
+        vertical ground acceleration at the same samples, positive up, read-only [m/s²]; None
+        without a vertical component (`vertical`).
     """
 
     name: str
@@ -103,6 +106,7 @@ class Record:
     acceleration: np.ndarray
     source: str = ""
     metadata: dict[str, Any] = field(default_factory=dict)
+    vertical: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         values = np.array(self.acceleration, dtype=float)
@@ -114,6 +118,12 @@ class Record:
             raise ValueError(f"the time step must be positive, got {self.time_step!r}")
         values.setflags(write=False)
         object.__setattr__(self, "acceleration", values)
+        if self.vertical is not None:
+            up = np.array(self.vertical, dtype=float)
+            if up.shape != values.shape or not np.all(np.isfinite(up)):
+                raise ValueError("a record's vertical component needs a finite value per sample")
+            up.setflags(write=False)
+            object.__setattr__(self, "vertical", up)
 
     @property
     def duration(self) -> float:
@@ -549,17 +559,19 @@ def read_manifest(folder: str | Path) -> dict[str, Any]:
     return manifest
 
 
-def check_set_file(folder: Path, entry: dict[str, Any], index: int) -> Path:
+def check_set_file(folder: Path, entry: dict[str, Any], index: int, key: str = "file") -> Path:
     """A record file of a set, once it is there and, where the manifest gives its SHA-256 (sets
     written since the manifest has them), has the bytes the set was written with: a file
     changed, or left by a generator killed while it replaced the set, is refused.
+
+    ``key``: the entry's field in messages (``vertical.file`` for a `vertical` companion).
 
     Raises
     ------
     InputError
         The file is missing or differs from the manifest.
     """
-    path, field = folder / entry["file"], f"records[{index}].file"
+    path, field = folder / entry["file"], f"records[{index}].{key}"
     if not path.is_file():
         raise InputError(folder / MANIFEST, [(field, f"{entry['file']} not found")])
     expected = entry.get("sha256")

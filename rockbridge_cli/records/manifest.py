@@ -28,9 +28,11 @@ def record_header(
         "pga_g": pga / config.gravity,
         **({"seed": config.seed} if config.seeds is None else record.metadata),
         "record_index": index,
-        "target": f"{config.target.code} type {target.spectrum_type} ground {target.ground_type}"
+        "target": f"{config.target.code} {'vertical ' if target.vertical else ''}type "
+        f"{target.spectrum_type} ground {target.ground_type}"
         f" a_g={target.design_acceleration / config.gravity:g}g"
-        f" damping={target.damping:g}",
+        + (f" a_vg={target.surface_pga / config.gravity:g}g" if target.vertical else "")
+        + f" damping={target.damping:g}",
         "generator": f"rockbridge {__version__}",
     }
 
@@ -47,7 +49,10 @@ def build_manifest(config, config_name, target, records, summaries, compliance) 
             "scipy": scipy.__version__,
         },
         "config_name": config_name,
-        "config": config.model_dump(mode="json", by_alias=True),
+        # a set without vertical components keeps the manifest it had before they existed
+        "config": config.model_dump(
+            mode="json", by_alias=True, exclude=None if config.vertical else {"vertical"}
+        ),  # fmt: skip
         "target": {
             "code": config.target.code,
             "spectrum_type": target.spectrum_type,
@@ -71,15 +76,7 @@ def build_manifest(config, config_name, target, records, summaries, compliance) 
                 "name": s.name,
                 "file": s.file,
                 "record_index": index,
-                "pga_m_s2": s.peak_acceleration,
-                "pga_g": s.peak_acceleration / config.gravity,
-                "min_ratio": s.min_ratio,
-                "max_ratio": s.max_ratio,
-                "final_velocity_m_s": s.final_velocity,
-                "final_displacement_m": s.final_displacement,
-                "pgv_m_s": s.peak_velocity,
-                "pgd_m": s.peak_displacement,
-                "d5_95_s": s.significant_duration,
+                **_motion_entries(s, config.gravity),
                 "stationary_duration_s": config.envelope.stationary if config.envelope else None,
                 **(records[index].metadata if config.seeds is not None else {}),
                 **(_seed_entries(s) if config.seeds is not None else {}),
@@ -89,17 +86,63 @@ def build_manifest(config, config_name, target, records, summaries, compliance) 
             for index, s in enumerate(summaries)
         ],
         "mean": {"min_ratio": compliance.mean_min_ratio, "max_ratio": compliance.mean_max_ratio},
-        "compliance": {
-            "count": compliance.count,
-            "count_ok": compliance.count_ok,
-            "mean_zero_period_m_s2": compliance.mean_zero_period,
-            "zero_period_ok": compliance.zero_period_ok,
-            "mean_ok": compliance.mean_ok,
-            "stationary_ok": compliance.stationary_ok,
-            "tolerance": compliance.tolerance,
-            "records_ok": compliance.records_ok,
-            "compliant": compliance.compliant,
-        },
+        "compliance": _compliance_entries(compliance),
+    }
+
+
+def add_verticals(manifest: dict[str, Any], config, target, summaries, compliance) -> None:
+    """Add the vertical components to a manifest: each record's (its entry ``vertical``, the
+    companion's file and how it fits), the vertical target (EN 1998-1 §3.2.2.3) and their
+    EN 1998-1 §3.2.3.1.2 check (``vertical_compliance``)."""
+    ratio, *corners = ec8.VERTICAL_SHAPES[target.spectrum_type]
+    manifest["vertical_target"] = {
+        "code": config.target.code,
+        "clause": "EN 1998-1 3.2.2.3, vertical elastic response spectrum",
+        "spectrum_type": target.spectrum_type,
+        "damping": target.damping,
+        "avg_over_ag": ratio,
+        "corner_periods_s": corners,
+        "design_acceleration_m_s2": target.design_acceleration,
+        "vertical_pga_m_s2": target.surface_pga,
+    }
+    for entry, s in zip(manifest["records"], summaries, strict=True):
+        entry["vertical"] = {"file": s.file, **_motion_entries(s, config.gravity),
+                             "attempts": s.attempts, "iterations": s.iterations}  # fmt: skip
+    manifest["vertical_mean"] = {
+        "min_ratio": compliance.mean_min_ratio,
+        "max_ratio": compliance.mean_max_ratio,
+    }
+    manifest["vertical_compliance"] = _compliance_entries(compliance)
+
+
+def _motion_entries(s: RecordSummary, gravity: float) -> dict[str, float]:
+    """A record's peaks, fit to its target, final motion and duration, as a manifest gives
+    them."""
+    return {
+        "pga_m_s2": s.peak_acceleration,
+        "pga_g": s.peak_acceleration / gravity,
+        "min_ratio": s.min_ratio,
+        "max_ratio": s.max_ratio,
+        "final_velocity_m_s": s.final_velocity,
+        "final_displacement_m": s.final_displacement,
+        "pgv_m_s": s.peak_velocity,
+        "pgd_m": s.peak_displacement,
+        "d5_95_s": s.significant_duration,
+    }
+
+
+def _compliance_entries(compliance: ec8.ComplianceReport) -> dict[str, Any]:
+    """The EN 1998-1 §3.2.3.1.2 check of a set, as a manifest gives it."""
+    return {
+        "count": compliance.count,
+        "count_ok": compliance.count_ok,
+        "mean_zero_period_m_s2": compliance.mean_zero_period,
+        "zero_period_ok": compliance.zero_period_ok,
+        "mean_ok": compliance.mean_ok,
+        "stationary_ok": compliance.stationary_ok,
+        "tolerance": compliance.tolerance,
+        "records_ok": compliance.records_ok,
+        "compliant": compliance.compliant,
     }
 
 

@@ -1,5 +1,6 @@
 """Record sets: artificial accelerograms matched to an EN 1998-1 spectrum (`generate_record_set`),
-or recorded seeds matched or scaled to it, with the manifest that describes them, the compliance
+with vertical components matched to its vertical spectrum if asked for, or recorded seeds
+matched or scaled to it, with the manifest that describes them, the compliance
 check of EN 1998-1 §3.2.3.1.2, the fit on a dense period grid (`spectral_fit`) and, for matched
 seeds, what the matching changed of each seed."""
 
@@ -22,7 +23,7 @@ from ..motions import baseline, ec8, matching, seeds, spectra, spectral_fit
 from ..paths import replace_folder, writable
 from .fema import read_fema_set
 from .files import MANIFEST, PROVENANCE, Record, read_record, write_record
-from .manifest import build_manifest, checks_dense, record_header, round_floats
+from .manifest import add_verticals, build_manifest, checks_dense, record_header, round_floats
 from .summary import RecordSummary, SeedChange
 from .target import TargetDefinition, resolve_target
 
@@ -63,6 +64,9 @@ class RecordSetReport:
     dense_tolerance
         whether the config's tolerance is checked on the dense grid (matched seeds) rather than
         at the check periods (artificial records, which the generator matches there).
+    vertical
+        the same for the records' vertical components, matched to the vertical spectrum; None
+        without.
     """
 
     folder: Path
@@ -74,6 +78,7 @@ class RecordSetReport:
     ground_displacement: float
     dense_periods: int = 0
     dense_tolerance: bool = False
+    vertical: RecordSetReport | None = None
 
 
 def generate_record_set(
@@ -82,7 +87,9 @@ def generate_record_set(
     """Generate a matched record set and write it: one rockbridge file per record + manifest.
 
     Artificial record i uses ``numpy.random.default_rng`` seeded with child i of
-    ``numpy.random.SeedSequence(config.seed)``, so the same config gives the same bytes. A
+    ``numpy.random.SeedSequence(config.seed)``, so the same config gives the same bytes; its
+    vertical component (``config.vertical``) child count + i, matched by the same generator to
+    the vertical spectrum (`TargetDefinition.vertical_component`). A
     recorded seed is matched with its phases, envelope, ground motion and durations kept
     (`seeds.match_seed`), first resampled if its time step cannot resolve the band.
 
@@ -113,19 +120,27 @@ def generate_record_set(
     records = [record for record, _, _ in made]
     check = np.geomspace(*config.band, config.check_periods)
     summaries, compliance = _summarise(made, check, target, config)
+    vertical = target.vertical_component() if config.vertical else None
+    if vertical is not None:
+        uprights = _synthesised(config, vertical, settings)
+        vertical_summaries, vertical_compliance = _summarise(uprights, check, vertical, config)
     staging = folder.with_name(f".{folder.name}.partial-{os.getpid()}")
     staging.mkdir()
-    for index, record in enumerate(records):
-        header = record_header(config, target, index, record)
-        write_record(staging / f"{record.name}.txt", record, header)
-    manifest = round_floats(
-        build_manifest(config, config_name, target, records, summaries, compliance)
-    )
+    written = [(target, records)] + ([(vertical, [r for r, _, _ in uprights])] if vertical else [])
+    for aim, motions in written:
+        for index, record in enumerate(motions):
+            header = record_header(config, aim, index, record)
+            write_record(staging / f"{record.name}.txt", record, header)
+    manifest = build_manifest(config, config_name, target, records, summaries, compliance)
+    if vertical is not None:
+        add_verticals(manifest, config, vertical, vertical_summaries, vertical_compliance)
+    manifest = round_floats(manifest)
     for entry in manifest["records"]:  # a study verifies them (`files.check_set_file`)
-        entry["sha256"] = hashlib.sha256((staging / entry["file"]).read_bytes()).hexdigest()
+        for item in [entry] + ([entry["vertical"]] if "vertical" in entry else []):
+            item["sha256"] = hashlib.sha256((staging / item["file"]).read_bytes()).hexdigest()
     (staging / MANIFEST).write_text(json.dumps(manifest, indent=2) + "\n", encoding="utf-8")
     replace_folder(staging, folder, keep=_is_set)
-    return RecordSetReport(
+    report = RecordSetReport(
         folder,
         tuple(summaries),
         compliance,
@@ -136,6 +151,11 @@ def generate_record_set(
         spectral_fit.dense_periods(config.band, target.damping).size,
         checks_dense(config),
     )
+    if vertical is None:
+        return report
+    upright = dataclasses.replace(report, records=tuple(vertical_summaries),
+                                  compliance=vertical_compliance)  # fmt: skip
+    return dataclasses.replace(report, vertical=upright)
 
 
 def _is_set(folder: Path) -> bool:
@@ -162,7 +182,9 @@ Made = tuple[Record, matching.MatchedRecord, "SeedChange | None"]
 
 
 def _synthesised(config, target, settings) -> list[Made]:
-    """``config.count`` artificial records from random phases."""
+    """``config.count`` artificial records from random phases: the horizontal ones, or for a
+    vertical ``target`` their vertical components (``<name>-V``, children count … 2·count − 1
+    of the seed sequence, so that the horizontal records stay as they are without them)."""
     assert config.count and config.time_step and config.envelope and config.seed is not None
     periods = matching.compute_matching_periods(config.band, config.check_periods, config.time_step)
     envelope = matching.Envelope(
@@ -174,12 +196,14 @@ def _synthesised(config, target, settings) -> list[Made]:
     goal = target.evaluate(periods, extrapolate=True)
     width = max(2, len(str(config.count)))
     made: list[Made] = []
-    for index, child in enumerate(np.random.SeedSequence(config.seed).spawn(config.count)):
+    children = np.random.SeedSequence(config.seed).spawn(2 * config.count)
+    offset, suffix = (config.count, "-V") if target.vertical else (0, "")
+    for index, child in enumerate(children[offset : offset + config.count]):
         matched = matching.generate_matched_record(
             periods, goal, target.surface_pga, config.time_step, envelope,
             np.random.default_rng(child), settings, band=config.band,
         )  # fmt: skip
-        name = f"{config.name_prefix}{index + 1:0{width}d}"
+        name = f"{config.name_prefix}{index + 1:0{width}d}{suffix}"
         made.append((Record(name, config.time_step, matched.acceleration, "generate-records"),
                      matched, None))  # fmt: skip
     return made

@@ -3,6 +3,7 @@ or read back from a set's manifest (`read_set_target`)."""
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -28,7 +29,10 @@ class TargetDefinition:
     design_acceleration
         a_g [m/s²].
     surface_pga
-        a_g·S, the records' PGA [m/s²].
+        a_g·S, the records' PGA [m/s²]; of a vertical target, a_vg.
+    vertical
+        whether this is the vertical elastic spectrum (EN 1998-1 §3.2.2.3), the target of the
+        vertical components (`vertical_component`).
     """
 
     spectrum_type: int
@@ -36,6 +40,15 @@ class TargetDefinition:
     damping: float
     design_acceleration: float
     surface_pga: float
+    vertical: bool = False
+
+    def vertical_component(self) -> TargetDefinition:
+        """The vertical target of the same earthquake: Sve of EN 1998-1 §3.2.2.3, whose a_vg
+        (Table 3.4: 0.90·a_g for type 1, 0.45·a_g for type 2) the vertical components peak at."""
+        ratio = ec8.VERTICAL_SHAPES[self.spectrum_type][0]
+        return dataclasses.replace(
+            self, surface_pga=ratio * self.design_acceleration, vertical=True
+        )
 
     @property
     def ground_displacement(self) -> float:
@@ -54,7 +67,11 @@ class TargetDefinition:
         return 2.0 * np.pi * self.ground_displacement / corner
 
     def evaluate(self, periods: np.ndarray, extrapolate: bool = False) -> np.ndarray:
-        """Se at the given periods [m/s²]."""
+        """Se (or Sve, for a vertical target) at the given periods [m/s²]."""
+        if self.vertical:
+            return ec8.compute_vertical_spectrum(
+                periods, self.spectrum_type, self.design_acceleration, self.damping, extrapolate
+            )
         return ec8.compute_elastic_spectrum(
             periods,
             self.spectrum_type,

@@ -5,7 +5,9 @@
     /                          study, versions, timestamps, config hash, fidelity knobs
     /records/<record>          acceleration [m/s2], time step, PGA, source file; a scaled
                                record: base_record, scale and base_acceleration, the base's
-                               samples as read (one dataset for all its levels)
+                               samples as read (one dataset for all its levels); a record
+                               analyzed with its vertical component: vertical_acceleration
+                               (or base_vertical_acceleration), vertical_pga, vertical_file
     /bridges/<bridge>          bridge config, model constants and summarize() values
     /peaks/<column>            one row per analysis that ran, in the study's order: status,
                                peaks, counts, timings

@@ -11,6 +11,7 @@ import json
 import platform
 from collections import Counter
 from collections.abc import Callable, Iterable, Iterator, Sequence
+from pathlib import Path
 from typing import TYPE_CHECKING, Any, cast
 
 import h5py
@@ -29,6 +30,7 @@ from ..core.quantities import (
 from ..motions.intensity import MEASURES, record_measures
 from ..motions.pulse_identification import pulse_provenance
 from ..records.files import PROVENANCE
+from ..records.vertical import peak_vertical
 from .layout import (
     COMPRESSION,
     COUNT_COLUMNS,
@@ -325,7 +327,8 @@ def _write_records(group: h5py.Group, study: Study) -> None:
     links: its description is written once), and files of the same content share their samples
     (a hard link too). A record an intensity section scales holds its factor (``scale``) and its
     base record's samples as read (``base_acceleration``, one dataset for every level, linked),
-    not a scaled copy."""
+    not a scaled copy. A record analyzed with its vertical component holds it beside them
+    (``vertical_acceleration``, ``base_vertical_acceleration``)."""
     described: dict[tuple[str, str], h5py.Group] = {}
     written: dict[str, h5py.Dataset] = {}
     pulses: dict[tuple[str, str], dict[str, float]] = {}  # by record as read: once per record
@@ -346,23 +349,30 @@ def _write_records(group: h5py.Group, study: Study) -> None:
             pulses[base] = pulse_provenance(record.acceleration, record.time_step)
         node = described[key] = _describe_record(group, item, spectral, pulses.get(base, {}))
         samples = item.record if item.as_read is None else item.as_read
-        name = "acceleration" if item.as_read is None else "base_acceleration"
+        prefix = "" if item.as_read is None else "base_"
         digest = item.digest if item.as_read is None else f"{item.source} as read"
-        if digest in written:
-            node[name] = written[digest]
-        elif samples is not None:
-            written[digest] = _write_samples(node, name, samples.acceleration)
+        components = {} if samples is None else {"acceleration": samples.acceleration}
+        if samples is not None and samples.vertical is not None:
+            components["vertical_acceleration"] = samples.vertical
+        for name, values in components.items():
+            samples_id = digest if name == "acceleration" else f"{digest} {name}"
+            if samples_id in written:
+                node[prefix + name] = written[samples_id]
+            else:
+                written[samples_id] = _write_samples(node, prefix + name, values)
 
 
 def _write_samples(node: h5py.Group, name: str, acceleration: np.ndarray) -> h5py.Dataset:
     """A record's samples, ``acceleration`` (as analyzed) or ``base_acceleration`` (as read, of
-    a record scaled by the group's ``scale``)."""
+    a record scaled by the group's ``scale``); ``vertical_acceleration`` and
+    ``base_vertical_acceleration`` its vertical component's."""
     dataset = node.create_dataset(name, data=acceleration, **COMPRESSION)
     dataset.attrs["units"] = "m/s2"
+    direction = "vertical, positive up" if "vertical" in name else "positive to the right"
     dataset.attrs["description"] = (
-        "ground acceleration, positive to the right, from t = 0 at time_step"
-        + ("" if name == "acceleration" else "; of the record as read: the group's scale times "
-           "it is the motion analyzed")
+        f"ground acceleration, {direction}, from t = 0 at time_step"
+        + ("" if not name.startswith("base_") else "; of the record as read: the group's scale "
+           "times it is the motion analyzed")
     )  # fmt: skip
     return dataset
 
@@ -395,6 +405,9 @@ def _describe_record(
                 "standard_gravity": STANDARD_GRAVITY,  # what a file's g was converted with
             }
         )
+        if record.vertical is not None:
+            source = Path(record.metadata.get("vertical_source", "")).name
+            node.attrs.update(vertical_pga=peak_vertical(record), vertical_file=source)
         provenance = {key: record.metadata[key] for key in PROVENANCE if key in record.metadata}
         provenance |= pulse
         measures = record_measures(record.acceleration, record.time_step, *spectral)
@@ -404,6 +417,8 @@ def _describe_record(
             {"time_step": "s", "n_samples": "-", "duration": "s", "pga": "m/s2",
              "file_units": "-", "standard_gravity": "m/s2",
              **({"scale": "-"} if item.as_read is not None else {}),
+             **({"vertical_pga": "m/s2", "vertical_file": "-"} if record.vertical is not None
+                else {}),
              **{key: PROVENANCE[key] for key in provenance},
              **{name: MEASURES[name].unit for name in measures}},
         )  # fmt: skip

@@ -27,7 +27,8 @@ class BridgeCase(NamedTuple):
 
 class RecordCase(NamedTuple):
     """A ground motion [m/s²] at ``time_step`` [s], or why it could not be read; with the
-    record it was scaled from, the intensity level and the factor (`config.intensity.Intensity`)."""
+    record it was scaled from, the intensity level and the factor (`config.intensity.Intensity`),
+    and its vertical component [m/s², positive up] where the study analyzes one (else None)."""
 
     id: str
     acceleration: np.ndarray | None
@@ -36,6 +37,7 @@ class RecordCase(NamedTuple):
     base: str
     level: float
     scale: float
+    vertical: np.ndarray | None = None
 
 
 class Cell(NamedTuple):
@@ -90,7 +92,7 @@ class Grid:
             RecordCase(
                 r.id, r.record.acceleration if r.record else None,
                 r.record.time_step if r.record else float("nan"), r.error, r.base or r.id,
-                r.level, r.scale,
+                r.level, r.scale, r.record.vertical if r.record else None,
             )
             for r in study.records
         )  # fmt: skip
@@ -126,9 +128,11 @@ class Grid:
         if cell.level != cell.level:
             return record
         acceleration = None if record.acceleration is None else cell.scale * record.acceleration
+        vertical = None if record.vertical is None else cell.scale * record.vertical
         return record._replace(
-            id=self.ids(cell)[1], acceleration=acceleration, level=cell.level, scale=cell.scale
-        )
+            id=self.ids(cell)[1], acceleration=acceleration, level=cell.level, scale=cell.scale,
+            vertical=vertical,
+        )  # fmt: skip
 
     def cost(self, cell: Cell) -> int:
         """The expected cost of a cell: the samples of its record (an analysis steps through

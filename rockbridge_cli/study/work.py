@@ -89,14 +89,14 @@ def _analyzed(grid: Grid, bridge: BridgeCase, record: RecordCase) -> AnalysisRes
     try:
         response = analyze(
             bridge.bridge, record.acceleration, record.time_step, grid.fidelity,
-            histories=bool(grid.keep),
+            histories=bool(grid.keep), vertical=record.vertical,
         )  # fmt: skip
         rechecked = 0
         if grid.recheck is not None and _near_a_limit(response):
             verdict = response.failure_mode
             response = analyze(
                 bridge.bridge, record.acceleration, record.time_step, grid.recheck,
-                histories=bool(grid.keep),
+                histories=bool(grid.keep), vertical=record.vertical,
             )  # fmt: skip
             rechecked = 1 + (response.failure_mode != verdict)  # 2: the verdict changed
     except Exception as exc:  # one failed analysis must not stop the others
