@@ -14,6 +14,7 @@ from scipy.integrate import simpson
 from rockbridge_cli.core.analysis import analyze
 from rockbridge_cli.core.bridge import Bridge
 from rockbridge_cli.core.geometry import single_block
+from rockbridge_cli.core.impacts import onset_threshold
 from rockbridge_cli.core.solver import FREE_FLIGHT, SOLVER_ERRORS
 
 DT = 0.01  # [s]
@@ -47,12 +48,28 @@ def test_a_constant_vertical_acceleration_is_a_change_of_gravity(up, h_bar, mirr
     expected = analyze(heavier, acc, DT, "reference")
     assert got.status == expected.status == "ok"
     assert got.n_impacts == expected.n_impacts > 5 and got.n_poundings == expected.n_poundings
+    assert list(got.events["kind"]) == list(expected.events["kind"])
     np.testing.assert_allclose(got.events["time"], expected.events["time"], rtol=0, atol=1e-9)
     for name, history in expected.histories.items():
         scale = max(np.nanmax(np.abs(history)), 1e-6)  # a symmetric deck turns by round-off
         np.testing.assert_allclose(got.histories[name], history, rtol=0, atol=1e-8 * scale)
     unchanged = analyze(Bridge(model, mirrored), acc, DT, "reference")
     assert abs(unchanged.peaks["theta1"][0] / got.peaks["theta1"][0] - 1.0) > 1e-4  # it matters
+
+
+def test_the_chatter_guard_tests_the_lifted_threshold():
+    """A half-sine pulse just above the onset threshold of gravity g + a makes the bridge rock a
+    little and come to rest through ever smaller impacts (docs/model.md §7): under a constant
+    ü_v = a exactly as the bridge with gravity g + a does, the rest included."""
+    model, up = studied_bridge(2.0), 1.5
+    heavier = model._replace(g=model.g + up)
+    t = np.arange(0.0, 20.0, DT)
+    pulse = np.where(t < 0.6, 1.05 * onset_threshold(heavier, 1.0) * np.sin(np.pi * t / 0.6), 0.0)
+    got = analyze(Bridge(model), pulse, DT, vertical=np.full(t.size, up))
+    expected = analyze(Bridge(heavier), pulse, DT)
+    kinds = list(expected.events["kind"])
+    assert "rest" in kinds and list(got.events["kind"]) == kinds
+    np.testing.assert_allclose(got.events["time"], expected.events["time"], rtol=0, atol=1e-9)
 
 
 @pytest.mark.parametrize("s", [1.0, -1.0])
