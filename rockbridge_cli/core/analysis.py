@@ -188,15 +188,7 @@ def analyze(
             f"{type(bridge).__name__}: a bare model does not say whether it is mirrored"
         )
     model = bridge.model
-    if np.iscomplexobj(acceleration) or not isinstance(time_step, (int, float, np.number)):
-        raise TypeError("analyze takes real accelerations [m/s²] and a real time step [s]")
-    acc = np.ascontiguousarray(acceleration, dtype=float)
-    if acc.ndim != 1 or acc.size < 2:
-        raise ValueError("the ground motion needs at least two samples")
-    if not np.all(np.isfinite(acc)):
-        raise ValueError("the ground motion has non-finite values")
-    if not (time_step > 0.0 and np.isfinite(time_step)):
-        raise ValueError(f"the time step must be positive, got {time_step}")
+    acc = _ground(acceleration, time_step)
     chosen = resolve(fidelity, **overrides) if isinstance(fidelity, str) else (
         fidelity.changed(**overrides) if overrides else fidelity
     )  # fmt: skip
@@ -204,12 +196,7 @@ def analyze(
     check_work(knobs, acc.size, time_step)
     up = None if vertical is None else _vertical(vertical, acc.size)
     samples, flight = acc.size, None if up is None else _flight(up, model.g)
-    if flight is None:
-        tail = np.zeros(int(round(knobs["tail"] / time_step)))
-        acc = np.concatenate([acc, tail])
-        up = None if up is None else np.concatenate([up, tail])
-    else:  # integrated until the last sample before the flight (one, if it starts at once)
-        acc, up = acc[: max(flight, 1)], up[: max(flight, 1)]  # type: ignore[index]
+    acc, up = _integrated(acc, up, flight, int(round(knobs["tail"] / time_step)))
     kin = _kinematics(model, knobs["kinematics"])
     sign = bridge.sign
     laws = bridge.laws()
@@ -280,6 +267,33 @@ def _response(
         steps=int(result.steps),
         rejected_steps=int(result.rejected),
     )
+
+
+def _integrated(
+    acc: np.ndarray, up: np.ndarray | None, flight: int | None, tail: int
+) -> tuple[np.ndarray, np.ndarray | None]:
+    """The ground motion the integrator takes: with ``tail`` samples of rest after it or, where
+    the bridge would take flight at sample ``flight``, up to the sample before (one, if at once)."""
+    if flight is None:
+        rest = np.zeros(tail)
+        return np.concatenate([acc, rest]), None if up is None else np.concatenate([up, rest])
+    assert up is not None, "only a vertical motion lifts the bridge off"
+    end = max(flight, 1)
+    return acc[:end], up[:end]
+
+
+def _ground(acceleration: np.ndarray, time_step: float) -> np.ndarray:
+    """The horizontal ground motion as a float array, checked (`analyze`'s errors) [m/s²]."""
+    if np.iscomplexobj(acceleration) or not isinstance(time_step, (int, float, np.number)):
+        raise TypeError("analyze takes real accelerations [m/s²] and a real time step [s]")
+    acc = np.ascontiguousarray(acceleration, dtype=float)
+    if acc.ndim != 1 or acc.size < 2:
+        raise ValueError("the ground motion needs at least two samples")
+    if not np.all(np.isfinite(acc)):
+        raise ValueError("the ground motion has non-finite values")
+    if not (time_step > 0.0 and np.isfinite(time_step)):
+        raise ValueError(f"the time step must be positive, got {time_step}")
+    return acc
 
 
 def _vertical(vertical: np.ndarray, samples: int) -> np.ndarray:
