@@ -35,10 +35,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..config.intensity import scaled_id
 from ..core.quantities import NO_FAILURE
 from ..errors import InputError
-from ..motions.intensity import MEASURES
+from ..motions.intensity import MEASURES, scaled_id
 from ..paths import writable
 from ..results.reading import open_results, peak_columns
 from .fragility import Fragility, fragilities

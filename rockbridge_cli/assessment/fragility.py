@@ -31,10 +31,9 @@ from typing import TYPE_CHECKING, Any
 import h5py
 import numpy as np
 
-from ..config.intensity import scaled_id
 from ..core.quantities import LIMIT_STATES
 from ..errors import InputError
-from ..motions.intensity import MEASURES
+from ..motions.intensity import MEASURES, scaled_id
 from ..results.reading import open_results, peak_columns
 from . import limit_states, lognormal
 from .ida import Lattice, Outcome, Walk, walk

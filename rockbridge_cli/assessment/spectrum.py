@@ -19,9 +19,9 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from ..config.intensity import scaled_id
 from ..core.quantities import ABUTMENT, PIER1_OVERTURNING, PIER2_OVERTURNING
 from ..errors import InputError
+from ..motions.intensity import scaled_id
 from ..results.reading import open_results, peak_columns
 from .ida import Lattice, Outcome, walk
 from .limit_states import Verdict

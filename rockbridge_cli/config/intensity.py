@@ -9,7 +9,7 @@ from typing import Annotated, Literal
 from pydantic import Field, PositiveFloat, field_validator, model_validator
 
 from ..core.quantities import LIMIT_STATES, check_limit_state
-from ..motions.intensity import MEASURES, measure_value
+from ..motions.intensity import measure_value
 from ..records.files import Record
 from .loading import StrictModel
 
@@ -115,9 +115,3 @@ def intensity_of(record: Record, intensity: Intensity) -> float:
         intensity.measure, record.acceleration, record.time_step, intensity.period,
         intensity.period_range, intensity.damping,
     )  # fmt: skip
-
-
-def scaled_id(base: str, level: float, measure: str) -> str:
-    """The id of a record scaled to an intensity level: ``AR01+0.6g``, ``AR01+1.5x``,
-    ``FF01a+0.4mps``."""
-    return f"{base}+{level:.10g}{MEASURES[measure].suffix}"

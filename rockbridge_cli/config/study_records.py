@@ -15,10 +15,11 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..motions.intensity import scaled_id
 from ..records.fema import read_fema_set
 from ..records.files import MAX_RECORD_BYTES, Record, check_set_file, read_manifest, read_record
 from ..records.vertical import vertical_entry, with_vertical
-from .intensity import Intensity, intensity_of, scaled_id
+from .intensity import Intensity, intensity_of
 from .records import Records
 
 

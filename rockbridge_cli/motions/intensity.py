@@ -190,3 +190,9 @@ def convert(
     """
     factor = (level / native) ** (1.0 / MEASURES[native_measure].power)
     return factor ** MEASURES[target_measure].power * target
+
+
+def scaled_id(base: str, level: float, measure: str) -> str:
+    """The id of a record scaled to an intensity level: ``AR01+0.6g``, ``AR01+1.5x``,
+    ``FF01a+0.4mps``."""
+    return f"{base}+{level:.10g}{MEASURES[measure].suffix}"

@@ -10,9 +10,9 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
-from ..config.intensity import scaled_id
 from ..core.bridge import Bridge
 from ..core.fidelity import Fidelity, resolve
+from ..motions.intensity import scaled_id
 
 if TYPE_CHECKING:
     from ..config.study import Study
