@@ -60,18 +60,34 @@ def random_stripes(rng):
 
 
 def test_the_stripe_fit_is_the_optimum_scipy_finds():
+    """Never a worse likelihood than scipy's, a stationary point (central differences of −ln L
+    in (ln θ, ln β) below 1e-6), and the same parameters wherever scipy's L-BFGS-B converged as
+    far (scipy 1.11's stops early on a few of these cases, at a worse likelihood)."""
     rng = np.random.default_rng(7)
     cases = [case for case in (random_stripes(rng) for _ in range(120)) if case is not None]
     assert len(cases) > 60
+    agreed = 0
     for levels, reached, tried, (median, beta) in cases:
         logs = np.log(levels)
         args = (logs, reached, tried)
         reference = scipy_optimum(stripes_minus_log_likelihood, [np.median(logs), math.log(0.3)],
                                   (logs.min(), logs.max()), args)  # fmt: skip
-        ours = stripes_minus_log_likelihood([math.log(median), math.log(beta)], *args)
+        found = np.array([math.log(median), math.log(beta)])
+        ours = stripes_minus_log_likelihood(found, *args)
         assert ours <= reference.fun + 1e-9  # never a worse likelihood
-        assert math.log(median) == pytest.approx(reference.x[0], abs=2e-5)
-        assert math.log(beta) == pytest.approx(reference.x[1], abs=2e-5)
+        low, high = logs.min() - lognormal.MARGIN, logs.max() + lognormal.MARGIN
+        inside = BOUNDS_BETA[0] + 1e-3 < found[1] < BOUNDS_BETA[1] - 1e-3
+        if inside and low + 1e-3 < found[0] < high - 1e-3:  # not held at the fits' region
+            for axis in (0, 1):
+                h = np.eye(2)[axis] * 1e-5
+                slope = (stripes_minus_log_likelihood(found + h, *args)
+                         - stripes_minus_log_likelihood(found - h, *args)) / 2e-5  # fmt: skip
+                assert abs(slope) < 1e-6 * (1.0 + abs(ours))
+        if reference.fun <= ours + 1e-9:  # scipy got as far: the same point
+            assert found[0] == pytest.approx(reference.x[0], abs=2e-5)
+            assert found[1] == pytest.approx(reference.x[1], abs=2e-5)
+            agreed += 1
+    assert agreed >= 0.9 * len(cases)
 
 
 def test_the_censored_fit_is_the_optimum_scipy_finds():
@@ -104,7 +120,7 @@ def test_without_censoring_newton_gives_the_sample_mean_and_deviation():
     logs = np.log(np.array([0.31, 0.52, 0.55, 0.9, 1.7, 2.4]))
     sample = lognormal.Sample(logs, np.empty(0), np.empty(0), np.empty(0, dtype=bool))
     mean, beta = lognormal.fit(sample, (logs.min(), logs.max()), (3.0, 4.0))
-    assert mean == pytest.approx(logs.mean(), abs=1e-13)
+    assert mean == pytest.approx(logs.mean(), abs=1e-12)
     assert beta == pytest.approx(logs.std(), rel=1e-12)
 
 

@@ -34,6 +34,10 @@ MARGIN = 5.0
 STEPS = 60
 """Newton steps before the maximum is sought on the boundary instead."""
 
+ROUND_OFF = 1e-14
+"""Relative change of the log-likelihood below its round-off: near the maximum a Newton step
+changes it by less, and the line search takes it rather than halving it away [-]."""
+
 _LOG_ROOT_2PI = 0.5 * math.log(2.0 * math.pi)
 
 
@@ -146,8 +150,8 @@ def _newton(sample: Sample, point: np.ndarray) -> np.ndarray | None:
         while True:
             trial = point + length * step
             found = sample.log_likelihood(*trial)
-            if found[0] >= value + 1e-4 * length * slope:
-                break
+            if found[0] >= value + 1e-4 * length * slope - ROUND_OFF * abs(value):
+                break  # an ascent, or a step whose change is below the likelihood's round-off
             length *= 0.5
             if length < 1e-12:  # no ascent left at this precision: the maximum
                 return point
