@@ -4,14 +4,17 @@
 # Reproducible: every library (and the build backend) comes from requirements.lock, pinned and
 # checked against its SHA-256 hashes. Ready at once: the numerical kernels are compiled at build
 # time into NUMBA_CACHE_DIR, which stays set in the image, so a batch job's containers load them
-# from there instead of each compiling them again (8–10 s).
+# from there instead of each compiling them again (8–10 s). ROCKBRIDGE_PATHS lets a study's
+# paths reach the bundled records from any working folder (a config's paths are otherwise
+# confined to its own folder and the working folder: README, "Paths in configs").
 FROM python:3.11-slim
 
 ENV PYTHONDONTWRITEBYTECODE=1 \
     PIP_NO_CACHE_DIR=1 \
     PIP_DISABLE_PIP_VERSION_CHECK=1 \
     MPLBACKEND=Agg \
-    NUMBA_CACHE_DIR=/opt/rockbridge/numba-cache
+    NUMBA_CACHE_DIR=/opt/rockbridge/numba-cache \
+    ROCKBRIDGE_PATHS=/opt/rockbridge
 
 RUN useradd --create-home --uid 1000 rockbridge
 WORKDIR /opt/rockbridge

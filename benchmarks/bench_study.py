@@ -18,6 +18,10 @@ entries (the ten bundled records, each listed several times under its own id) an
 
 The kernels are compiled (or loaded from numba's cache) before the rows are timed.
 
+With ``--session`` each row's process loads the kernels before the clock starts, as a Python
+session does that has analyzed before (a notebook, a script that runs study after study): the
+forked workers inherit them, and a run's start is only the study's loading.
+
 With ``--command`` each row is ``rockbridge run STUDY --workers N`` instead, as a user runs it
 (its workers start while it loads the study), timed from outside the process: only e2e, total
 and the speed-up are measured.
@@ -29,7 +33,7 @@ multiple-stripe study and the IDA of the paper's bridges (``rockbridge run``, th
     python benchmarks/bench_study.py [--sizes 30 300 3000 10000] [--workers 1 2]
                                      [--fidelity default] [--histories none all] [--bridges 3]
                                      [--bundled paper-stripes paper-ida] [--repeat 1]
-                                     [--command]
+                                     [--command | --session]
 """
 
 from __future__ import annotations
@@ -54,6 +58,9 @@ CLI = "from rockbridge_cli.cli import entry; entry()"
 
 ROW = """
 import json, resource, sys, time
+if sys.argv[3] == "session":  # the kernels in the parent, as after an analysis; forks inherit
+    from rockbridge_cli.study import kernels
+    kernels.prepare()
 started = time.perf_counter()
 from rockbridge_cli.config.study import load_study
 from rockbridge_cli.study.run import run_study
@@ -104,13 +111,14 @@ def measure(
     fidelity: str,
     bridges: int = len(BRIDGES),
     command: bool = False,
+    session: bool = False,
 ) -> dict:
     with tempfile.TemporaryDirectory() as folder:
         study = write_study(Path(folder), analyses, histories, fidelity, bridges)
         if command:
             return measure_command(study, workers)
         done = subprocess.run(
-            [sys.executable, "-c", ROW, str(study), str(workers)],
+            [sys.executable, "-c", ROW, str(study), str(workers), "session" * session],
             capture_output=True, text=True, check=True,
         )  # fmt: skip
     return json.loads(done.stdout)
@@ -135,7 +143,7 @@ def measure_bundled(name: str, workers: int) -> dict:
     with tempfile.TemporaryDirectory() as folder:
         study = REPO / "configs" / "studies" / f"{name}.yaml"
         done = subprocess.run(
-            [sys.executable, "-c", ROW, str(study), str(workers)],
+            [sys.executable, "-c", ROW, str(study), str(workers), ""],
             capture_output=True, text=True, check=True, cwd=folder,
         )  # fmt: skip
         row = json.loads(done.stdout)
@@ -161,12 +169,16 @@ def main() -> None:
                         "the table gives their medians")  # fmt: skip
     parser.add_argument("--command", action="store_true",
                         help="time `rockbridge run` as a user runs it, not run_study")  # fmt: skip
+    parser.add_argument("--session", action="store_true", help="the kernels loaded before "
+                        "the clock starts, as in a session that has analyzed before")  # fmt: skip
     options = parser.parse_args()
 
     measure(3, "none", 1, options.fidelity)  # compile the kernels into numba's cache
     machine = f"{platform.machine()}, {os.cpu_count()} CPUs, Python {platform.python_version()}"
-    print(f"machine: {machine}; fidelity {options.fidelity}; histories at 0.01 s; "
-          f"{options.bridges} bridges")  # fmt: skip
+    print(
+        f"machine: {machine}; fidelity {options.fidelity}; histories at 0.01 s; "
+        f"{options.bridges} bridges" + "; kernels loaded before the clock" * options.session
+    )
     print(
         f"{'N':>6} {'hist':>4} {'wrk':>3} | {'e2e':>7} {'solve':>7} {'over':>7} "
         f"{'parent':>7} {'worker':>7} {'ceiling':>7} | {'load':>6} {'total':>7} | "
@@ -179,7 +191,8 @@ def main() -> None:
             for _ in range(options.repeat):  # interleaved: a drift of the host's speed hits all
                 for workers in options.workers:
                     runs[workers].append(measure(analyses, histories, workers, options.fidelity,
-                                                 options.bridges, options.command))  # fmt: skip
+                                                 options.bridges, options.command,
+                                                 options.session))  # fmt: skip
             for workers, rows in runs.items():
                 row = {key: statistics.median(r[key] for r in rows) for key in rows[0]}
                 n = row["n"]

@@ -33,6 +33,13 @@ import pytest
 from rockbridge_cli.core.geometry import Model
 
 REPO = Path(__file__).resolve().parents[1]
+
+# The tests' studies, written in temporary folders (often also the working folder), name the
+# repository's bridges and records: the suite names the repository as a folder a config may
+# reach, as a user would (README, "Paths in configs"; tests/test_config_paths.py unsets it).
+os.environ["ROCKBRIDGE_PATHS"] = os.pathsep.join(
+    filter(None, (os.environ.get("ROCKBRIDGE_PATHS"), str(REPO)))
+)
 CONFIGS = REPO / "configs" / "bridges"
 BAD_BRIDGES = Path(__file__).resolve().parent / "data" / "bad_bridges"
 

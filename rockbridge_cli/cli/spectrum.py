@@ -68,7 +68,9 @@ def overturning(
         "fidelity": fidelity,
     }  # fmt: skip
     source = output.with_suffix(".study.yaml")
-    study = study_from_data(data, source, yaml.safe_dump(data, sort_keys=False), None, output)
+    study = study_from_data(
+        data, source, yaml.safe_dump(data, sort_keys=False), None, output, confined=False
+    )
     display = ProgressDisplay(heading=f"spectrum: {len(study.records)} frequencies")
     report = run_study(study, workers, overwrite=overwrite, progress=display,
                        assembly=display.assembling, notice=display.notice)  # fmt: skip

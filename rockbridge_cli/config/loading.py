@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import os
 import re
 from collections.abc import Hashable
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, TypeVar
 
@@ -156,13 +158,14 @@ def validate(model: type[ModelT], data: Any, source: str | Path, **context: Any)
 
 
 def load(model: type[ModelT], path: str | Path, **context: Any) -> ModelT:
-    """Read and validate a YAML config file; relative paths inside it resolve against its folder."""
+    """Read and validate a YAML config file; the paths inside it resolve against its folder and
+    must lie where a config may reach (`ConfigFolder.of`)."""
     path = Path(path)
-    return validate(model, read_yaml(path), path, base_dir=path.parent, **context)
+    return validate(model, read_yaml(path), path, folder=ConfigFolder.of(path), **context)
 
 
 def _describe(error: ErrorDetails) -> tuple[str, str]:
-    where = ".".join(str(part) for part in error["loc"])
+    where = ".".join(str(part) for part in error["loc"] if part != "")  # "": a union's tag
     reason = error["msg"].removeprefix("Value error, ")
     if error["type"] == "extra_forbidden":
         reason = "unknown key"
@@ -180,7 +183,65 @@ ID_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9_.+-]*$"
 """Bridge and record ids: they name HDF5 groups and files, so no slashes or spaces."""
 
 
+PATHS_VARIABLE = "ROCKBRIDGE_PATHS"
+"""Environment variable naming more folders (separated by ``os.pathsep``) whose files the paths
+in a config may reach."""
+
+
+@dataclass(frozen=True)
+class ConfigFolder:
+    """Where a config's relative paths start, and the folders its paths may reach.
+
+    A config names files (bridge files, records, record sets, seeds, its results file) by paths
+    that resolve against its own folder. So that a config from elsewhere cannot make rockbridge
+    read or write files far from it, those paths must lie in the config's folder tree, in the
+    working folder's tree, or in a folder named in `PATHS_VARIABLE`, once every ``..`` and
+    symbolic link is followed (a link in the tree to a file outside it is refused too). Paths
+    given on the command line are the user's own word and are not confined.
+
+    Attributes
+    ----------
+    base
+        The config's folder.
+    reach
+        The folders the config's paths may lie in (absolute, links followed); None: anywhere.
+    """
+
+    base: Path
+    reach: tuple[Path, ...] | None
+
+    @classmethod
+    def of(cls, config: Path) -> ConfigFolder:
+        """The folder of the config file ``config``, its paths confined as the class says."""
+        named = [Path(f).expanduser() for f in os.environ.get(PATHS_VARIABLE, "").split(os.pathsep)]
+        folders = (config.parent, Path.cwd(), *(f for f in named if str(f) != "."))
+        return cls(config.parent, tuple(dict.fromkeys(f.resolve() for f in folders)))
+
+    def path(self, name: str | Path) -> Path:
+        """``name``, a path in the config, against its folder.
+
+        Raises
+        ------
+        ValueError
+            The path lies outside the folders the config may reach.
+        """
+        path = self.base / name
+        if self.reach is None:
+            return path
+        try:
+            real = path.resolve()
+        except (OSError, RuntimeError):  # a loop of symbolic links
+            real = None
+        if real is not None and any(real.is_relative_to(folder) for folder in self.reach):
+            return path
+        raise ValueError(
+            f"{name} is outside the config's folder and the working folder: run rockbridge "
+            f"from a folder that holds both, or add the file's folder to {PATHS_VARIABLE}"
+        )
+
+
 def resolve_path(path: Path, info: ValidationInfo) -> Path:
-    """A path of a config, against the folder of the config file (`load` passes it)."""
-    base = (info.context or {}).get("base_dir")
-    return Path(base) / path if base is not None else path
+    """A path of a config, against the folder of the config file (the validation context's
+    ``folder``, a `ConfigFolder`, which `load` passes); ValueError where it may not reach."""
+    folder = (info.context or {}).get("folder")
+    return folder.path(path) if folder is not None else path

@@ -14,9 +14,11 @@ from typing import Annotated, Any, Literal
 
 from pydantic import (
     BeforeValidator,
+    Discriminator,
     Field,
     PositiveFloat,
     PositiveInt,
+    Tag,
     ValidationInfo,
     field_validator,
     model_validator,
@@ -152,6 +154,14 @@ def _fema_seeds(value: Any) -> Any:
     if isinstance(value, dict) and set(value) == {"fema_p695"}:
         return FemaSet.model_validate(_set_name_or_mapping(value["fema_p695"]))
     return value
+
+
+def _seed_kind(value: Any) -> str | None:
+    """Which kind of seeds ``value`` is (None: neither), so that an error names only that kind's
+    problem (the files' tag is empty: a message says ``seeds.0.path``, as the config is written)."""
+    if isinstance(value, list):
+        return ""
+    return "fema_p695" if isinstance(value, FemaSet) else None
 
 
 class Records(StrictModel):
@@ -298,7 +308,15 @@ class RecordSetConfig(StrictModel):
         None, ge=1, le=1000, description="Number of artificial records [-]; EN 1998-1 asks >= 3."
     )
     seeds: Annotated[
-        list[RecordFile] | FemaSet | None, BeforeValidator(_fema_seeds)
+        Annotated[
+            Annotated[list[RecordFile], Tag("")] | Annotated[FemaSet, Tag("fema_p695")],
+            Discriminator(
+                _seed_kind, custom_error_type="seeds",
+                custom_error_message="expected a list of record files or {fema_p695: <set>}",
+            ),  # fmt: skip
+        ]
+        | None,
+        BeforeValidator(_fema_seeds),
     ] = Field(
         None, description="Recorded motions to adjust, one record each, instead of count: a list "
         "of files, or a FEMA P695 set ({fema_p695: far-field}); each keeps its length, phases, "

@@ -28,6 +28,7 @@ from pydantic import (
     NonNegativeFloat,
     PositiveFloat,
     PositiveInt,
+    ValidationInfo,
     field_validator,
     model_validator,
 )
@@ -39,7 +40,7 @@ from . import loading
 from .bridge import BridgeConfig, load_bridge
 from .intensity import Intensity
 from .kinds import expecting
-from .loading import ID_PATTERN, StrictModel
+from .loading import ID_PATTERN, ConfigFolder, StrictModel, resolve_path
 from .plausibility import bridge_warnings, record_warnings, scale_warning
 from .records import Records
 from .spectrum import Spectrum
@@ -126,6 +127,13 @@ class Output(StrictModel):
     histories: str | list[str] = Field(
         "all", description=f"Histories to keep: all, none, or a list of {', '.join(HISTORY_UNITS)}"
     )
+
+    @field_validator("path")
+    @classmethod
+    def _reachable(cls, path: Path | None, info: ValidationInfo) -> Path | None:
+        if path is not None:
+            resolve_path(path, info)  # refused where the study may not reach
+        return path
 
     @field_validator("histories", mode="before")
     @classmethod
@@ -339,7 +347,7 @@ def single_analysis(
         "records": {"files": [entry], **({"vertical": True} if vertical is not None else {})},
         "fidelity": {"preset": preset, **({"tail": tail} if tail else {})},
     }
-    return study_from_data(data, Path(output), "", None, output)
+    return study_from_data(data, Path(output), "", None, output, confined=False)
 
 
 def study_from_data(
@@ -348,15 +356,19 @@ def study_from_data(
     text: str,
     preset: str | None = None,
     output: str | Path | None = None,
+    confined: bool = True,
 ) -> Study:
     """Validate and resolve a study given as data; ``path`` names it in messages and anchors its
-    relative paths, ``text`` is stored in the results. Other parameters as for `load_study`."""
+    relative paths, ``text`` is stored in the results; ``confined``: its paths must lie where a
+    study file's may (`loading.ConfigFolder`), False for paths from the command line. Other
+    parameters as for `load_study`."""
     if preset is not None:
         fidelity = data.get("fidelity")
         data["fidelity"] = {**(fidelity if isinstance(fidelity, dict) else {}), "preset": preset}
-    config = loading.validate(StudyConfig, data, path, base_dir=path.parent)
+    folder = ConfigFolder.of(path) if confined else ConfigFolder(path.parent, None)
+    config = loading.validate(StudyConfig, data, path, folder=folder)
     base = path.parent
-    bridges = _resolve_bridges(config.bridges, path)
+    bridges = _resolve_bridges(config.bridges, path, folder)
     if config.sweep is not None:
         bridges = _swept(bridges, config.sweep, path)
     intensity = None if config.intensity is None else _intensity_section(config.intensity)
@@ -486,13 +498,19 @@ def _warnings(bridges: list[StudyBridge], records: list[StudyRecord]) -> tuple[s
     return tuple(dict.fromkeys(found))
 
 
-def _resolve_bridges(entries: list[str | dict[str, Any]], study: Path) -> list[StudyBridge]:
+def _resolve_bridges(
+    entries: list[str | dict[str, Any]], study: Path, folder: ConfigFolder
+) -> list[StudyBridge]:
     """Load bridge files and validate inline bridges; problems in the study file are collected."""
     bridges, problems = [], []
     for index, entry in enumerate(entries):
         where = f"bridges.{index}"
         if isinstance(entry, str):
-            file = study.parent / entry
+            try:
+                file = folder.path(entry)
+            except ValueError as exc:
+                problems.append((where, str(exc)))
+                continue
             if not file.is_file():
                 problems.append((where, f"bridge file not found: {entry}"))
                 continue

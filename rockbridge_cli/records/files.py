@@ -569,9 +569,11 @@ def check_set_file(folder: Path, entry: dict[str, Any], index: int, key: str = "
     Raises
     ------
     InputError
-        The file is missing or differs from the manifest.
+        The file is not in the set's folder, is missing or differs from the manifest.
     """
     path, field = folder / entry["file"], f"records[{index}].{key}"
+    if path.name != entry["file"] or path.name in (".", ".."):  # no path out of the set
+        raise InputError(folder / MANIFEST, [(field, "must name a file in the set's folder")])
     if not path.is_file():
         raise InputError(folder / MANIFEST, [(field, f"{entry['file']} not found")])
     expected = entry.get("sha256")

@@ -1,0 +1,179 @@
+"""Paths in configs reach the config's folder tree, the working folder's tree and the folders
+named in ROCKBRIDGE_PATHS, nothing else (issue 32: "paths in configs confined to the config's
+folder tree unless the user says otherwise"); paths on the command line are not confined.
+
+Layout of every test: ``tmp/project/`` holds the config (and is the working folder unless said),
+``tmp/elsewhere/`` a file the config should not reach without the user's word.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+
+import pytest
+from click.testing import CliRunner
+from studies import BRIDGES, REPO, write_records
+
+from rockbridge_cli.cli import main
+from rockbridge_cli.config.loading import PATHS_VARIABLE, ConfigFolder
+from rockbridge_cli.config.study import load_study
+from rockbridge_cli.errors import InputError
+
+BRIDGE = BRIDGES / "studied-hbar1.00.yaml"
+
+
+@pytest.fixture
+def places(tmp_path, monkeypatch):
+    """(project, elsewhere): the config's folder, the working folder, and a folder beside them
+    holding the records R1, R2 and a copy of the bridge."""
+    project, elsewhere = tmp_path / "project", tmp_path / "elsewhere"
+    project.mkdir()
+    write_records(elsewhere)
+    shutil.copy(BRIDGE, elsewhere / "bridge.yaml")
+    shutil.copy(BRIDGE, project / "bridge.yaml")
+    monkeypatch.delenv(PATHS_VARIABLE, raising=False)
+    monkeypatch.chdir(project)
+    return project, elsewhere
+
+
+def study(project, bridge="bridge.yaml", record="../elsewhere/R1.txt", extra=""):
+    path = project / "study.yaml"
+    path.write_text(f"bridges: [{bridge}]\nrecords: {{files: [{{path: {record}}}]}}\n{extra}")
+    return path
+
+
+def refused(path) -> tuple[str, str]:
+    """The (field, reason) of the one refusal of the study at ``path``."""
+    with pytest.raises(InputError) as caught:
+        load_study(path)
+    assert len(caught.value.problems) == 1
+    return caught.value.problems[0]
+
+
+def test_a_record_outside_is_refused_naming_the_field_and_the_way_out(places):
+    project, _ = places
+    where, why = refused(study(project))
+    assert where == "records.files.0.path"
+    assert "../elsewhere/R1.txt is outside the config's folder and the working folder" in why
+    assert PATHS_VARIABLE in why
+
+
+def test_the_command_line_says_it_in_one_line_with_exit_2(places):
+    project, _ = places
+    result = CliRunner().invoke(main, ["run", str(study(project)), "-o", "out.h5"])
+    assert result.exit_code == 2
+    assert "records.files.0.path" in result.output and "Traceback" not in result.output
+    assert not (project / "out.h5").exists()
+
+
+@pytest.mark.parametrize(
+    "bridge, record, extra, field",
+    [
+        ("../elsewhere/bridge.yaml", "R1.txt", "", "bridges.0"),
+        ("bridge.yaml", "R1.txt", "output: {path: ../elsewhere/out.h5}", "output.path"),
+        ("bridge.yaml", "/etc/hostname", "", "records.files.0.path"),
+    ],
+)
+def test_every_path_of_a_study_is_confined(places, bridge, record, extra, field):
+    project, _ = places
+    write_records(project)
+    where, why = refused(study(project, bridge, record, extra))
+    assert where == field and "is outside the config's folder" in why
+
+
+def test_a_vertical_companion_outside_is_refused(places):
+    project, _ = places
+    write_records(project)
+    path = project / "study.yaml"
+    path.write_text("bridges: [bridge.yaml]\nrecords: {files: [{path: R1.txt, vertical: "
+                    "../elsewhere/R2.txt}], vertical: true}\n")  # fmt: skip
+    where, why = refused(path)
+    assert where == "records.files.0.vertical" and "is outside" in why
+
+
+def test_a_record_set_outside_is_refused(places):
+    project, elsewhere = places
+    (elsewhere / "manifest.json").write_text(json.dumps({"records": [{"file": "R1.txt"}]}))
+    path = project / "study.yaml"
+    path.write_text("bridges: [bridge.yaml]\nrecords: {set: ../elsewhere}\n")
+    where, why = refused(path)
+    assert where == "records.set" and "is outside" in why
+
+
+def test_a_symbolic_link_out_of_the_tree_is_refused(places):
+    """The check follows links: a link inside the project to a file outside is outside."""
+    project, elsewhere = places
+    (project / "R1.txt").symlink_to(elsewhere / "R1.txt")
+    where, _ = refused(study(project, record="R1.txt"))
+    assert where == "records.files.0.path"
+
+
+def test_the_working_folder_reaches_where_the_config_folder_does_not(places, monkeypatch):
+    """The bundled studies' layout: configs/studies/x.yaml reads ../../records/... and is run
+    from the folder that holds both."""
+    project, elsewhere = places
+    monkeypatch.chdir(project.parent)
+    assert load_study(study(project)).records[0].id == "R1"
+
+
+def test_rockbridge_paths_reaches_further(places, monkeypatch):
+    project, elsewhere = places
+    monkeypatch.setenv(PATHS_VARIABLE, f"/nonexistent:{elsewhere}")
+    path = study(project, bridge="../elsewhere/bridge.yaml")
+    loaded = load_study(path)
+    assert [r.id for r in loaded.records] == ["R1"] and loaded.bridges[0].id == "bridge"
+
+
+def test_the_bundled_studies_load_from_the_repository_root(monkeypatch):
+    monkeypatch.delenv(PATHS_VARIABLE, raising=False)
+    monkeypatch.chdir(REPO)
+    for path in sorted((REPO / "configs" / "studies").glob("*.yaml")):
+        if "fema" not in path.name:  # FEMA sets are read from the package, not from a path
+            load_study(path)
+
+
+def test_a_record_set_config_confines_its_seeds(places):
+    project, _ = places
+    config = project / "set.yaml"
+    config.write_text("target: {spectrum_type: 1, ground_type: C, ag_g: 0.6}\n"
+                      "seeds: [{path: ../elsewhere/R1.txt}]\n")  # fmt: skip
+    result = CliRunner().invoke(main, ["generate-records", str(config), "--out", "set"])
+    assert result.exit_code == 2, result.output
+    assert "seeds.0.path" in result.output and "is outside" in result.output
+    assert not (project / "set").exists()
+
+
+@pytest.mark.parametrize("name", ["../R1.txt", "/etc/hostname", "sub/R1.txt", ".."])
+def test_a_manifest_names_files_of_its_own_folder_only(places, name):
+    project, elsewhere = places
+    (project / "set").mkdir()
+    (project / "set" / "manifest.json").write_text(json.dumps({"records": [{"file": name}]}))
+    path = project / "study.yaml"
+    path.write_text("bridges: [bridge.yaml]\nrecords: {set: set}\n")
+    with pytest.raises(InputError, match="must name a file in the set's folder"):
+        load_study(path)
+
+
+def test_command_line_paths_are_the_users_own(places, tmp_path):
+    """`analyze BRIDGE RECORD` reads files anywhere: the user named them."""
+    project, elsewhere = places
+    result = CliRunner().invoke(
+        main, ["analyze", str(elsewhere / "bridge.yaml"), str(elsewhere / "R1.txt"),
+               "--fidelity", "fast", "-o", str(elsewhere / "one.h5")],
+    )  # fmt: skip
+    assert result.exit_code == 0, result.output
+    assert (elsewhere / "one.h5").is_file()
+
+
+def test_an_unconfined_folder_reaches_anywhere(tmp_path):
+    assert ConfigFolder(tmp_path, None).path("/etc/hostname").as_posix() == "/etc/hostname"
+    with pytest.raises(ValueError, match="outside"):
+        ConfigFolder(tmp_path, (tmp_path.resolve(),)).path("/etc/hostname")
+
+
+def test_the_docker_image_reaches_its_bundled_records():
+    """The image copies configs/ and records/ into /opt/rockbridge and runs from /work."""
+    docker = (REPO / "Dockerfile").read_text(encoding="utf-8")
+    assert f"{PATHS_VARIABLE}=/opt/rockbridge" in docker
+    assert "COPY records ./records" in docker and "WORKDIR /opt/rockbridge" in docker
