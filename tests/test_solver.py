@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import G, RefLinkage, make_bridge, ref_onset, studied_bridge, with_
+from conftest import REPO, G, RefLinkage, make_bridge, ref_onset, studied_bridge, with_
 from scipy.integrate import solve_ivp
 
 from rockbridge_cli.core import fidelity, impacts
@@ -547,3 +547,42 @@ def test_an_analysis_without_histories_has_the_same_peaks_and_events():
     assert full.peaks == bare.peaks and full.failure_mode == bare.failure_mode
     for name, values in full.events.items():
         np.testing.assert_array_equal(bare.events[name], values)
+
+
+def _first_pier_limit(link: RefLinkage, mode: float, width: float) -> str:
+    """The failure mode a rocking frame reaches first in ``mode`` as |θ1| grows: the pier whose
+    centre of gravity first moves a half-width ``width`` / 2 from rest (reference linkage)."""
+    from scipy.optimize import brentq
+
+    rest = link.solve(mode, 0.0)
+
+    def limit(centre: str) -> float:
+        def past(t: float) -> float:
+            return abs(link.solve(mode, mode * t)[centre] - rest[centre]) - width / 2
+
+        return brentq(past, 1e-9, 2e-3, xtol=1e-16)
+
+    return "overturning_pier2" if limit("xr") < limit("xl") else "overturning_pier1"
+
+
+def test_piers_reaching_their_limits_together_fail_the_same_way_at_every_preset():
+    """Issue 32, finding 16: the paper's studied bridge made near-critical (2B = 0.026 m, so
+    α = 1e-3 rad; h̄ = 15) under AR07. Its piers reach their overturning limits 2e-9 s apart,
+    within the cheaper presets' event tolerance, where the tie went by the order of the watched
+    functions (pier 1 at `fast` and `paper`) while `default` and `reference` located pier 2
+    first. Expected, from the reference linkage (conftest, independent of the code's
+    kinematics): in the mode the bridge fails in, the pier whose centre reaches |u| = B at the
+    smaller |θ1| fails first; here pier 2's limit lies 1.06e-11 rad nearer in mode +1 (pier
+    1's in mode −1)."""
+    from rockbridge_cli.records.files import read_record
+
+    model = make_bridge(0.026, 26.0, 26.0 / 15.0, 38.0, 60.0, 1.7, area=6.0)
+    record = read_record(REPO / "records" / "ec8-type1-C-ag0.6g" / "AR07.txt")
+    verdicts = set()
+    for preset in fidelity.PRESETS:
+        response = analyze(Bridge(model), record.acceleration, record.time_step, preset)
+        mode = float(response.events["mode"][-2])  # the mode it rocks in as it fails
+        expected = _first_pier_limit(RefLinkage.of(model), mode, 0.026)
+        assert response.failure_mode == expected, preset
+        verdicts.add((response.failure_mode, round(response.failure_time, 5)))
+    assert len(verdicts) == 1

@@ -205,6 +205,30 @@ def locate(segment, kin, ground, step: Step, watch: int, g_start, g_end, setting
     return step
 
 
+@inlined
+def _first_of(segment: Segment, kin: Kinematics, theta: float, watch: int, previous: int) -> int:
+    """Of two events located within the event tolerance of each other, the one that came first:
+    the first in ``WATCH_*`` order, except between the two piers' overturning. Both are functions
+    of θ1 alone, so the first is the one whose limit θ1 passed first, the one further past it
+    at ``theta``: whatever a preset's tolerance, a bridge whose piers reach their limits a
+    nanosecond apart fails the same way (issue 32, finding 16)."""
+    if min(watch, previous) != WATCH_PIER1 or max(watch, previous) != WATCH_PIER2:
+        return min(watch, previous)
+    pier1 = _past_limit(segment, kin, theta, WATCH_PIER1)
+    return WATCH_PIER2 if _past_limit(segment, kin, theta, WATCH_PIER2) > pier1 else WATCH_PIER1
+
+
+@inlined
+def _past_limit(segment: Segment, kin: Kinematics, theta: float, watch: int) -> float:
+    """How far θ1 = ``theta`` is past the limit of ``watch`` [rad]: its function over the
+    function's slope in θ1 (a central difference)."""
+    delta = 1e-6 * abs(theta) + 1e-12
+    ahead = watched(segment, kin, theta + delta, 0.0)[0][watch]
+    behind = watched(segment, kin, theta - delta, 0.0)[0][watch]
+    slope = abs(ahead - behind) / (2.0 * delta)
+    return watched(segment, kin, theta, 0.0)[0][watch] / slope if slope > 0.0 else np.inf
+
+
 @jit
 def first_event(segment, kin, ground, step: Step, g_start, count: int, settings):
     """The first event due within a step, if any (arguments as in `locate`).
@@ -213,8 +237,8 @@ def first_event(segment, kin, ground, step: Step, g_start, count: int, settings)
     watched. Returns the watch that fired (−1: none), the step to take (ending just past that
     event, or the whole step), and the watched functions and `kinematics.Displacements` at its
     end. When another event fires earlier inside a shortened step, that one is located instead;
-    two events within the event tolerance of each other are simultaneous, and the first in the
-    ``WATCH_*`` order is taken.
+    two events within the event tolerance of each other are simultaneous, and `_first_of` takes
+    one.
     """
     g_end, d = watched(segment, kin, step.end.theta, step.end.rate)
     watch = _fired(g_start, g_end, count, -1)
@@ -223,7 +247,7 @@ def first_event(segment, kin, ground, step: Step, g_start, count: int, settings)
         located = locate(segment, kin, ground, step, watch, g_start[watch], g_end[watch], settings)
         g_end, d = watched(segment, kin, located.end.theta, located.end.rate)
         if previous >= 0 and step.h - located.h <= settings.event_tol:
-            return min(watch, previous), located, g_end, d
+            return _first_of(segment, kin, located.end.theta, watch, previous), located, g_end, d
         step = located
         earlier = _fired(g_start, g_end, count, watch)
         if earlier < 0:
