@@ -58,7 +58,8 @@ CLI = "from rockbridge_cli.cli import entry; entry()"
 
 ROW = """
 import json, resource, sys, time
-if sys.argv[3] == "session":  # the kernels in the parent, as after an analysis; forks inherit
+if sys.argv[3] == "session":  # as after an analysis: imported, the kernels loaded (forks inherit)
+    import rockbridge_cli.config.study
     from rockbridge_cli.study import kernels
     kernels.prepare()
 started = time.perf_counter()
