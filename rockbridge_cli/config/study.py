@@ -300,8 +300,10 @@ def load_study(
     Raises
     ------
     InputError
-        The study file, a bridge file it names or a record set's manifest is missing or invalid;
-        the message names the file and the dotted field path.
+        The study file, a bridge file it names or a record set's manifest is missing or invalid,
+        or a path in it lies outside the folders it may reach (`loading.ConfigFolder`: its own
+        folder's tree, the working folder's, those in ``ROCKBRIDGE_PATHS``); the message names
+        the file and the dotted field path.
     """
     path = Path(path)
     with expecting(path, "study"):
