@@ -79,7 +79,8 @@ def synthetic_records(count: int = 10, duration: float = 30.0, dt: float = 0.01)
 def load_records(args) -> tuple[str, list[tuple[str, float, np.ndarray]]]:
     """The records the options name, as (name, time step [s], acceleration [m/s²])."""
     from rockbridge_cli.records.fema import read_fema_set
-    from rockbridge_cli.records.files import MANIFEST, read_record, read_record_set
+    from rockbridge_cli.records.files import read_record
+    from rockbridge_cli.records.set_files import MANIFEST, read_record_set
 
     if args.fema:
         name, records = f"FEMA P695 {args.fema}", read_fema_set(args.fema)

@@ -18,7 +18,7 @@ from rockbridge_cli.config.loading import load
 from rockbridge_cli.config.records import RecordSetConfig
 from rockbridge_cli.motions.baseline import compute_final_motion
 from rockbridge_cli.motions.spectra import compute_psa
-from rockbridge_cli.records.files import read_record_set
+from rockbridge_cli.records.set_files import read_record_set
 from rockbridge_cli.records.sets import generate_record_set
 
 CONFIG = Path(__file__).parents[1] / "configs" / "records" / "ec8-type1-C-ag0.6g.yaml"

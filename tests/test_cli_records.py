@@ -13,7 +13,7 @@ import scipy
 from click.testing import CliRunner
 
 from rockbridge_cli.cli import main
-from rockbridge_cli.records.files import MANIFEST
+from rockbridge_cli.records.set_files import MANIFEST
 
 ROOT = Path(__file__).parents[1]
 PAPER = ROOT / "configs" / "records" / "ec8-type1-C-ag0.6g.yaml"

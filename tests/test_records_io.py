@@ -11,14 +11,8 @@ import pytest
 
 from rockbridge_cli.core.bridge import Bridge
 from rockbridge_cli.errors import InputError
-from rockbridge_cli.records.files import (
-    Record,
-    read_manifest,
-    read_record,
-    read_record_set,
-    read_stated_units,
-    write_record,
-)
+from rockbridge_cli.records.files import Record, read_record, read_stated_units, write_record
+from rockbridge_cli.records.set_files import read_manifest, read_record_set
 from rockbridge_cli.records.target import read_set_target
 
 DATA = Path(__file__).parent / "data" / "records"
@@ -227,3 +221,53 @@ def test_a_record_in_g_and_the_same_in_m_s2_give_identical_analyses(tmp_path):
     first, second = (analyze(Bridge(bridge), r.acceleration, r.time_step) for r in (a, b))
     assert first.peak_row()["u_deck_max"] == second.peak_row()["u_deck_max"]
     np.testing.assert_array_equal(first.histories["theta1"], second.histories["theta1"])
+
+
+HARD_DECIMALS = [
+    "9007199254740993",  # 2^53 + 1: halfway between two doubles, rounds to even
+    "2.2250738585072011e-308",  # just below the smallest normal double
+    "4.9406564584124654e-324",  # the smallest subnormal
+    "1e-320",
+    "1.7976931348623157e308",  # the largest double
+    "0.1000000000000000055511151231257827021181583404541015625",  # 0.1's double, exactly
+    "+.5",
+    "5.",
+    "-0",
+    "1E5",
+]
+"""Decimals whose correct rounding is delicate (halfway cases, subnormals, the extremes, long
+expansions) or whose spelling is unusual; Python's ``float`` is the reference."""
+
+
+@pytest.mark.parametrize("spec", ["r", ".7E", ".17g", ".3f", "+.5e"])
+def test_rows_read_at_once_are_the_numbers_python_reads(tmp_path, spec):
+    """A record's rows are read by numpy's parser at once, and line by line (naming the line of
+    a problem) where it cannot: both must give the same float64 bit for bit, which is Python's
+    ``float`` of each decimal. Random values over 600 decades in five spellings, and
+    `HARD_DECIMALS`, in one- and two-column files separated by spaces or commas."""
+    from rockbridge_cli.records import files
+
+    rng = np.random.default_rng(2026)
+    values = rng.normal(size=3000) * 10.0 ** rng.integers(-300, 300, size=3000)
+    texts = [format(v, spec if spec != "r" else "") for v in values] + HARD_DECIMALS
+    python = np.array([float(t) for t in texts])
+    one = files._rows_at_once(texts)
+    two = files._rows_at_once([f"{i * 0.01!r}, {t}" for i, t in enumerate(texts)])
+    by_line = files._rows_line_by_line(tmp_path / "r.txt", texts, 0)
+    assert one is not None and two is not None
+    assert one[:, 0].tobytes() == python.tobytes() == by_line[:, 0].tobytes()
+    assert two[:, 1].tobytes() == python.tobytes()
+
+
+@pytest.mark.parametrize(
+    "rows",
+    [["1.0", "# a comment", "2.0"], ["1.0", "x"], ["1.0", "nan"], ["1.0 2.0", "3.0"],
+     ["1 2 3", "4 5 6"], ["1.0"], ["1_0", "2"]],
+)  # fmt: skip
+def test_what_numpy_cannot_take_as_it_is_is_read_line_by_line(rows):
+    """A comment among the rows, a word, a non-finite value, ragged rows, three columns, one row
+    and Python's underscores go line by line, which names the line of a problem or, for the
+    comment and the underscores, reads them as before."""
+    from rockbridge_cli.records import files
+
+    assert files._rows_at_once(rows) is None

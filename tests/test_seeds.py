@@ -26,7 +26,8 @@ from rockbridge_cli.config.records import RecordSetConfig
 from rockbridge_cli.errors import InputError
 from rockbridge_cli.motions import baseline, ec8, spectra, spectral_fit, wavelets
 from rockbridge_cli.motions import seeds as seed_matching
-from rockbridge_cli.records.files import read_record, read_record_set
+from rockbridge_cli.records.files import read_record
+from rockbridge_cli.records.set_files import read_record_set
 from rockbridge_cli.records.sets import generate_record_set
 from rockbridge_cli.records.summary import SeedChange
 from rockbridge_cli.records.target import TargetDefinition, read_set_target

@@ -167,7 +167,7 @@ def test_bad_settings(tmp_path, extra, where, reason):
 
 def _record_set(folder):
     """A record set as `rockbridge generate-records` writes it: files and a manifest listing them
-    (only the keys `records.files.read_manifest` needs)."""
+    (only the keys `records.set_files.read_manifest` needs)."""
     write_records(folder)
     entries = ", ".join(f'{{"name": "{n}", "file": "{n}.txt"}}' for n in ("R2", "R1"))
     (folder / "manifest.json").write_text(f'{{"records": [{entries}]}}', encoding="utf-8")

@@ -19,7 +19,8 @@ from rockbridge_cli.core.analysis import analyze
 from rockbridge_cli.errors import InputError
 from rockbridge_cli.motions import ec8
 from rockbridge_cli.motions.spectra import compute_psa
-from rockbridge_cli.records.files import MANIFEST, Record, read_record, write_record
+from rockbridge_cli.records.files import Record, read_record, write_record
+from rockbridge_cli.records.set_files import MANIFEST
 from rockbridge_cli.records.vertical import with_vertical
 
 BRIDGE = BRIDGES / "studied-hbar2.00.yaml"

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 
 import click
 
-from ..records.files import MANIFEST
+from ..records.set_files import MANIFEST
 from . import main, plot
 
 if TYPE_CHECKING:

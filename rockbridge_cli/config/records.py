@@ -27,8 +27,9 @@ from pydantic import (
 from ..core.quantities import STANDARD_GRAVITY
 from ..errors import InputError
 from ..motions.pulses import SHAPES, Pulse
-from ..records.files import Record, read_manifest
+from ..records.files import Record
 from ..records.pulses import pulse_record
+from ..records.set_files import read_manifest
 from .loading import ID_PATTERN, StrictModel, resolve_path
 
 

@@ -17,7 +17,8 @@ import numpy as np
 from ..errors import InputError
 from ..motions.intensity import scaled_id
 from ..records.fema import read_fema_set
-from ..records.files import MAX_RECORD_BYTES, Record, check_set_file, read_manifest, read_record
+from ..records.files import MAX_RECORD_BYTES, Record, read_record
+from ..records.set_files import check_set_file, read_manifest
 from ..records.vertical import vertical_entry, with_vertical
 from .intensity import Intensity, intensity_of
 from .records import Records

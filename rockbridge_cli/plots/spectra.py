@@ -16,14 +16,8 @@ from matplotlib.ticker import NullFormatter
 
 from ..core.quantities import STANDARD_GRAVITY
 from ..motions.spectra import compute_psa
-from ..records.files import (
-    MANIFEST,
-    Record,
-    read_manifest,
-    read_record,
-    read_record_set,
-    read_stated_units,
-)
+from ..records.files import Record, read_record, read_stated_units
+from ..records.set_files import MANIFEST, read_manifest, read_record_set
 from ..records.target import TargetDefinition, read_set_target
 from .common import check_format, plain, save, style
 

@@ -22,8 +22,9 @@ from ..errors import InputError
 from ..motions import baseline, ec8, matching, seeds, spectra, spectral_fit
 from ..paths import replace_folder, writable
 from .fema import read_fema_set
-from .files import MANIFEST, PROVENANCE, Record, read_record, write_record
+from .files import PROVENANCE, Record, read_record, write_record
 from .manifest import add_verticals, build_manifest, checks_dense, record_header, round_floats
+from .set_files import MANIFEST
 from .summary import RecordSummary, SeedChange
 from .target import TargetDefinition, resolve_target
 
@@ -135,7 +136,7 @@ def generate_record_set(
     if vertical is not None:
         add_verticals(manifest, config, vertical, vertical_summaries, vertical_compliance)
     manifest = round_floats(manifest)
-    for entry in manifest["records"]:  # a study verifies them (`files.check_set_file`)
+    for entry in manifest["records"]:  # a study verifies them (`set_files.check_set_file`)
         for item in [entry] + ([entry["vertical"]] if "vertical" in entry else []):
             item["sha256"] = hashlib.sha256((staging / item["file"]).read_bytes()).hexdigest()
     (staging / MANIFEST).write_text(json.dumps(manifest, indent=2) + "\n", encoding="utf-8")

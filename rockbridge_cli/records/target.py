@@ -12,7 +12,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..motions import ec8
-from .files import MANIFEST, read_manifest
+from .set_files import MANIFEST, read_manifest
 
 if TYPE_CHECKING:
     from ..config.records import RecordSetConfig

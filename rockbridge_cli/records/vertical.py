@@ -17,7 +17,8 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError
-from .files import MANIFEST, TIME_STEP_TOLERANCE, Record, check_set_file, read_record
+from .files import TIME_STEP_TOLERANCE, Record, read_record
+from .set_files import MANIFEST, check_set_file
 
 
 def peak_vertical(record: Record) -> float:

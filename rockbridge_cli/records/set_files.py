@@ -1,0 +1,87 @@
+"""A record set on disk, as `sets.generate_record_set` writes it: a folder of record files and
+its manifest, which lists them with each file's SHA-256; read here, each file checked against it."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from pathlib import Path
+from typing import Any
+
+from ..errors import InputError
+from ..paths import read_input_text
+from .files import Record, read_record
+
+#: Name of the file that describes a generated record set.
+MANIFEST = "manifest.json"
+
+MAX_MANIFEST_BYTES = 16 * 2**20
+"""Largest manifest read (a set of tens of thousands of records) [bytes]."""
+
+
+def read_manifest(folder: str | Path) -> dict[str, Any]:
+    """The manifest of a record set written by `sets.generate_record_set`.
+
+    Raises
+    ------
+    InputError
+        The manifest is missing, not a regular file of at most `MAX_MANIFEST_BYTES`, not JSON,
+        or lacks its list of records.
+    """
+    path = Path(folder) / MANIFEST
+    if not path.exists():
+        reason = "file not found: is this a folder written by generate-records?"
+        raise InputError(path, [("", reason)])
+    text = read_input_text(path, MAX_MANIFEST_BYTES, "a record set's manifest")
+    try:
+        manifest = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise InputError(
+            path, [(f"line {exc.lineno}, column {exc.colno}", f"invalid JSON: {exc.msg}")]
+        ) from None
+    if not isinstance(manifest, dict) or not isinstance(manifest.get("records"), list):
+        raise InputError(path, [("records", "missing: the manifest must list its records")])
+    for index, entry in enumerate(manifest["records"]):
+        if not isinstance(entry, dict) or not isinstance(entry.get("file"), str):
+            raise InputError(path, [(f"records[{index}].file", "missing or not a file name")])
+    return manifest
+
+
+def check_set_file(folder: Path, entry: dict[str, Any], index: int, key: str = "file") -> Path:
+    """A record file of a set, once it is there and, where the manifest gives its SHA-256 (sets
+    written since the manifest has them), has the bytes the set was written with: a file
+    changed, or left by a generator killed while it replaced the set, is refused.
+
+    ``key``: the entry's field in messages (``vertical.file`` for a `vertical` companion).
+
+    Raises
+    ------
+    InputError
+        The file is not in the set's folder, is missing or differs from the manifest.
+    """
+    path, field = folder / entry["file"], f"records[{index}].{key}"
+    if path.name != entry["file"] or path.name in (".", ".."):  # no path out of the set
+        raise InputError(folder / MANIFEST, [(field, "must name a file in the set's folder")])
+    if not path.is_file():
+        raise InputError(folder / MANIFEST, [(field, f"{entry['file']} not found")])
+    expected = entry.get("sha256")
+    if expected is not None and hashlib.sha256(path.read_bytes()).hexdigest() != expected:
+        why = f"{entry['file']} differs from the file the set was written with (its SHA-256)"
+        raise InputError(folder / MANIFEST, [(field, f"{why}: regenerate the set")])
+    return path
+
+
+def read_record_set(folder: str | Path) -> list[Record]:
+    """Read every record of a set written by `sets.generate_record_set`, in manifest order.
+
+    Raises
+    ------
+    InputError
+        The manifest is missing or corrupt, or names a file that is missing or malformed.
+    """
+    folder = Path(folder)
+    manifest = read_manifest(folder)
+    return [
+        read_record(check_set_file(folder, entry, index))
+        for index, entry in enumerate(manifest["records"])
+    ]
