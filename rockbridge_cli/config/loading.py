@@ -5,7 +5,7 @@ from __future__ import annotations
 import os
 import re
 from collections.abc import Hashable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TypeVar
 
@@ -209,6 +209,8 @@ class ConfigFolder:
 
     base: Path
     reach: tuple[Path, ...] | None
+    _reached: set[str] = field(default_factory=set, compare=False, repr=False)
+    """The names already checked (a study may list a file thousands of times)."""
 
     @classmethod
     def of(cls, config: Path) -> ConfigFolder:
@@ -226,13 +228,14 @@ class ConfigFolder:
             The path lies outside the folders the config may reach.
         """
         path = self.base / name
-        if self.reach is None:
+        if self.reach is None or str(name) in self._reached:
             return path
         try:
             real = path.resolve()
         except (OSError, RuntimeError):  # a loop of symbolic links
             real = None
         if real is not None and any(real.is_relative_to(folder) for folder in self.reach):
+            self._reached.add(str(name))
             return path
         raise ValueError(
             f"{name} is outside the config's folder and the working folder: run rockbridge "
