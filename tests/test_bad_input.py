@@ -423,3 +423,43 @@ def test_readme_says_what_a_study_does_with_a_missing_or_unreadable_record(tmp_p
     assert unreadable.exit_code == 1 and "1 ok" in unreadable.output
     (tmp_path / "bad.txt").unlink()
     refused(invoke("run", study, "--overwrite"), "record file not found: bad.txt")
+
+
+@pytest.mark.parametrize(
+    "command, config, expected",
+    [
+        ("run", "sweep: {fields: {abutments.gap: {start: a}}}",
+         ["sweep.fields.abutments.gap.start: Input should be a valid number",
+          "sweep.fields.abutments.gap.stop: Field required",
+          "sweep.fields.abutments.gap.count: Field required"]),
+        ("run", "sweep: {fields: {abutments.gap: 3}}",
+         ["sweep.fields.abutments.gap: expected a list of values or a range {start, stop, count}"]),
+        ("run", "sweep: {fields: {abutments.gap: [0.1, x]}}",
+         ["sweep.fields.abutments.gap.1: Input should be a valid number"]),
+        ("generate-records", "seeds: [{path: missing.txt}]",
+         ["seeds.0.path: record file not found: missing.txt"]),
+        ("generate-records", "seeds: 3",
+         ["seeds: expected a list of record files or {fema_p695: <set>}"]),
+        ("generate-records", "seeds: {a: 1}",
+         ["seeds: expected a list of record files or {fema_p695: <set>}"]),
+    ],
+)  # fmt: skip
+def test_a_list_or_mapping_field_names_one_mistake_where_it_is_written(
+    tmp_path, command, config, expected
+):
+    """A field that takes a list or a mapping (a sweep's values, a record set's seeds) named
+    each mistake once for every member of its union, at paths with pydantic's labels in them
+    (``sweep.fields.abutments.gap.list[float]: Input should be a valid list`` beside
+    ``….function-after[_positive_for_log(), Range].start: …``): now once, for the kind given,
+    at the path as the config is written."""
+    from studies import write_study
+
+    if command == "run":
+        path = write_study(tmp_path, extra=config + "\n")
+    else:
+        path = tmp_path / "set.yaml"
+        path.write_text(f"target: {{spectrum_type: 1, ground_type: C, ag_g: 0.6}}\n{config}\n")
+    result = invoke(command, path, *(["--out", tmp_path / "set"] if command != "run" else []))
+    refused(result, *expected)
+    problems = result.output.count("\n") - (len(expected) > 1)  # a heading line above several
+    assert problems == len(expected) and "[" not in result.output.replace("[0.1", "")

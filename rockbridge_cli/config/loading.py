@@ -164,8 +164,23 @@ def load(model: type[ModelT], path: str | Path, **context: Any) -> ModelT:
     return validate(model, read_yaml(path), path, folder=ConfigFolder.of(path), **context)
 
 
+KIND_TAGS = ("=list", "=mapping")
+"""Tags of the members of a config field that takes a list or a mapping (`kind_of`); a message
+leaves them out of the field's path, which reads as the config is written."""
+
+
+def kind_of(value: Any) -> str | None:
+    """Which member of a list-or-mapping field ``value`` is for: `KIND_TAGS`, None for neither.
+
+    The field's union is discriminated by it (pydantic's ``Discriminator``), so that a mistake
+    is named once, for the kind given, instead of once for each member."""
+    if isinstance(value, list):
+        return KIND_TAGS[0]
+    return KIND_TAGS[1] if isinstance(value, (dict, BaseModel)) else None
+
+
 def _describe(error: ErrorDetails) -> tuple[str, str]:
-    where = ".".join(str(part) for part in error["loc"] if part != "")  # "": a union's tag
+    where = ".".join(str(part) for part in error["loc"] if part not in KIND_TAGS)
     reason = error["msg"].removeprefix("Value error, ")
     if error["type"] == "extra_forbidden":
         reason = "unknown key"

@@ -30,7 +30,7 @@ from ..motions.pulses import SHAPES, Pulse
 from ..records.files import Record
 from ..records.pulses import pulse_record
 from ..records.set_files import read_manifest
-from .loading import ID_PATTERN, StrictModel, resolve_path
+from .loading import ID_PATTERN, StrictModel, kind_of, resolve_path
 
 
 class RecordFile(StrictModel):
@@ -157,12 +157,10 @@ def _fema_seeds(value: Any) -> Any:
     return value
 
 
-def _seed_kind(value: Any) -> str | None:
-    """Which kind of seeds ``value`` is (None: neither), so that an error names only that kind's
-    problem (the files' tag is empty: a message says ``seeds.0.path``, as the config is written)."""
-    if isinstance(value, list):
-        return ""
-    return "fema_p695" if isinstance(value, FemaSet) else None
+def _seeds_kind(value: Any) -> str | None:
+    """`loading.kind_of` for a list of files or a FEMA P695 set (``{fema_p695: ...}``, which
+    `_fema_seeds` has read); None for anything else."""
+    return kind_of(value) if isinstance(value, (list, FemaSet)) else None
 
 
 class Records(StrictModel):
@@ -310,9 +308,9 @@ class RecordSetConfig(StrictModel):
     )
     seeds: Annotated[
         Annotated[
-            Annotated[list[RecordFile], Tag("")] | Annotated[FemaSet, Tag("fema_p695")],
+            Annotated[list[RecordFile], Tag("=list")] | Annotated[FemaSet, Tag("=mapping")],
             Discriminator(
-                _seed_kind, custom_error_type="seeds",
+                _seeds_kind, custom_error_type="seeds",
                 custom_error_message="expected a list of record files or {fema_p695: <set>}",
             ),  # fmt: skip
         ]

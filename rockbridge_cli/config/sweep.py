@@ -13,13 +13,21 @@ from __future__ import annotations
 import itertools
 import math
 import re
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
 import numpy as np
-from pydantic import Field, PositiveInt, ValidationError, field_validator, model_validator
+from pydantic import (
+    Discriminator,
+    Field,
+    PositiveInt,
+    Tag,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
 
 from .bridge import BridgeConfig
-from .loading import StrictModel
+from .loading import StrictModel, kind_of
 
 MAX_VARIANTS = 10_000
 """Most variants of each bridge a sweep makes (each is a bridge config held in memory)."""
@@ -45,10 +53,20 @@ class Range(StrictModel):
         return [float(v) for v in space(self.start, self.stop, self.count)]
 
 
+Values = Annotated[
+    Annotated[list[float], Tag("=list")] | Annotated[Range, Tag("=mapping")],
+    Discriminator(
+        kind_of, custom_error_type="values",
+        custom_error_message="expected a list of values or a range {start, stop, count}",
+    ),
+]  # fmt: skip
+"""A swept field's values: a list, or a `Range`."""
+
+
 class Sweep(StrictModel):
     """Bridge fields varied over lists or ranges (`config.sweep`)."""
 
-    fields: dict[str, list[float] | Range] = Field(
+    fields: dict[str, Values] = Field(
         min_length=1, description="Dotted path of a bridge field → its values, or a range"
     )
     grid: bool = Field(False, description="Every combination, instead of one field at a time")
