@@ -436,6 +436,8 @@ def test_readme_says_what_a_study_does_with_a_missing_or_unreadable_record(tmp_p
          ["sweep.fields.abutments.gap: expected a list of values or a range {start, stop, count}"]),
         ("run", "sweep: {fields: {abutments.gap: [0.1, x]}}",
          ["sweep.fields.abutments.gap.1: Input should be a valid number"]),
+        ("run", "fidelity: [1]",
+         ["fidelity: expected a preset name (reference, default, fast, paper) or a mapping"]),
         ("generate-records", "seeds: [{path: missing.txt}]",
          ["seeds.0.path: record file not found: missing.txt"]),
         ("generate-records", "seeds: 3",
@@ -447,7 +449,8 @@ def test_readme_says_what_a_study_does_with_a_missing_or_unreadable_record(tmp_p
 def test_a_list_or_mapping_field_names_one_mistake_where_it_is_written(
     tmp_path, command, config, expected
 ):
-    """A field that takes a list or a mapping (a sweep's values, a record set's seeds) named
+    """A field that takes a list or a mapping (a sweep's values, a record set's seeds; the
+    fidelity, a name or a mapping) named
     each mistake once for every member of its union, at paths with pydantic's labels in them
     (``sweep.fields.abutments.gap.list[float]: Input should be a valid list`` beside
     ``….function-after[_positive_for_log(), Range].start: …``): now once, for the kind given,

@@ -101,7 +101,11 @@ class FidelityConfig(StrictModel):
     @model_validator(mode="before")
     @classmethod
     def _shorthand(cls, data: Any) -> Any:
-        return {"preset": data} if isinstance(data, str) else data
+        if isinstance(data, str):
+            return {"preset": data}
+        if not isinstance(data, (dict, cls)):
+            raise ValueError(f"expected a preset name ({', '.join(PRESETS)}) or a mapping")
+        return data
 
     @field_validator("preset")
     @classmethod
