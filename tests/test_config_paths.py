@@ -82,6 +82,15 @@ def test_every_path_of_a_study_is_confined(places, bridge, record, extra, field)
     assert where == field and "is outside the config's folder" in why
 
 
+def test_an_output_path_replaced_on_the_command_line_is_not_checked(places):
+    """`-o` (``output``) replaces the study's ``output.path``: the one the study names is not
+    used, so it is not refused."""
+    project, _ = places
+    write_records(project)
+    path = study(project, record="R1.txt", extra="output: {path: ../elsewhere/out.h5}")
+    assert load_study(path, output="mine.h5").output.name == "mine.h5"
+
+
 def test_a_vertical_companion_outside_is_refused(places):
     project, _ = places
     write_records(project)
@@ -149,6 +158,18 @@ def test_a_manifest_names_files_of_its_own_folder_only(places, name):
     project, elsewhere = places
     (project / "set").mkdir()
     (project / "set" / "manifest.json").write_text(json.dumps({"records": [{"file": name}]}))
+    path = project / "study.yaml"
+    path.write_text("bridges: [bridge.yaml]\nrecords: {set: set}\n")
+    with pytest.raises(InputError, match="must name a file in the set's folder"):
+        load_study(path)
+
+
+def test_a_set_file_linked_out_of_the_set_is_refused(places):
+    """The set's folder is within reach, but a file in it that links elsewhere is not read."""
+    project, elsewhere = places
+    (project / "set").mkdir()
+    (project / "set" / "R1.txt").symlink_to(elsewhere / "R1.txt")
+    (project / "set" / "manifest.json").write_text(json.dumps({"records": [{"file": "R1.txt"}]}))
     path = project / "study.yaml"
     path.write_text("bridges: [bridge.yaml]\nrecords: {set: set}\n")
     with pytest.raises(InputError, match="must name a file in the set's folder"):

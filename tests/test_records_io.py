@@ -262,12 +262,13 @@ def test_rows_read_at_once_are_the_numbers_python_reads(tmp_path, spec):
 @pytest.mark.parametrize(
     "rows",
     [["1.0", "# a comment", "2.0"], ["1.0", "x"], ["1.0", "nan"], ["1.0 2.0", "3.0"],
-     ["1 2 3", "4 5 6"], ["1.0"], ["1_0", "2"]],
+     ["1 2 3", "4 5 6"], ["1.0"], ["1_0", "2"], ["0 1", ",", "1 2"], ["0 1", " , ,", "1 2"]],
 )  # fmt: skip
 def test_what_numpy_cannot_take_as_it_is_is_read_line_by_line(rows):
-    """A comment among the rows, a word, a non-finite value, ragged rows, three columns, one row
-    and Python's underscores go line by line, which names the line of a problem or, for the
-    comment and the underscores, reads them as before."""
+    """A comment among the rows, a word, a non-finite value, ragged rows, three columns, one row,
+    Python's underscores and a row of commas alone (blank to numpy once commas are spaces) go
+    line by line, which names the line of a problem or, for the comment and the underscores,
+    reads them as before."""
     from rockbridge_cli.records import files
 
     assert files._rows_at_once(rows) is None

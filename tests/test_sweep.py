@@ -160,3 +160,13 @@ def test_a_peak_per_swept_value_is_taken_at_one_intensity_level(tmp_path):
     capacity = invoke("plot", "sweep", output, "--field", "abutments.gap", "--quantity",
                       "gap_closure", "-o", "c.png")  # fmt: skip
     assert capacity.exit_code == 0, capacity.output
+
+
+def test_a_tuple_of_values_is_a_list():
+    """From Python, a sweep's values may be a tuple, as a list (the list-or-mapping field is
+    told apart by the value's kind, `config.loading.kind_of`)."""
+    from rockbridge_cli.config.loading import validate
+    from rockbridge_cli.config.sweep import Sweep
+
+    sweep = validate(Sweep, {"fields": {"abutments.gap": (0.1, 0.2)}}, "api")
+    assert sweep.variations() == [{"abutments.gap": 0.1}, {"abutments.gap": 0.2}]

@@ -174,7 +174,7 @@ def kind_of(value: Any) -> str | None:
 
     The field's union is discriminated by it (pydantic's ``Discriminator``), so that a mistake
     is named once, for the kind given, instead of once for each member."""
-    if isinstance(value, list):
+    if isinstance(value, (list, tuple)):
         return KIND_TAGS[0]
     return KIND_TAGS[1] if isinstance(value, (dict, BaseModel)) else None
 

@@ -160,7 +160,7 @@ def _fema_seeds(value: Any) -> Any:
 def _seeds_kind(value: Any) -> str | None:
     """`loading.kind_of` for a list of files or a FEMA P695 set (``{fema_p695: ...}``, which
     `_fema_seeds` has read); None for anything else."""
-    return kind_of(value) if isinstance(value, (list, FemaSet)) else None
+    return kind_of(value) if isinstance(value, (list, tuple, FemaSet)) else None
 
 
 class Records(StrictModel):

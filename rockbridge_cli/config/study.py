@@ -28,7 +28,6 @@ from pydantic import (
     NonNegativeFloat,
     PositiveFloat,
     PositiveInt,
-    ValidationInfo,
     field_validator,
     model_validator,
 )
@@ -40,7 +39,7 @@ from . import loading
 from .bridge import BridgeConfig, load_bridge
 from .intensity import Intensity
 from .kinds import expecting
-from .loading import ID_PATTERN, ConfigFolder, StrictModel, resolve_path
+from .loading import ID_PATTERN, ConfigFolder, StrictModel
 from .plausibility import bridge_warnings, record_warnings, scale_warning
 from .records import Records
 from .spectrum import Spectrum
@@ -131,13 +130,6 @@ class Output(StrictModel):
     histories: str | list[str] = Field(
         "all", description=f"Histories to keep: all, none, or a list of {', '.join(HISTORY_UNITS)}"
     )
-
-    @field_validator("path")
-    @classmethod
-    def _reachable(cls, path: Path | None, info: ValidationInfo) -> Path | None:
-        if path is not None:
-            resolve_path(path, info)  # refused where the study may not reach
-        return path
 
     @field_validator("histories", mode="before")
     @classmethod
@@ -373,7 +365,6 @@ def study_from_data(
         data["fidelity"] = {**(fidelity if isinstance(fidelity, dict) else {}), "preset": preset}
     folder = ConfigFolder.of(path) if confined else ConfigFolder(path.parent, None)
     config = loading.validate(StudyConfig, data, path, folder=folder)
-    base = path.parent
     bridges = _resolve_bridges(config.bridges, path, folder)
     if config.sweep is not None:
         bridges = _swept(bridges, config.sweep, path)
@@ -402,8 +393,11 @@ def study_from_data(
         raise InputError(path, problems)
     if output is not None:
         target = Path(output)
-    elif config.output.path is not None:
-        target = base / config.output.path
+    elif config.output.path is not None:  # (``output``, from -o, replaces it unchecked)
+        try:
+            target = folder.path(config.output.path)
+        except ValueError as exc:
+            raise InputError(path, [("output.path", str(exc))]) from None
     else:
         target = Path("results") / f"{path.stem}.h5"
     return Study(

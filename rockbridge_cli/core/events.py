@@ -23,7 +23,8 @@ WATCH_IMPACT, WATCH_GAP, WATCH_ABUTMENT, WATCH_PIER1, WATCH_PIER2, WATCH_TURNING
 """What the integrator watches while rocking, one signed function each (`watched`): the return to
 θ1 = 0 (an impact), the end gap (closing while open, reopening while closed), the abutment–backfill
 limit, the overturning of each pier, and θ̇1 = 0 (a turning point, only when asked for). Events
-within the event tolerance of each other are taken in this order."""
+within the event tolerance of each other are taken in this order, except the two piers'
+overturning, taken in the order of their limits in θ1 (`_first_of`)."""
 
 _ESTIMATED_TRIALS = 4
 """Trials of an event's location placed by its estimated time (`locate`); Illinois after them."""
@@ -226,7 +227,8 @@ def _past_limit(segment: Segment, kin: Kinematics, theta: float, watch: int) -> 
     ahead = watched(segment, kin, theta + delta, 0.0)[0][watch]
     behind = watched(segment, kin, theta - delta, 0.0)[0][watch]
     slope = abs(ahead - behind) / (2.0 * delta)
-    return watched(segment, kin, theta, 0.0)[0][watch] / slope if slope > 0.0 else np.inf
+    g = watched(segment, kin, theta, 0.0)[0][watch]
+    return g / slope if slope > 0.0 else np.copysign(np.inf, g)
 
 
 @jit

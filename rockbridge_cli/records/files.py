@@ -321,15 +321,20 @@ def _read_table(path: Path, lines: list[str]) -> tuple[dict[str, Any], np.ndarra
     return header, _rows_line_by_line(path, lines, first) if table is None else table
 
 
+_COMMAS_ONLY = re.compile(r"^[^\S\n]*,[\s,]*$", re.MULTILINE)
+"""A line of commas (and spaces) alone: line by line, it is a row of no values."""
+
+
 def _rows_at_once(lines: list[str]) -> np.ndarray | None:
     """The rows of numbers read by numpy's parser in C, 20× faster than line by line and the
     same numbers (both read a decimal as Python's ``float`` does); None where it cannot take them
     as they are (a comment among them, a value that is not a finite number, rows of unequal
-    length, fewer than two rows, more than two columns), for `_rows_line_by_line` to name the
-    line of the problem."""
-    text = "\n".join(lines).replace(",", " ")
-    if "#" in text:
+    length, a row of commas alone, fewer than two rows, more than two columns), for
+    `_rows_line_by_line` to name the line of the problem."""
+    text = "\n".join(lines)
+    if "#" in text or _COMMAS_ONLY.search(text):  # a row of commas alone is not blank
         return None
+    text = text.replace(",", " ")
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # no data: numpy warns; line by line refuses it

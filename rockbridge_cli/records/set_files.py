@@ -60,7 +60,8 @@ def check_set_file(folder: Path, entry: dict[str, Any], index: int, key: str = "
         The file is not in the set's folder, is missing or differs from the manifest.
     """
     path, field = folder / entry["file"], f"records[{index}].{key}"
-    if path.name != entry["file"] or path.name in (".", ".."):  # no path out of the set
+    inside = path.name == entry["file"] and path.name not in (".", "..")
+    if not inside or path.resolve().parent != folder.resolve():  # no path or link out of it
         raise InputError(folder / MANIFEST, [(field, "must name a file in the set's folder")])
     if not path.is_file():
         raise InputError(folder / MANIFEST, [(field, f"{entry['file']} not found")])

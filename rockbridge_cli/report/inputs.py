@@ -3,13 +3,14 @@ compliance of the generated record sets among them."""
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from ..errors import InputError
 from ..motions.intensity import MEASURES
+from ..records.set_files import read_manifest
 from .markup import MAX_ROWS, escaped, number, table_html
 
 RECORD_COLUMNS = (
@@ -70,9 +71,8 @@ def record_sets(attributes: dict[str, Any], sources: dict[str, str]) -> str:
     parts = []
     for folder in folders:
         try:
-            manifest = json.loads((folder / "manifest.json").read_text(encoding="utf-8"))
-            parts.append(_compliance(folder.name, manifest))
-        except (OSError, ValueError, KeyError, TypeError):  # not a generated set, or unreadable
+            parts.append(_compliance(folder.name, read_manifest(folder)))
+        except (InputError, KeyError, TypeError):  # not a generated set, or unreadable
             continue
     if not parts:
         return ""
