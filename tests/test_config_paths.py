@@ -56,6 +56,7 @@ def test_a_record_outside_is_refused_naming_the_field_and_the_way_out(places):
     where, why = refused(study(project))
     assert where == "records.files.0.path"
     assert "../elsewhere/R1.txt is outside the config's folder and the working folder" in why
+    assert f"(it leads to {(project.parent / 'elsewhere' / 'R1.txt').resolve()})" in why
     assert PATHS_VARIABLE in why
 
 

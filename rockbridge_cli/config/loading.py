@@ -252,9 +252,11 @@ class ConfigFolder:
         if real is not None and any(real.is_relative_to(folder) for folder in self.reach):
             self._reached.add(str(name))
             return path
+        leads = f" (it leads to {real})" if real is not None and str(real) != str(name) else ""
         raise ValueError(
-            f"{name} is outside the config's folder and the working folder: run rockbridge "
-            f"from a folder that holds both, or add the file's folder to {PATHS_VARIABLE}"
+            f"{name} is outside the config's folder and the working folder{leads}: run "
+            f"rockbridge from a folder that holds both, or add the file's folder to "
+            f"{PATHS_VARIABLE}"
         )
 
 
