@@ -97,6 +97,7 @@ def _register() -> None:
         records,
         report,
         risk,
+        sensitivity,
         spectrum,
         study,
     )

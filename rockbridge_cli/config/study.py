@@ -45,6 +45,7 @@ from .records import Records
 from .spectrum import Spectrum
 from .study_records import StudyRecord, resolve_records, scalable, scaled, study_record
 from .sweep import Sweep, field_value, variant_id, varied
+from .uncertainty import Uncertainty, record_pairs, sampled_configs
 
 MAX_ANALYSES = 1_000_000
 """Most analyses in a study (bridges × records × levels): its grid and journal stay within a few
@@ -169,6 +170,9 @@ class StudyConfig(StrictModel):
         None, description="Scale every record to levels of an intensity measure"
     )
     sweep: Sweep | None = Field(None, description="Vary bridge fields over lists or ranges")
+    uncertainty: Uncertainty | None = Field(
+        None, description="Draw bridge fields from distributions (config.uncertainty)"
+    )
     spectrum: Spectrum | None = Field(
         None, description="Instead of records: the overturning spectrum of the one bridge under "
         "a pulse (config.spectrum)",
@@ -182,8 +186,16 @@ class StudyConfig(StrictModel):
     def _records_or_spectrum(self) -> StudyConfig:
         if (self.records is None) == (self.spectrum is None):
             raise ValueError("give exactly one of records and spectrum")
+        if self.sweep is not None and self.uncertainty is not None:
+            raise ValueError(
+                "give a sweep or an uncertainty section, not both: sample the swept field too, "
+                "or write one study per swept value"
+            )
         if self.spectrum is not None:
-            others = [name for name in ("intensity", "sweep") if getattr(self, name) is not None]
+            others = [
+                name for name in ("intensity", "sweep", "uncertainty")
+                if getattr(self, name) is not None
+            ]  # fmt: skip
             if others or len(self.bridges) != 1:
                 raise ValueError(
                     "a spectrum is of one bridge, without intensity or sweep sections (it finds "
@@ -198,8 +210,11 @@ class StudyBridge:
 
     Attributes
     ----------
-    swept : in a sweep, the value of every swept field in this bridge (path → value)
-    varied : the swept fields this bridge changes from its bridge file
+    swept : in a sweep, the value of every swept field in this bridge (path → value); in a
+        study with an uncertainty section, of every sampled field
+    varied : the swept (or sampled) fields this bridge changes from its bridge file
+    sample : a sampled bridge's place in the design (`config.uncertainty.Sample.described`),
+        empty for any other
     """
 
     id: str
@@ -207,6 +222,7 @@ class StudyBridge:
     source: str
     swept: dict[str, float] = dataclasses.field(default_factory=dict)
     varied: tuple[str, ...] = ()
+    sample: dict[str, Any] = dataclasses.field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -228,6 +244,10 @@ class Study:
         runs (`assessment.ida`)
     spectrum : the spectrum section resolved (`config.spectrum.Spectrum.described`), None
         without; ``records`` are then its pulses and ``intensity`` the IDA it runs as
+    uncertainty : the uncertainty section (`config.uncertainty.Uncertainty.described`), None
+        without
+    pairs : the (bridge, record) index pairs analysed, in the order of the results, where not
+        every bridge meets every record (``pairing: one``); None for every pair
     """
 
     path: Path
@@ -240,6 +260,8 @@ class Study:
     warnings: tuple[str, ...] = ()
     intensity: dict[str, Any] | None = None
     spectrum: dict[str, Any] | None = None
+    uncertainty: dict[str, Any] | None = None
+    pairs: tuple[tuple[int, int], ...] | None = None
 
     def resolved(self) -> dict[str, Any]:
         """Everything that determines the results, as JSON-ready data (stored in the file)."""
@@ -250,6 +272,7 @@ class Study:
                     "source": b.source,
                     "config": b.config.model_dump(mode="json"),
                     **({"swept": b.swept} if b.swept else {}),
+                    **({"sample": b.sample} if b.sample else {}),
                 }
                 for b in self.bridges
             ],  # fmt: skip
@@ -258,6 +281,8 @@ class Study:
             "histories": list(self.histories),
             **({"intensity": self.intensity} if self.intensity is not None else {}),
             **({"spectrum": self.spectrum} if self.spectrum is not None else {}),
+            **({"uncertainty": self.uncertainty} if self.uncertainty is not None else {}),
+            **({"pairs": [list(p) for p in self.pairs]} if self.pairs is not None else {}),
         }
 
     def with_knobs(self, **changed: Any) -> Study:
@@ -368,6 +393,8 @@ def study_from_data(
     bridges = _resolve_bridges(config.bridges, path, folder)
     if config.sweep is not None:
         bridges = _swept(bridges, config.sweep, path)
+    if config.uncertainty is not None:
+        bridges = _sampled(bridges, config.uncertainty, path)
     intensity = None if config.intensity is None else _intensity_section(config.intensity)
     spectrum = None
     if config.spectrum is not None:
@@ -380,7 +407,10 @@ def study_from_data(
     if config.output.output_step is not None:
         overrides["output_step"] = config.output.output_step
     settled = _settled(config.fidelity.preset, overrides, records, path)
-    _check_size(len(bridges), len(records), config.intensity, path)
+    pairs = None
+    if config.uncertainty is not None and config.uncertainty.pairing == "one":
+        pairs = record_pairs(len(bridges), [r.base or r.id for r in records], config.uncertainty)
+    _check_size(len(bridges), len(records), pairs, config.intensity, path)
     if config.intensity is not None:
         records = [scalable(item, config.intensity) for item in records]
     if config.intensity is not None and config.intensity.levels is not None:
@@ -414,6 +444,8 @@ def study_from_data(
         warnings=warnings,
         intensity=intensity,
         spectrum=spectrum,
+        uncertainty=None if config.uncertainty is None else config.uncertainty.described(),
+        pairs=pairs,
     )  # fmt: skip
 
 
@@ -436,11 +468,16 @@ def _intensity_section(intensity: Intensity) -> dict[str, Any]:
     return intensity.model_dump(exclude=unused)
 
 
-def _check_size(bridges: int, records: int, intensity: Intensity | None, study: Path) -> None:
+def _check_size(
+    bridges: int, records: int, pairs: tuple | None, intensity: Intensity | None, study: Path
+) -> None:
     """Refuse a study of more than `MAX_ANALYSES` analyses."""
     levels = len(intensity.levels or ()) if intensity is not None else 0
-    if bridges * records * max(levels, 1) > MAX_ANALYSES:
-        count = f"{bridges} bridges × {records} records" + f" × {levels} levels" * bool(levels)
+    meetings = bridges * records if pairs is None else len(pairs)
+    if meetings * max(levels, 1) > MAX_ANALYSES:
+        count = f"{bridges} bridges × {records} records" if pairs is None else (
+            f"{meetings:,} bridge–record pairs")  # fmt: skip
+        count += f" × {levels} levels" * bool(levels)
         reason = f"{count} are more than {MAX_ANALYSES:,} analyses: split the study"
         raise InputError(study, [("", reason)])
 
@@ -483,6 +520,25 @@ def _swept(bridges: list[StudyBridge], sweep: Sweep, study: Path) -> list[StudyB
             problems.append(("sweep.fields", f"bridge {bridge.id}: {exc}"))
     if problems:
         raise InputError(study, problems)
+    return found
+
+
+def _sampled(
+    bridges: list[StudyBridge], uncertainty: Uncertainty, study: Path
+) -> list[StudyBridge]:
+    """Every bridge in every sample of the design, bridge by bridge (`config.uncertainty`)."""
+    found = []
+    for bridge in bridges:
+        try:
+            drawn = sampled_configs(bridge.config, uncertainty)
+        except ValueError as exc:
+            why = f"bridge {bridge.id}: {exc}"
+            raise InputError(study, [("uncertainty.fields", why)]) from None
+        found += [
+            StudyBridge(f"{bridge.id}+{sample.label}", config, bridge.source, dict(sample.values),
+                        tuple(sample.values), sample.described())
+            for sample, config in drawn
+        ]  # fmt: skip
     return found
 
 

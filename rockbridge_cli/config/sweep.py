@@ -110,13 +110,34 @@ def field_value(config: BridgeConfig, path: str) -> float:
     ------
     ValueError
         The path does not name a number of this bridge.
+
+    Returns
+    -------
+    float
+        The value; NaN for a number the bridge leaves unset (its default applies).
     """
     node: Any = config.model_dump()
     for part in path.split("."):
         node = _child(node, part, path)
+    if node is None and _optional_number(path):
+        return math.nan  # unset: its default (``rocking_restitution``: from the impulse balance)
     if isinstance(node, bool) or not isinstance(node, (int, float)):
         raise ValueError(f"{path} is not a number of this bridge (it is {node!r})")
     return float(node)
+
+
+def _optional_number(path: str) -> bool:
+    """Whether the bridge field at ``path`` is a number that may be left unset."""
+    model: Any = BridgeConfig
+    info = None
+    for part in path.split("."):
+        if model is None or part not in model.model_fields:
+            return False
+        info = model.model_fields[part]
+        inner = [a for a in getattr(info.annotation, "__args__", (info.annotation,))
+                 if isinstance(a, type) and issubclass(a, StrictModel)]  # fmt: skip
+        model = inner[0] if inner else None
+    return info is not None and str(info.annotation) == "float | None"
 
 
 def varied(config: BridgeConfig, changes: dict[str, float]) -> BridgeConfig:

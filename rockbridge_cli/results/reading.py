@@ -110,6 +110,16 @@ def swept_values(file: h5py.File) -> dict[str, dict[str, float]]:
     }
 
 
+def bridge_samples(file: h5py.File) -> dict[str, dict[str, Any]]:
+    """Per sampled bridge, its place in the design (``index``; ``matrix`` and ``field`` in a
+    saltelli design: `config.uncertainty.Sample`); bridges that were not sampled are left out."""
+    return {
+        name: json.loads(node.attrs["sample"])
+        for name, node in file["bridges"].items()
+        if "sample" in node.attrs
+    }
+
+
 def peak_units(file: h5py.File) -> dict[str, str]:
     """The unit of each column of the peak table."""
     group = file["peaks"]

@@ -446,6 +446,7 @@ def _write_bridges(group: h5py.Group, study: Study, summaries: Sequence[dict] | 
                 "swept": json.dumps(item.swept),
                 "swept_units": json.dumps({path: field_unit(path) for path in item.swept}),
                 "varied": json.dumps(list(item.varied)),
+                **({"sample": json.dumps(item.sample)} if item.sample else {}),
             }
         )
         units = {}

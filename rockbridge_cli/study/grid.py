@@ -71,7 +71,8 @@ class Grid:
     recheck : the fidelity at which to run again what ends near or beyond a capacity
         (``reference``, keeping `RECHECK_KEEPS`), None where the study does not ask it
     measure : the intensity measure of the study, empty without
-    listed : the cells, when not every bridge × record (an IDA's)
+    listed : the cells, when not every bridge × record (a study whose sampled bridges each meet
+        one record, `config.uncertainty`)
     """
 
     bridges: tuple[BridgeCase, ...]
@@ -84,9 +85,8 @@ class Grid:
     listed: tuple[Cell, ...] | None = None
 
     @classmethod
-    def of(cls, study: Study, cells: tuple[Cell, ...] | None = None) -> Grid:
-        """The grid of a resolved study: every bridge × record, or the ``cells`` listed (an
-        IDA's, `plan.Plan`)."""
+    def of(cls, study: Study) -> Grid:
+        """The grid of a resolved study: every bridge × record, or the pairs it lists."""
         bridges = tuple(BridgeCase(b.id, b.config.to_bridge()) for b in study.bridges)
         records = tuple(
             RecordCase(
@@ -101,6 +101,9 @@ class Grid:
         recheck = None
         if fidelity.knobs["recheck"] and fidelity.preset != "reference":
             recheck = resolve("reference", **{k: fidelity.knobs[k] for k in RECHECK_KEEPS})
+        cells = None
+        if study.pairs is not None:
+            cells = tuple(Cell(index, b, r) for index, (b, r) in enumerate(study.pairs))
         return cls(
             bridges, records, fidelity, study.histories, study.config_hash, recheck, measure,
             cells,

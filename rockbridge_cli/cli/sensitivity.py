@@ -1,0 +1,82 @@
+"""The ``sensitivity`` command: which sampled bridge field drives a quantity (Sobol' indices of a
+study with a saltelli design); ``plot sensitivity`` draws them."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from . import main, plot
+from .output import echo_json, export_csv, figure_option, results_argument, table_text
+
+_QUANTITY = click.option(
+    "--quantity", default="dcr_backfill", show_default=True,
+    help="A numeric peak-table column, a limit state (abutment_failure, backfill_50, …) or "
+    "failure (any failure mode): its mean over a sample's records is the share reaching it.",
+)  # fmt: skip
+_STATISTIC = click.option(
+    "--statistic", type=click.Choice(["mean", "median"]), default="mean", show_default=True,
+    help="How a sampled bridge's output is taken over its records.",
+)  # fmt: skip
+
+
+@main.command()
+@results_argument()
+@_QUANTITY
+@_STATISTIC
+@click.option("--json", "as_json", is_flag=True, help="Print the rows as JSON.")
+@click.option(
+    "--csv", "csv_file", type=click.Path(dir_okay=False, allow_dash=True), default=None,
+    help="Write the rows as CSV to FILE, or - for the standard output.",
+)  # fmt: skip
+def sensitivity(
+    results: Path, quantity: str, statistic: str, as_json: bool, csv_file: str | None
+) -> None:
+    """First- and total-order Sobol' indices of a quantity over the sampled fields of RESULTS, a
+    study whose uncertainty section has design: saltelli (n·(d + 2) bridges, each with every
+    record), with 90 % bootstrap intervals; and the share of the quantity's variance over all
+    analyses that is record-to-record (E[Var(Q|θ)] / Var(Q))."""
+    from ..assessment.sensitivity import sensitivities
+
+    found = sensitivities(results, quantity, statistic)
+    rows = [row for item in found for row in item.rows()]
+    if csv_file is not None:
+        columns = {key: [row[key] for row in rows] for key in rows[0]} if rows else {}
+        export_csv(csv_file, columns, results)  # type: ignore[arg-type]
+        return
+    if as_json:
+        echo_json(rows)
+        return
+    for item in found:
+        click.echo(
+            f"{item.bridge}: {item.statistic} of {item.quantity} over {item.records} records, "
+            f"{item.samples} base samples: mean {item.mean:.4g}, std {item.std:.4g}; "
+            f"record-to-record share of the variance {item.records_share:.2f}"
+        )
+        ranked = sorted(item.fields, key=lambda f: -f.total if f.total == f.total else 1.0)
+        click.echo(table_text(
+            ["field", "first order", "5–95 %", "total order", "5–95 %"],
+            [[f.field, f.first, _interval(f.first_interval), f.total,
+              _interval(f.total_interval)] for f in ranked],
+        ))  # fmt: skip
+        if ranked and ranked[0].total == ranked[0].total:
+            click.echo(f"dominant: {ranked[0].field} (total order {ranked[0].total:.2f})")
+
+
+def _interval(bounds: tuple[float, float]) -> str:
+    return "-" if bounds[0] != bounds[0] else f"{bounds[0]:.2f}–{bounds[1]:.2f}"
+
+
+@plot.command("sensitivity")
+@results_argument()
+@_QUANTITY
+@_STATISTIC
+@figure_option("<results stem>-sensitivity.png beside RESULTS")
+def plot_sensitivity(results: Path, quantity: str, statistic: str, output: Path | None) -> None:
+    """Sobol' indices of RESULTS (a study with a saltelli design): per bridge file, each sampled
+    field's first- and total-order index with its 90 % interval."""
+    from ..plots.sensitivity import plot_sensitivity as draw
+
+    target = output or results.with_name(f"{results.stem}-sensitivity.png")
+    click.echo(f"Figure: {draw(results, target, quantity, statistic)}")
