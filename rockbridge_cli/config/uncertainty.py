@@ -248,9 +248,9 @@ class Uncertainty(StrictModel):
                 blocks.append((f"AB{i + 1}.", "AB", mixed, name))
         else:
             points = _unit_points(self.design, d, self.size, self.seed)
-            matrix = _correlation_matrix(fields, self.correlations)
-            if matrix is not None:
-                points = _copula(points, matrix)
+            correlation = _correlation_matrix(fields, self.correlations)
+            if correlation is not None:
+                points = _copula(points, correlation)
             blocks = [("s", "", points, "")]
         width = len(str(self.size - 1))
         found = []
