@@ -407,15 +407,16 @@ def study_from_data(
     if config.output.output_step is not None:
         overrides["output_step"] = config.output.output_step
     settled = _settled(config.fidelity.preset, overrides, records, path)
-    pairs = None
-    if config.uncertainty is not None and config.uncertainty.pairing == "one":
-        pairs = record_pairs(len(bridges), [r.base or r.id for r in records], config.uncertainty)
-    _check_size(len(bridges), len(records), pairs, config.intensity, path)
+    one_each = config.uncertainty is not None and config.uncertainty.pairing == "one"
+    _check_size(len(bridges), len(records), one_each, config.intensity, path)
     if config.intensity is not None:
         records = [scalable(item, config.intensity) for item in records]
     if config.intensity is not None and config.intensity.levels is not None:
         records = scaled(records, config.intensity)
         warnings += tuple(w for r in records if r.record for w in scale_warning(r.id, r.scale))
+    pairs = None
+    if config.uncertainty is not None and one_each:
+        pairs = record_pairs(len(bridges), [r.base or r.id for r in records], config.uncertainty)
     problems = _check_ids("bridges", [b.id for b in bridges])
     problems += _check_ids("records", [r.id for r in records])
     problems += [("records", "holds no records to analyze")] if not records else []
@@ -469,14 +470,13 @@ def _intensity_section(intensity: Intensity) -> dict[str, Any]:
 
 
 def _check_size(
-    bridges: int, records: int, pairs: tuple | None, intensity: Intensity | None, study: Path
+    bridges: int, records: int, one_each: bool, intensity: Intensity | None, study: Path
 ) -> None:
-    """Refuse a study of more than `MAX_ANALYSES` analyses."""
+    """Refuse a study of more than `MAX_ANALYSES` analyses (``one_each``: each bridge meets one
+    record)."""
     levels = len(intensity.levels or ()) if intensity is not None else 0
-    meetings = bridges * records if pairs is None else len(pairs)
-    if meetings * max(levels, 1) > MAX_ANALYSES:
-        count = f"{bridges} bridges × {records} records" if pairs is None else (
-            f"{meetings:,} bridge–record pairs")  # fmt: skip
+    if (bridges if one_each else bridges * records) * max(levels, 1) > MAX_ANALYSES:
+        count = f"{bridges} bridges × {'one record' if one_each else f'{records} records'}"
         count += f" × {levels} levels" * bool(levels)
         reason = f"{count} are more than {MAX_ANALYSES:,} analyses: split the study"
         raise InputError(study, [("", reason)])

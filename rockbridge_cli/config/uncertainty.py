@@ -169,8 +169,12 @@ class Choice(StrictModel):
 
 
 def _named(value: Any) -> str | None:
-    """The ``distribution`` key of a field's mapping, or None."""
-    return value.get("distribution") if isinstance(value, dict) else None
+    """The ``distribution`` of a field's mapping (or of its model, when written), or None."""
+    return (
+        value.get("distribution")
+        if isinstance(value, dict)
+        else getattr(value, "distribution", None)
+    )
 
 
 Distribution = Annotated[
