@@ -28,8 +28,6 @@ from typing import Annotated, Any, Literal
 
 import numpy as np
 from pydantic import Discriminator, Field, NonNegativeInt, PositiveInt, Tag, model_validator
-from scipy import stats
-from scipy.stats import qmc
 
 from .bridge import BridgeConfig
 from .loading import StrictModel
@@ -70,6 +68,8 @@ class Normal(StrictModel):
 
     def quantile(self, unit: np.ndarray) -> np.ndarray:
         """The values at probabilities ``unit`` [the field's unit]."""
+        from scipy import stats  # here: the parent of a study without samples never loads it
+
         return self.mean + self.std * stats.norm.ppf(unit)
 
 
@@ -103,6 +103,8 @@ class Lognormal(StrictModel):
 
     def quantile(self, unit: np.ndarray) -> np.ndarray:
         """The values at probabilities ``unit`` [the field's unit]."""
+        from scipy import stats
+
         median, beta = self.parameters()
         return median * np.exp(beta * stats.norm.ppf(unit))
 
@@ -123,7 +125,7 @@ class TruncatedNormal(StrictModel):
         low, high = self._standard_bounds()
         if not low < high:
             raise ValueError("low must be below high")
-        if stats.norm.cdf(high) - stats.norm.cdf(low) < 1e-9:
+        if _normal_cdf(high) - _normal_cdf(low) < 1e-9:
             raise ValueError("the bounds hold less than 1e-9 of the normal: move them or the mean")
         return self
 
@@ -134,6 +136,8 @@ class TruncatedNormal(StrictModel):
 
     def quantile(self, unit: np.ndarray) -> np.ndarray:
         """The values at probabilities ``unit`` [the field's unit], within the bounds."""
+        from scipy import stats
+
         low, high = self._standard_bounds()
         values = self.mean + self.std * stats.truncnorm.ppf(unit, low, high)
         return np.clip(values, self.low, self.high)  # round-off at the bounds
@@ -374,6 +378,8 @@ def _unit_points(design: str, d: int, n: int, seed: int) -> np.ndarray:
     rng = np.random.default_rng(seed)
     if design == "random":
         return rng.random((n, d))
+    from scipy.stats import qmc
+
     engine = qmc.LatinHypercube if design == "lhs" else qmc.Sobol
     # scipy ≥ 1.15 names the generator rng, older ones seed (both take a Generator)
     keyword = "rng" if "rng" in inspect.signature(engine.__init__).parameters else "seed"
@@ -414,7 +420,14 @@ def _correlation_matrix(
     return matrix
 
 
+def _normal_cdf(x: float) -> float:
+    """Φ(x), the standard normal distribution function."""
+    return 0.5 * (1.0 + math.erf(x / math.sqrt(2.0)))
+
+
 def _copula(unit: np.ndarray, matrix: np.ndarray) -> np.ndarray:
     """Points with the normal-score correlation ``matrix``, each coordinate still uniform."""
+    from scipy import stats
+
     scores = stats.norm.ppf(np.clip(unit, UNIT_MARGIN, 1.0 - UNIT_MARGIN))
     return stats.norm.cdf(scores @ np.linalg.cholesky(matrix).T)
