@@ -4,7 +4,8 @@ response's variance is record-to-record.
 
 Each sampled bridge meets every record; its *output* is a statistic of a quantity over the records
 (the mean by default): a peak-table column (``dcr_backfill``), or whether a limit state is reached
-(``abutment_failure``, ``backfill_50``; its mean is the share of records that reach it). The
+(``abutment_failure``, ``backfill_50``; its mean is the share of records that reach it); of an
+IDA, a capacity (``capacity:abutment_failure``: the median of the sample's fragility). The
 indices are those of `scipy.stats.sobol_indices` on the outputs of the A, B and A_B^(i) bridges:
 first order by Saltelli et al. (2010), total order by Jansen (1999), with bootstrap confidence
 intervals over the n base samples. The record share is, over every analysis of the A and B
@@ -17,6 +18,7 @@ from __future__ import annotations
 
 import inspect
 import json
+from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -27,8 +29,11 @@ from scipy import stats
 from ..core.quantities import LIMIT_STATES, check_limit_state
 from ..errors import InputError
 from ..results.layout import PEAK_COLUMNS, TEXT_COLUMNS
-from ..results.reading import bridge_samples, open_results, peak_columns
+from ..results.reading import bridge_samples, open_results, peak_columns, swept_values
 from .limit_states import reached
+
+CAPACITY = "capacity:"
+"""Prefix of a quantity that is an IDA's capacity for a limit state."""
 
 STATISTICS = ("mean", "median")
 """How a sampled bridge's output is taken over its records."""
@@ -91,6 +96,49 @@ class Sensitivity:
                 "records_share": self.records_share,
             }
             for item in self.fields
+        ]  # fmt: skip
+
+
+@dataclass(frozen=True)
+class Swing:
+    """One field's swing in a tornado: the output with the field at its low and its high
+    percentile, the others at their medians.
+
+    Attributes
+    ----------
+    values : the field's low and high values [the field's unit]
+    outputs : the output at each [the quantity's unit]
+    """
+
+    field: str
+    values: tuple[float, float]
+    outputs: tuple[float, float]
+
+    @property
+    def swing(self) -> float:
+        """|high − low| of the output [the quantity's unit]."""
+        return abs(self.outputs[1] - self.outputs[0])
+
+
+@dataclass(frozen=True)
+class Tornado:
+    """The one-at-a-time swings of one quantity of one bridge file, largest first; ``median``
+    the output of the bridge with every field at its median."""
+
+    bridge: str
+    quantity: str
+    statistic: str
+    median: float
+    swings: tuple[Swing, ...]
+
+    def rows(self) -> list[dict[str, Any]]:
+        """One row per field."""
+        return [
+            {"bridge": self.bridge, "quantity": self.quantity, "statistic": self.statistic,
+             "field": item.field, "low_value": item.values[0], "high_value": item.values[1],
+             "output_low": item.outputs[0], "output_high": item.outputs[1],
+             "output_median": self.median, "swing": item.swing}
+            for item in self.swings
         ]  # fmt: skip
 
 
@@ -182,7 +230,8 @@ def design_outputs(
 
 
 def check_quantity(name: str) -> str:
-    """``name`` if it is a numeric peak-table column, a limit state or ``failure``.
+    """``name`` if it is a numeric peak-table column, a limit state, ``failure``, or
+    ``capacity:<limit state>``.
 
     Raises
     ------
@@ -193,11 +242,13 @@ def check_quantity(name: str) -> str:
     if name in numeric or name == "failure":
         return name
     try:
+        if name.startswith(CAPACITY):
+            return CAPACITY + check_limit_state(name.removeprefix(CAPACITY))
         return check_limit_state(name)
     except ValueError:
         raise ValueError(
             f"unknown quantity {name!r}: a peak column ({', '.join(numeric[:8])}, …), a limit "
-            f"state ({', '.join(LIMIT_STATES)}) or failure"
+            f"state ({', '.join(LIMIT_STATES)}), failure, or capacity:<limit state> of an IDA"
         ) from None
 
 
@@ -208,43 +259,135 @@ def sensitivities(
     confidence: float = CONFIDENCE,
     resamples: int = RESAMPLES,
 ) -> list[Sensitivity]:
-    """The sensitivity of ``quantity`` for each bridge file of a saltelli-sampled study.
+    """The Sobol' indices of ``quantity`` for each bridge file of a saltelli-sampled study.
 
     Parameters
     ----------
     path
         The results file (only its peak table and bridges' attributes are read).
     quantity
-        A numeric peak-table column, a limit state, or ``failure`` (any failure mode).
+        A numeric peak-table column, a limit state, ``failure`` (any failure mode), or, of an
+        IDA, ``capacity:<limit state>``: each sample's median capacity (its fragility's θ, in
+        the study's measure; `assessment.fragility`).
     statistic
-        ``mean`` or ``median`` of the quantity over each bridge's records (NaN rows, of analyses
-        that did not run, left out).
+        ``mean`` or ``median`` of a peak or a limit state over each bridge's records (NaN rows,
+        of analyses that did not run, left out).
 
     Raises
     ------
     InputError
-        The file's study has no saltelli design, a sample has not run, or the quantity is unknown.
+        The file's study has no saltelli design, a sample has not run or has no capacity, or the
+        quantity is unknown or is a capacity of a study without an IDA.
     """
+    design, samples, rows, outputs, statistic = _outputs(path, quantity, statistic, "saltelli")
+    found = []
+    for base, mine in _by_bridge_file(samples).items():
+        try:
+            f_a, f_b, f_ab = design_outputs(mine, outputs, list(design["fields"]), design["size"])
+        except ValueError as exc:
+            why = f"bridge {base}: {exc}: finish the study (rockbridge run) first"
+            raise InputError(path, [("", why)]) from None
+        both = [rows[name] for name, s in mine.items() if s["matrix"] in ("A", "B")]
+        found.append(_indices(base, quantity, statistic, list(design["fields"]), f_a, f_b,
+                              f_ab, both, confidence, resamples))  # fmt: skip
+    return found
+
+
+def tornadoes(
+    path: str | Path, quantity: str = "dcr_backfill", statistic: str = "mean"
+) -> list[Tornado]:
+    """The one-at-a-time swings of ``quantity`` for each bridge file of a study with a tornado
+    design (parameters and errors as for `sensitivities`)."""
+    design, samples, _, outputs, statistic = _outputs(path, quantity, statistic, "tornado")
+    with open_results(path) as file:
+        drawn = swept_values(file)
+    found = []
+    for base, mine in _by_bridge_file(samples).items():
+        named = {(s["matrix"], s.get("field", "")): name for name, s in mine.items()}
+        if any(np.isnan(outputs[name]) for name in mine):
+            why = f"bridge {base}: a bridge of the tornado has no output: finish the study first"
+            raise InputError(path, [("", why)])
+        swings = []
+        for field in design["fields"]:
+            ends = (named[("low", field)], named[("high", field)])
+            values = (drawn[ends[0]][field], drawn[ends[1]][field])
+            swings.append(Swing(field, values, (outputs[ends[0]], outputs[ends[1]])))
+        swings.sort(key=lambda item: -item.swing)
+        median = outputs[named[("mid", "")]]
+        found.append(Tornado(base, quantity, statistic, median, tuple(swings)))
+    return found
+
+
+def design_of(path: str | Path) -> str:
+    """The design of a sampled study's results file (``lhs``, …, ``saltelli``, ``tornado``);
+    empty for a study without an uncertainty section."""
+    with open_results(path) as file:
+        design = json.loads(file.attrs["config"]).get("uncertainty") or {}
+    return str(design.get("design", ""))
+
+
+def _outputs(
+    path: str | Path, quantity: str, statistic: str, kind: str
+) -> tuple[dict, dict[str, dict], dict[str, np.ndarray], dict[str, float], str]:
+    """The design, the samples, each sample's per-record values and its output, and the
+    statistic's name, of a results file whose design is ``kind``."""
     try:
-        check_quantity(quantity)
+        quantity = check_quantity(quantity)
     except ValueError as exc:
         raise InputError(path, [("--quantity", str(exc))]) from None
     with open_results(path) as file:
-        config = json.loads(file.attrs["config"])
-        design = config.get("uncertainty")
-        if design is None or design.get("design") != "saltelli":
-            why = "not a study with a saltelli design (uncertainty: {design: saltelli}): its "
-            raise InputError(path, [("", why + "samples give no Sobol' indices")])
+        design = json.loads(file.attrs["config"]).get("uncertainty")
+        intensity = json.loads(file.attrs.get("intensity", "null"))
+        if design is None or design.get("design") != kind:
+            purpose = "Sobol' indices" if kind == "saltelli" else "one-at-a-time swings"
+            why = (
+                f"not a study with a {kind} design (uncertainty: {{design: {kind}}}): no {purpose}"
+            )
+            raise InputError(path, [("", why)])
         samples = bridge_samples(file)
         columns = peak_columns(file)
-    values = _values(columns, quantity)
-    found = []
-    for base in dict.fromkeys(name.rsplit("+", 1)[0] for name in samples):
-        mine = {name: s for name, s in samples.items() if name.rsplit("+", 1)[0] == base}
-        found.append(_of_bridge(path, base, mine, list(design["fields"]), design["size"],
-                                columns["bridge"], values, quantity, statistic, confidence,
-                                resamples))  # fmt: skip
+    if quantity.startswith(CAPACITY):
+        if not (intensity or {}).get("ida"):
+            why = f"{quantity}: capacities come from an IDA, and this study has none"
+            raise InputError(path, [("--quantity", why)])
+        rows, outputs = _capacities(columns, intensity, quantity.removeprefix(CAPACITY))
+        return design, samples, rows, _every(outputs, samples), "median capacity"
+    if (intensity or {}).get("ida"):
+        why = (f"{quantity}: an IDA's analyses stand at the levels each curve chose; ask for a "
+               "capacity (capacity:abutment_failure, …)")  # fmt: skip
+        raise InputError(path, [("--quantity", why)])
+    rows = _per_bridge(columns["bridge"], _values(columns, quantity), samples)
+    reduce = np.nanmean if statistic == "mean" else np.nanmedian
+    outputs = {n: reduce(v[~np.isnan(v)]) if np.isfinite(v).any() else np.nan
+               for n, v in rows.items()}  # fmt: skip
+    return design, samples, rows, _every(outputs, samples), statistic
+
+
+def _every(outputs: dict[str, float], samples: dict[str, dict]) -> dict[str, float]:
+    """The outputs of every sample, NaN where one has none."""
+    return {name: float(outputs.get(name, np.nan)) for name in samples}
+
+
+def _by_bridge_file(samples: dict[str, dict]) -> dict[str, dict[str, dict]]:
+    """The samples of each bridge file (``<bridge>+<label>``), in order."""
+    found: dict[str, dict[str, dict]] = {}
+    for name, sample in samples.items():
+        found.setdefault(name.rsplit("+", 1)[0], {})[name] = sample
     return found
+
+
+def _per_bridge(
+    bridges: np.ndarray, values: np.ndarray, names: Iterable[str]
+) -> dict[str, np.ndarray]:
+    """The values of each bridge's analyses, for the bridges named."""
+    order = np.argsort(bridges, kind="stable")
+    ordered = bridges[order]
+    return {
+        name: values[
+            order[np.searchsorted(ordered, name) : np.searchsorted(ordered, name, "right")]
+        ]
+        for name in names
+    }
 
 
 def _values(columns: dict[str, np.ndarray], quantity: str) -> np.ndarray:
@@ -260,40 +403,38 @@ def _values(columns: dict[str, np.ndarray], quantity: str) -> np.ndarray:
     return np.where(ran, hit.astype(float), np.nan)
 
 
-def _of_bridge(
-    path: str | Path, base: str, samples: dict[str, dict[str, Any]], fields: list[str], n: int,
-    bridges: np.ndarray, values: np.ndarray, quantity: str, statistic: str, confidence: float,
-    resamples: int,
+def _capacities(
+    columns: dict[str, np.ndarray], intensity: dict, state: str
+) -> tuple[dict[str, np.ndarray], dict[str, float]]:
+    """Per bridge, its records' capacities for ``state`` (NaN where a record's is censored) and
+    its fragility's median θ (NaN without a fit)."""
+    from .fragility import fragilities_of
+
+    rows, outputs = {}, {}
+    for item in fragilities_of(columns, intensity, bootstrap=0):
+        if item.limit_state == state:
+            rows[item.bridge] = np.array([np.nan if c is None else c
+                                          for c in item.capacities.values()])  # fmt: skip
+            outputs[item.bridge] = np.nan if item.median is None else item.median
+    return rows, outputs
+
+
+def _indices(
+    base: str, quantity: str, statistic: str, fields: list[str], f_a: np.ndarray,
+    f_b: np.ndarray, f_ab: np.ndarray, rows: list[np.ndarray], confidence: float, resamples: int,
 ) -> Sensitivity:  # fmt: skip
-    """One bridge file's indices (`sensitivities`)."""
-    reduce = np.nanmean if statistic == "mean" else np.nanmedian
-    rows: dict[str, np.ndarray] = {}
-    order = np.argsort(bridges, kind="stable")
-    ordered = bridges[order]
-    for name in samples:
-        start, stop = np.searchsorted(ordered, name), np.searchsorted(ordered, name, "right")
-        rows[name] = values[order[start:stop]]
-    reduced = {}
-    for name, values in rows.items():
-        ran = values[~np.isnan(values)]
-        reduced[name] = reduce(ran) if ran.size else np.nan
-    try:
-        f_a, f_b, f_ab = design_outputs(samples, reduced, fields, n)
-    except ValueError as exc:
-        why = f"bridge {base}: {exc}: finish the study (rockbridge run) first"
-        raise InputError(path, [("", why)]) from None
+    """One bridge file's `Sensitivity`, ``rows`` the per-record values of its A and B samples."""
+    d = len(fields)
     if np.ptp(np.concatenate([f_a, f_b, f_ab.ravel()])) > 0.0:
         first, total, first_ci, total_ci = sobol(f_a, f_b, f_ab, confidence, resamples)
     else:  # the output does not vary: no share of its variance to give
-        first = total = np.full(len(fields), np.nan)
-        first_ci = total_ci = np.full((2, len(fields)), np.nan)
-    both = [rows[name] for name, s in samples.items() if s["matrix"] in ("A", "B")]
-    everything = np.concatenate(both)
-    spread = np.nanvar(everything)
-    within = np.mean([np.nanvar(r) if np.isfinite(r).any() else 0.0 for r in both])
+        first = total = np.full(d, np.nan)
+        first_ci = total_ci = np.full((2, d), np.nan)
+    spread = np.nanvar(np.concatenate(rows))
+    within = np.mean([np.nanvar(r) if np.isfinite(r).sum() > 0 else 0.0 for r in rows])
     outer = np.concatenate([f_a, f_b])
     return Sensitivity(
-        base, quantity, statistic, n, max(len(r) for r in rows.values()),
+        base, quantity, statistic, f_a.size, max(len(r) for r in rows),
         float(np.mean(outer)), float(np.std(outer, ddof=1)),
         float(within / spread) if spread > 0.0 else float("nan"),
         tuple(

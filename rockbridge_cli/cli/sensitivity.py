@@ -33,12 +33,16 @@ _STATISTIC = click.option(
 def sensitivity(
     results: Path, quantity: str, statistic: str, as_json: bool, csv_file: str | None
 ) -> None:
-    """First- and total-order Sobol' indices of a quantity over the sampled fields of RESULTS, a
-    study whose uncertainty section has design: saltelli (n·(d + 2) bridges, each with every
-    record), with 90 % bootstrap intervals; and the share of the quantity's variance over all
-    analyses that is record-to-record (E[Var(Q|θ)] / Var(Q))."""
-    from ..assessment.sensitivity import sensitivities
+    """Which sampled field drives a quantity of RESULTS. With design: saltelli (n·(d + 2)
+    bridges, each with every record): first- and total-order Sobol' indices with 90 % bootstrap
+    intervals, and the share of the quantity's variance over all analyses that is
+    record-to-record (E[Var(Q|θ)] / Var(Q)). With design: tornado: each field's one-at-a-time
+    swing between its low and high percentile, largest first."""
+    from ..assessment.sensitivity import design_of, sensitivities, tornadoes
 
+    if design_of(results) == "tornado":
+        _tornado(tornadoes(results, quantity, statistic), results, as_json, csv_file)
+        return
     found = sensitivities(results, quantity, statistic)
     rows = [row for item in found for row in item.rows()]
     if csv_file is not None:
@@ -64,6 +68,24 @@ def sensitivity(
             click.echo(f"dominant: {ranked[0].field} (total order {ranked[0].total:.2f})")
 
 
+def _tornado(found: list, results: Path, as_json: bool, csv_file: str | None) -> None:
+    rows = [row for item in found for row in item.rows()]
+    if csv_file is not None:
+        columns = {key: [row[key] for row in rows] for key in rows[0]} if rows else {}
+        export_csv(csv_file, columns, results)  # type: ignore[arg-type]
+        return
+    if as_json:
+        echo_json(rows)
+        return
+    for item in found:
+        click.echo(f"{item.bridge}: {item.statistic} of {item.quantity}; every field at its "
+                   f"median: {item.median:.4g}")  # fmt: skip
+        click.echo(table_text(
+            ["field", "low value", "high value", "output at low", "output at high", "swing"],
+            [[s.field, *s.values, *s.outputs, s.swing] for s in item.swings],
+        ))  # fmt: skip
+
+
 def _interval(bounds: tuple[float, float]) -> str:
     return "-" if bounds[0] != bounds[0] else f"{bounds[0]:.2f}–{bounds[1]:.2f}"
 
@@ -74,9 +96,12 @@ def _interval(bounds: tuple[float, float]) -> str:
 @_STATISTIC
 @figure_option("<results stem>-sensitivity.png beside RESULTS")
 def plot_sensitivity(results: Path, quantity: str, statistic: str, output: Path | None) -> None:
-    """Sobol' indices of RESULTS (a study with a saltelli design): per bridge file, each sampled
-    field's first- and total-order index with its 90 % interval."""
-    from ..plots.sensitivity import plot_sensitivity as draw
+    """Which sampled field matters in RESULTS: per bridge file, each field's first- and
+    total-order Sobol' index with its 90 % interval (design: saltelli), or its swing (design:
+    tornado)."""
+    from ..assessment.sensitivity import design_of
+    from ..plots.sensitivity import plot_sensitivity, plot_tornado
 
+    draw = plot_tornado if design_of(results) == "tornado" else plot_sensitivity
     target = output or results.with_name(f"{results.stem}-sensitivity.png")
     click.echo(f"Figure: {draw(results, target, quantity, statistic)}")

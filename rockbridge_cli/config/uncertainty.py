@@ -12,7 +12,9 @@ distribution; optional rank correlations between fields are imposed through a Ga
 - ``random``: independent uniform draws;
 - ``saltelli``: the matrices A, B and A_B^(i) of Saltelli et al. (2010), n·(d + 2) samples from a
   scrambled Sobol' sequence in 2d dimensions, for first- and total-order Sobol' indices
-  (`assessment.sensitivity`).
+  (`assessment.sensitivity`);
+- ``tornado``: a one-at-a-time screening, 2d + 1 bridges: every field at its median, then each
+  field at a low and a high percentile with the others at their medians.
 
 Each point's coordinates go through the inverse distribution function of their field. The same
 seed gives the same samples bit for bit wherever the study runs: they are drawn once, when the
@@ -193,7 +195,7 @@ Distribution = Annotated[
 ]  # fmt: skip
 """A sampled field's distribution, by its ``distribution`` key."""
 
-DESIGNS = ("lhs", "sobol", "random", "saltelli")
+DESIGNS = ("lhs", "sobol", "random", "saltelli", "tornado")
 
 
 class Uncertainty(StrictModel):
@@ -202,11 +204,16 @@ class Uncertainty(StrictModel):
     fields: dict[str, Distribution] = Field(
         min_length=1, description="Dotted path of a bridge field → its distribution"
     )
-    design: Literal["lhs", "sobol", "random", "saltelli"] = Field(
-        "lhs", description="How the samples are drawn: lhs, sobol, random or saltelli"
+    design: Literal["lhs", "sobol", "random", "saltelli", "tornado"] = Field(
+        "lhs", description="How the samples are drawn: lhs, sobol, random, saltelli or tornado"
     )
-    size: PositiveInt = Field(
-        description="Samples of each bridge (saltelli: the base sample n, giving n·(d + 2)) [-]"
+    size: PositiveInt | None = Field(
+        None,
+        description="Samples of each bridge (saltelli: the base sample n, giving n·(d + 2); "
+        "tornado: none, it makes 2d + 1) [-]",
+    )
+    percentiles: tuple[float, float] = Field(
+        (10.0, 90.0), description="A tornado's low and high percentile of each field [%]"
     )
     seed: NonNegativeInt = Field(0, description="Seed of the design [-]")
     pairing: Literal["all", "one"] = Field(
@@ -220,6 +227,10 @@ class Uncertainty(StrictModel):
 
     @model_validator(mode="after")
     def _consistent(self) -> Uncertainty:
+        if self.design == "tornado":
+            return self._tornado()
+        if self.size is None:
+            raise ValueError(f"size: give the number of samples of a {self.design} design")
         if self.design in ("sobol", "saltelli") and self.size & (self.size - 1):
             below = 2 ** int(math.log2(self.size))
             raise ValueError(
@@ -237,15 +248,34 @@ class Uncertainty(StrictModel):
         _correlation_matrix(list(self.fields), self.correlations)  # raises if invalid
         return self
 
+    def _tornado(self) -> Uncertainty:
+        if self.size is not None or self.correlations or self.pairing == "one":
+            raise ValueError(
+                "a tornado swings one field at a time from the median bridge (2d + 1 bridges, "
+                "each with every record): leave out size, correlations and pairing"
+            )
+        low, high = self.percentiles
+        if not 0.0 < low < high < 100.0:
+            raise ValueError(f"percentiles: need 0 < low < high < 100, got {low:g}, {high:g}")
+        return self
+
     @property
     def count(self) -> int:
-        """Samples of each bridge: ``size``, or n·(d + 2) for a saltelli design."""
-        return self.size * (len(self.fields) + 2) if self.design == "saltelli" else self.size
+        """Samples of each bridge: ``size``, n·(d + 2) for a saltelli design, 2d + 1 for a
+        tornado."""
+        d = len(self.fields)
+        if self.design == "tornado":
+            return 2 * d + 1
+        assert self.size is not None
+        return self.size * (d + 2) if self.design == "saltelli" else self.size
 
     def samples(self) -> list[Sample]:
         """Every sample of the design, in the order of the results."""
         fields = list(self.fields)
         d = len(fields)
+        if self.design == "tornado":
+            return self._swings(fields)
+        assert self.size is not None
         if self.design == "saltelli":
             points = _unit_points("sobol", 2 * d, self.size, self.seed)
             a, b = points[:, :d], points[:, d:]
@@ -269,9 +299,28 @@ class Uncertainty(StrictModel):
                 found.append(Sample(f"{label}{k:0{width}d}", drawn, matrix, k, column))
         return found
 
+    def _swings(self, fields: list[str]) -> list[Sample]:
+        """A tornado's bridges: every field at its median (``mid``), then each field i at its
+        low and high percentile with the others at their medians (``low<i>``, ``high<i>``)."""
+        middle = np.full((1, len(fields)), 0.5)
+        found = [Sample("mid", self._drawn(fields, middle), "mid", 0, "")]
+        for i, name in enumerate(fields):
+            for matrix, percentile in zip(("low", "high"), self.percentiles, strict=True):
+                point = middle.copy()
+                point[0, i] = percentile / 100.0
+                found.append(
+                    Sample(f"{matrix}{i + 1}", self._drawn(fields, point), matrix, 0, name)
+                )
+        return found
+
+    def _drawn(self, fields: list[str], unit: np.ndarray) -> dict[str, float]:
+        values = self._values(unit)
+        return {f: float(values[j][0]) for j, f in enumerate(fields)}
+
     def record_order(self, records: int) -> np.ndarray:
         """For ``pairing: one``, the record of each sample (indices into ``records``): every
         record ⌊n/R⌋ or ⌈n/R⌉ times, in a random order drawn from the seed."""
+        assert self.size is not None
         order = np.resize(np.arange(records), self.size)
         return np.random.default_rng([self.seed, 1]).permutation(order)
 
@@ -360,9 +409,7 @@ def record_pairs(
     for index, base in enumerate(bases):
         copies[base].append(index)
     order = uncertainty.record_order(len(distinct))
-    return tuple(
-        (b, r) for b in range(bridges) for r in copies[distinct[order[b % uncertainty.size]]]
-    )
+    return tuple((b, r) for b in range(bridges) for r in copies[distinct[order[b % len(order)]]])
 
 
 def _phrase(distribution: StrictModel) -> str:

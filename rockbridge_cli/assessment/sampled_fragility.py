@@ -1,0 +1,97 @@
+"""Fragilities of sampled bridges (`config.uncertainty`): the fragility that folds parameter
+uncertainty in, beside the record-to-record one and the common shortcut.
+
+For each bridge file of a sampled study with an intensity section, every analysis of every sample
+is one draw of (bridge, record): the *folded* fragility is the fit (`assessment.fragility`, by the
+same code as one bridge's) over all samples × records, its bootstrap over those pairs. Where each
+sample met every record (``pairing: all``), each sample has a fragility of its own: β_RTR is the
+root mean square of their β (the record-to-record dispersion), β_U the standard deviation of the
+logarithms of their medians (the dispersion the parameters add), and the shortcut of FEMA P-58 and
+P695, β_total = √(β_RTR² + β_U²), stands beside the folded β to show how far it holds.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from ..results.reading import bridge_samples, open_results, peak_columns
+from .fragility import Fragility, fragilities_of
+
+
+@dataclass(frozen=True)
+class FoldedFragility:
+    """One bridge file's fragility for one limit state over its samples.
+
+    Attributes
+    ----------
+    folded : the fit over every sample × record (its ``bridge`` is the bridge file's id)
+    samples : samples with a fit of their own, of all samples
+    beta_rtr, beta_u, beta_shortcut : [-], NaN where the samples did not meet every record or
+        fewer than two have a fit
+    """
+
+    folded: Fragility
+    samples: tuple[int, int]
+    beta_rtr: float
+    beta_u: float
+    beta_shortcut: float
+
+    def row(self) -> dict[str, object]:
+        """As JSON-ready data."""
+        item = self.folded
+        return {
+            "bridge": item.bridge, "limit_state": item.limit_state, "measure": item.measure,
+            "median": item.median, "beta": item.beta,
+            "median_90": list(item.median_90) if item.median_90 else None,
+            "samples_fitted": self.samples[0], "samples": self.samples[1],
+            "beta_rtr": self.beta_rtr, "beta_u": self.beta_u,
+            "beta_shortcut": self.beta_shortcut,
+        }  # fmt: skip
+
+
+def folded_fragilities(path: str | Path, seed: int = 0) -> list[FoldedFragility]:
+    """The folded fragility of each bridge file and limit state of a sampled study.
+
+    Raises
+    ------
+    InputError
+        The study sampled no bridges, or has no intensity section.
+    """
+    with open_results(path) as file:
+        intensity = json.loads(file.attrs.get("intensity", "null"))
+        config = json.loads(file.attrs["config"])
+        samples = bridge_samples(file)
+        columns = peak_columns(file)
+    if intensity is None or not samples:
+        raise InputError(path, [("", "not a sampled study with an intensity section (uncertainty "
+                                 "and intensity): no fragility to fold")])  # fmt: skip
+    paired_all = config["uncertainty"].get("pairing", "all") == "all"
+    own = {(f.bridge, f.limit_state): f for f in fragilities_of(columns, intensity, 0, seed)}
+    sampled = np.isin(columns["bridge"], list(samples))
+    columns = {name: values[sampled] for name, values in columns.items()}
+    pooled = {
+        **columns,
+        "bridge": np.array([name.rsplit("+", 1)[0] for name in columns["bridge"]]),
+        "record": np.char.add(np.char.add(columns["bridge"].astype(str), "|"),
+                              columns["record"].astype(str)),
+        "base_record": np.char.add(np.char.add(columns["bridge"].astype(str), "|"),
+                                   columns["base_record"].astype(str)),
+    }  # fmt: skip
+    found = []
+    for item in fragilities_of(pooled, intensity, seed=seed):
+        mine = [own[(name, item.limit_state)] for name in samples
+                if name.rsplit("+", 1)[0] == item.bridge]  # fmt: skip
+        fitted = [f for f in mine if f.median is not None and f.beta is not None]
+        beta_rtr = beta_u = math.nan
+        if paired_all and len(fitted) > 1:
+            beta_rtr = math.sqrt(np.mean([f.beta**2 for f in fitted]))  # type: ignore[operator]
+            beta_u = float(np.std([math.log(f.median) for f in fitted], ddof=1))  # type: ignore[arg-type]
+        found.append(FoldedFragility(item, (len(fitted), len(mine)), beta_rtr, beta_u,
+                                     math.hypot(beta_rtr, beta_u)))  # fmt: skip
+    return found
