@@ -374,3 +374,114 @@ def test_sensitivity_refuses_a_study_without_a_saltelli_design(tmp_path):
     assert invoke("run", path, "-o", "l.h5").exit_code == 0
     result = invoke("sensitivity", "l.h5")
     assert result.exit_code == 2 and "not a study with a saltelli design" in result.output
+
+
+# ---------------------------------------------------------------------------------------------
+# Screening and fragilities of sampled bridges
+
+TORNADO = """uncertainty:
+  design: tornado
+  percentiles: [10, 90]
+  fields:
+    abutments.gap: {distribution: uniform, low: 0.06, high: 0.18}
+    abutments.ultimate_displacement: {distribution: lognormal, median: 0.10, beta: 0.3}
+fidelity: fast
+output: {histories: none}
+"""
+
+
+def test_a_tornado_swings_each_field_between_its_percentiles(tmp_path):
+    """2d + 1 = 5 bridges: the medians (0.12 m; 0.10 m), then each field at its 10th and 90th
+    percentile: 0.06 + 0.1·0.12 = 0.072 and 0.168 m; 0.10·exp(∓1.2816·0.3) = 0.0681 and 0.1469 m
+    (z₀.₉ = 1.2816). dcr_backfill = (u − u_jo)/u_ab falls as u_ab grows: its output at the high
+    percentile is the smaller."""
+    path = write_study(tmp_path, bridges=("studied-hbar1.25",), extra=TORNADO)
+    study = load_study(path)
+    assert [b.id.split("+")[1] for b in study.bridges] == ["mid", "low1", "high1", "low2", "high2"]
+    drawn = {b.id.split("+")[1]: b.swept for b in study.bridges}
+    middle = {"abutments.gap": 0.12, "abutments.ultimate_displacement": 0.10}
+    assert drawn["mid"] == pytest.approx(middle, rel=1e-12)
+    assert drawn["low1"]["abutments.gap"] == pytest.approx(0.072, rel=1e-12)
+    assert drawn["high1"]["abutments.gap"] == pytest.approx(0.168, rel=1e-12)
+    assert drawn["low1"]["abutments.ultimate_displacement"] == pytest.approx(0.10, rel=1e-12)
+    z = 1.2815515655446004  # Φ⁻¹(0.9)
+    assert drawn["low2"]["abutments.ultimate_displacement"] == pytest.approx(
+        0.10 * math.exp(-0.3 * z), rel=1e-12
+    )
+    assert invoke("run", path, "-o", "t.h5").exit_code == 0
+    rows = json.loads(invoke("sensitivity", "t.h5", "--json").output)
+    capacity = next(r for r in rows if r["field"] == "abutments.ultimate_displacement")
+    assert capacity["output_high"] < capacity["output_median"] < capacity["output_low"]
+    assert rows[0]["swing"] >= rows[1]["swing"]
+    assert invoke("plot", "sensitivity", "t.h5", "-o", "t.png").exit_code == 0
+
+
+def _stripes(medians: list[float], beta: float, records: int, seed: int) -> dict:
+    """A peak table of stripes whose records' capacities are lognormal (median θ_k of sample k,
+    β): at each level, a record reaches gap_closure (dcr_backfill > 0) where the level exceeds
+    its capacity."""
+    rng = np.random.default_rng(seed)
+    levels = np.geomspace(0.05, 5.0, 40)
+    rows: dict[str, list] = {k: [] for k in ("bridge", "record", "base_record", "intensity",
+                                             "status", "failure_mode", "dcr_backfill")}  # fmt: skip
+    for k, median in enumerate(medians):
+        capacities = median * np.exp(beta * rng.standard_normal(records))
+        for r, capacity in enumerate(capacities):
+            for level in levels:
+                rows["bridge"].append(f"b+s{k}")
+                rows["record"].append(f"R{r}+{level:.10g}g")
+                rows["base_record"].append(f"R{r}")
+                rows["intensity"].append(level)
+                rows["status"].append("ok")
+                rows["failure_mode"].append("none")
+                rows["dcr_backfill"].append(level / capacity - 1.0)
+    return {name: np.array(values) for name, values in rows.items()}
+
+
+def test_the_folded_fragility_is_the_mixture_of_the_samples():
+    """Eight samples with medians spread over ln θ ~ ±0.4 and β = 0.3, 300 records each: the
+    folded fit over all 2400 pairs has the mixture's moments (law of total variance): ln θ the
+    mean of ln θ_k and β² = β_RTR² + Var(ln θ_k), within 4 %; its β_RTR and β_U those of the
+    samples' own fits, and the shortcut their root sum of squares."""
+    from rockbridge_cli.assessment.sampled_fragility import fold
+
+    medians = list(np.exp(np.linspace(-0.4, 0.4, 8)) * 0.6)
+    columns = _stripes(medians, 0.3, 300, seed=4)
+    intensity = {"measure": "pga_g", "levels": sorted(set(columns["intensity"].tolist()))}
+    samples = [f"b+s{k}" for k in range(8)]
+    found = {f.folded.limit_state: f for f in fold(columns, intensity, samples, True)}
+    item = found["gap_closure"]
+    logs = np.log(medians)
+    assert item.folded.median == pytest.approx(math.exp(logs.mean()), rel=0.04)
+    assert item.folded.beta == pytest.approx(math.sqrt(0.3**2 + logs.var()), rel=0.04)
+    assert item.beta_rtr == pytest.approx(0.3, rel=0.08)
+    assert item.beta_u == pytest.approx(np.std(logs, ddof=1), rel=0.08)
+    assert item.beta_shortcut == pytest.approx(math.hypot(item.beta_rtr, item.beta_u), rel=1e-12)
+    assert item.samples == (8, 8)
+
+
+SALTELLI_IDA = """uncertainty:
+  design: saltelli
+  size: 2
+  fields:
+    abutments.ultimate_displacement: {distribution: uniform, low: 0.05, high: 0.15}
+intensity:
+  measure: pga_g
+  ida: {start: 0.2, step: 0.4, max: 2.6, tolerance: 0.1, limit_states: [abutment_failure]}
+fidelity: fast
+output: {histories: none}
+"""
+
+
+def test_sensitivity_of_an_ida_capacity_and_the_folded_fragility(tmp_path):
+    """n = 2, d = 1: 6 bridges × 2 records, each an IDA. Its capacity's indices are computed
+    (a larger u_ab fails the abutment later); a peak of an IDA is refused; `fragility
+    --fold-samples` prints the folded fit."""
+    path = write_study(tmp_path, bridges=("studied-hbar1.25",), extra=SALTELLI_IDA)
+    assert invoke("run", path, "-o", "i.h5").exit_code == 0
+    result = invoke("sensitivity", "i.h5", "--quantity", "capacity:abutment_failure", "--json")
+    assert result.exit_code == 0, result.output
+    (row,) = json.loads(result.output)
+    assert row["statistic"] == "median capacity" and row["samples"] == 2
+    peak = invoke("sensitivity", "i.h5", "--quantity", "dcr_backfill")
+    assert peak.exit_code == 2 and "ask for a capacity" in peak.output

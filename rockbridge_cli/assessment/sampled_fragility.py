@@ -72,26 +72,46 @@ def folded_fragilities(path: str | Path, seed: int = 0) -> list[FoldedFragility]
         raise InputError(path, [("", "not a sampled study with an intensity section (uncertainty "
                                  "and intensity): no fragility to fold")])  # fmt: skip
     paired_all = config["uncertainty"].get("pairing", "all") == "all"
+    return fold(columns, intensity, list(samples), paired_all, seed)
+
+
+def fold(
+    columns: dict[str, np.ndarray],
+    intensity: dict,
+    samples: list[str],
+    paired_all: bool,
+    seed: int = 0,
+) -> list[FoldedFragility]:
+    """`folded_fragilities` of a peak table's columns.
+
+    Parameters
+    ----------
+    intensity
+        The study's intensity section.
+    samples
+        The sampled bridges' ids, ``<bridge file>+<label>``.
+    paired_all
+        Whether each sample met every record (then each has a fragility of its own).
+    """
     own = {(f.bridge, f.limit_state): f for f in fragilities_of(columns, intensity, 0, seed)}
-    sampled = np.isin(columns["bridge"], list(samples))
+    sampled = np.isin(columns["bridge"], samples)
     columns = {name: values[sampled] for name, values in columns.items()}
+    bridges = columns["bridge"].astype(str)
     pooled = {
         **columns,
-        "bridge": np.array([name.rsplit("+", 1)[0] for name in columns["bridge"]]),
-        "record": np.char.add(np.char.add(columns["bridge"].astype(str), "|"),
-                              columns["record"].astype(str)),
-        "base_record": np.char.add(np.char.add(columns["bridge"].astype(str), "|"),
-                                   columns["base_record"].astype(str)),
-    }  # fmt: skip
+        "bridge": np.array([name.rsplit("+", 1)[0] for name in bridges], dtype=object),
+        "record": np.char.add(np.char.add(bridges, "|"), columns["record"].astype(str)),
+        "base_record": np.char.add(np.char.add(bridges, "|"), columns["base_record"].astype(str)),
+    }
     found = []
     for item in fragilities_of(pooled, intensity, seed=seed):
         mine = [own[(name, item.limit_state)] for name in samples
                 if name.rsplit("+", 1)[0] == item.bridge]  # fmt: skip
-        fitted = [f for f in mine if f.median is not None and f.beta is not None]
+        fitted = [(f.median, f.beta) for f in mine if f.median is not None and f.beta is not None]
         beta_rtr = beta_u = math.nan
         if paired_all and len(fitted) > 1:
-            beta_rtr = math.sqrt(np.mean([f.beta**2 for f in fitted]))  # type: ignore[operator]
-            beta_u = float(np.std([math.log(f.median) for f in fitted], ddof=1))  # type: ignore[arg-type]
+            beta_rtr = math.sqrt(np.mean([beta**2 for _, beta in fitted]))
+            beta_u = float(np.std([math.log(median) for median, _ in fitted], ddof=1))
         found.append(FoldedFragility(item, (len(fitted), len(mine)), beta_rtr, beta_u,
                                      math.hypot(beta_rtr, beta_u)))  # fmt: skip
     return found

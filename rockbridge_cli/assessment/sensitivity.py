@@ -168,12 +168,18 @@ def sobol(
     first_interval, total_interval : shape (2, d), low and high bounds
     """
 
+    d = f_ab.shape[0]
+    # each field's indices depend on f_A, f_B and its own row of f_AB alone; scipy fails on a
+    # single field (its indices are then scalars), so a lone row is given twice
+    rows_ab = f_ab if d > 1 else np.vstack([f_ab, f_ab])
+
     def indices(rows: np.ndarray) -> np.ndarray:
         result = stats.sobol_indices(
-            func={"f_A": f_a[None, rows], "f_B": f_b[None, rows], "f_AB": f_ab[:, None, rows]},
+            func={"f_A": f_a[None, rows], "f_B": f_b[None, rows], "f_AB": rows_ab[:, None, rows]},
             n=f_a.size,
         )
-        return np.concatenate([np.ravel(result.first_order), np.ravel(result.total_order)])
+        first, total = np.ravel(result.first_order)[:d], np.ravel(result.total_order)[:d]
+        return np.concatenate([first, total])
 
     rows = np.arange(f_a.size)
     estimate = indices(rows)
@@ -185,7 +191,6 @@ def sobol(
             confidence_level=confidence, method="percentile",
             **{keyword: np.random.default_rng(seed)},
         ).confidence_interval  # fmt: skip
-    d = f_ab.shape[0]
     low, high = np.asarray(interval.low), np.asarray(interval.high)
     return (
         estimate[:d],
