@@ -19,7 +19,9 @@ def differences(stored: dict[str, Any], current: dict[str, Any]) -> list[str]:
         new = {item["id"]: item for item in current.get(part, [])}
         for label, ids in (("added", new.keys() - old.keys()), ("removed", old.keys() - new)):
             if ids:
-                found.append(f"{part} {label}: {', '.join(sorted(ids))}")
+                named = sorted(ids)[:SHOWN]
+                more = f" and {len(ids) - SHOWN} more" if len(ids) > SHOWN else ""
+                found.append(f"{part} {label}: {', '.join(named)}{more}")
         for name in [n for n in new if n in old]:
             if part == "records" and old[name].get("sha256") != new[name].get("sha256"):
                 found.append(f"record {name}: other samples")
@@ -27,7 +29,7 @@ def differences(stored: dict[str, Any], current: dict[str, Any]) -> list[str]:
                 changed = list(_changes(old[name].get("config"), new[name].get("config"), ""))
                 if changed:
                     found.append(f"bridge {name}: {', '.join(changed)}")
-    for part in ("fidelity", "histories", "intensity"):
+    for part in ("fidelity", "histories", "intensity", "uncertainty"):
         found += _changes(stored.get(part), current.get(part), part)
     return found
 

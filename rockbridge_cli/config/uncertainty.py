@@ -328,8 +328,10 @@ class Uncertainty(StrictModel):
         return [dist.quantile(unit[:, j]) for j, dist in enumerate(self.fields.values())]
 
     def described(self) -> dict[str, Any]:
-        """The section as stored with the results: every field's distribution in full."""
-        return self.model_dump(mode="json", exclude_none=True)
+        """The section as stored with the results: every field's distribution in full (a
+        tornado's percentiles only in a tornado)."""
+        unused = {"percentiles"} if self.design != "tornado" else set()
+        return self.model_dump(mode="json", exclude_none=True, exclude=unused)
 
 
 @dataclass(frozen=True)
