@@ -4,11 +4,15 @@ study with a saltelli design); ``plot sensitivity`` draws them."""
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
 from . import main, plot
 from .output import echo_json, export_csv, figure_option, results_argument, table_text
+
+if TYPE_CHECKING:
+    from ..assessment.sensitivity import Sensitivity, Tornado
 
 _QUANTITY = click.option(
     "--quantity", default="dcr_backfill", show_default=True,
@@ -41,17 +45,16 @@ def sensitivity(
     from ..assessment.sensitivity import design_of, sensitivities, tornadoes
 
     if design_of(results) == "tornado":
-        _tornado(tornadoes(results, quantity, statistic), results, as_json, csv_file)
+        swings = tornadoes(results, quantity, statistic)
+        if not _rows_written(swings, results, as_json, csv_file):
+            _tornado(swings)
         return
     found = sensitivities(results, quantity, statistic)
-    rows = [row for item in found for row in item.rows()]
-    if csv_file is not None:
-        columns = {key: [row[key] for row in rows] for key in rows[0]} if rows else {}
-        export_csv(csv_file, columns, results)  # type: ignore[arg-type]
-        return
-    if as_json:
-        echo_json(rows)
-        return
+    if not _rows_written(found, results, as_json, csv_file):
+        _indices(found)
+
+
+def _indices(found: list[Sensitivity]) -> None:
     for item in found:
         click.echo(
             f"{item.bridge}: {item.statistic} of {item.quantity} over {item.records} records, "
@@ -68,15 +71,18 @@ def sensitivity(
             click.echo(f"dominant: {ranked[0].field} (total order {ranked[0].total:.2f})")
 
 
-def _tornado(found: list, results: Path, as_json: bool, csv_file: str | None) -> None:
+def _rows_written(found: list, results: Path, as_json: bool, csv_file: str | None) -> bool:
+    """Write every item's rows as CSV or JSON, if asked; whether they were."""
     rows = [row for item in found for row in item.rows()]
     if csv_file is not None:
         columns = {key: [row[key] for row in rows] for key in rows[0]} if rows else {}
         export_csv(csv_file, columns, results)  # type: ignore[arg-type]
-        return
-    if as_json:
+    elif as_json:
         echo_json(rows)
-        return
+    return csv_file is not None or as_json
+
+
+def _tornado(found: list[Tornado]) -> None:
     for item in found:
         click.echo(f"{item.bridge}: {item.statistic} of {item.quantity}; every field at its "
                    f"median: {item.median:.4g}")  # fmt: skip
