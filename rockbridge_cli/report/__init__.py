@@ -35,6 +35,7 @@ from ..results.reading import (
 )
 from .inputs import record_sets, records_table
 from .markup import MAX_ROWS, cell, escaped, number, table_html
+from .sampled import sampled_section
 
 if TYPE_CHECKING:
     from ..assessment.hazard import HazardCurve
@@ -108,6 +109,8 @@ def write_report(
         kept = bool(json.loads(attributes.get("histories", "[]")))
         swept = list(dict.fromkeys(f for values in swept_values(file).values() for f in values))
     intensity = json.loads(attributes.get("intensity", "null"))
+    design = json.loads(attributes.get("config", "{}")).get("uncertainty")
+    swept = [] if design else swept  # sampled values: drawn by their own section
     records = list(dict.fromkeys(columns["record"]))
     if record is not None and record not in records:
         raise InputError(
@@ -129,7 +132,9 @@ def write_report(
     with tempfile.TemporaryDirectory() as folder:
         figure = _figure_maker(Path(folder))
         under = list(dict.fromkeys(columns["bridge"][columns["record"] == chosen]))  # partial
-        parts += _figures(results, figure, intensity, swept, chosen, under)
+        parts += _figures(results, figure, intensity, swept, chosen, under, bool(design))
+        if design:
+            parts.append(sampled_section(results, design, intensity, figure))
         if intensity is not None:
             parts.append(_intensity_section(results, intensity, figure, hazard, years))
     parts += [
@@ -198,7 +203,7 @@ def _levels(intensity: dict | None, columns: dict[str, np.ndarray]) -> str:
 
 def _figures(
     results: Path, figure: Callable[..., str], intensity: dict | None, swept: list[str],
-    chosen: str | None, under: list[str],
+    chosen: str | None, under: list[str], sampled: bool = False,
 ) -> list[str]:  # fmt: skip
     """Fig. 9 (a study without a sweep and without an IDA; with stripes, at their design level if
     it is one of them), or the swept fields' figures; then Fig. 10 under ``chosen``, of the
@@ -207,6 +212,8 @@ def _figures(
     level = (intensity or {}).get("design")
     if swept:
         parts += [_sweep_section(results, figure, intensity, field) for field in swept[:MAX_SWEPT]]
+    elif sampled:  # a marker per sampled bridge would be noise: their section says what matters
+        pass
     elif not intensity or not _is_ida(intensity) and level in intensity["levels"]:
         from ..plots.peaks import plot_peaks
 
