@@ -1,0 +1,323 @@
+"""How sure a fragility is, and how many records settle it: the bootstrap intervals of the median
+θ and of β, the band of fragility curves they span, and the width of both intervals against the
+number of records.
+
+A fragility fitted to n records (`assessment.fragility`) is itself uncertain, and with the tens of
+records a study affords the uncertainty is not small (Bradley 2010, Earthquake Spectra 26(1)).
+The fit's bootstrap resamples the records with replacement and refits each resampling
+(`Fragility.draws`, a (θ, β) each); the 90 % interval of θ and of β are the 5 % and 95 %
+percentiles of the same draws, the band of the fragility curve the pointwise 5 % and 95 %
+percentiles of the draws' curves Φ(ln(x/θ_k)/β_k), and `assessment.risk` integrates each draw
+with the hazard: one set of resamplings for all.
+
+For a lognormal fit without censoring, ln θ̂ is the mean of n log-capacities and β̂ their standard
+deviation, so their standard errors are β/√n and, asymptotically, β/√(2n) (the normal sample's
+mean and standard deviation); a 90 % interval spans ±1.645 of them. The intervals therefore
+shrink as 1/√n, and ln θ's is β times wider than β's relative one: β settles far more slowly
+than the median (its relative standard error 1/√(2n) is 10 % only from 50 records on).
+
+**Records needed.** The study's records are subsampled: for each count n below the study's N,
+`SUBSETS` subsets of n records drawn without replacement, each a study of n records with its
+own bootstrap interval (`BOOTSTRAP` resamplings, as the fit's); at n = N the study's own
+interval. The width at n is the median over the subsets of
+
+* the median's half-width ln(θ95/θ05)/2 [-] (about the relative half-width of its interval), and
+* β's relative half-width (β95 − β05)/(2·β̂) [-].
+
+The rule that calls a fragility settled is on its median: the half-width of the median's 90 %
+interval at most `SETTLED` = 1.645 × 0.10, i.e. a standard error of ln θ of at most 0.10 — the
+precision Shome et al. (1998, Earthquake Spectra 14(3)) asked of a median response when they
+found that about ten records suffice at a dispersion of 0.3 (n = (β/0.1)²). With the 1/√n law,
+the count that meets it is about N·(w_N/`SETTLED`)² from the study's own width w_N.
+
+The percentile bootstrap under-covers with few records: from a lognormal, the interval of θ holds
+the true median in P(|t_{n−1}| ≤ 1.645·√((n−1)/n)) of the studies (85 % at n = 10, 89 % at 44),
+and β's interval holds the true β in about 65 % at n = 10, 78 % at 22 and 84 % at 44 (β̂ is the
+1/n estimate, biased low, and the bootstrap's spread of it is too narrow); tests/test_intervals.py
+measures both.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+from scipy.special import ndtr
+
+if TYPE_CHECKING:
+    from .fragility import Fragility
+
+BOOTSTRAP = 100
+"""Resamplings of each subset's records for its intervals (the fit's count,
+`fragility.BOOTSTRAP`)."""
+
+SUBSETS = 40
+"""Subsets of n records drawn without replacement at each count n below the study's."""
+
+SETTLED = 1.645 * 0.10
+"""The largest half-width ln(θ95/θ05)/2 of the median's 90 % interval that calls a fragility
+settled: a standard error of ln θ of 0.10 (Shome et al. 1998) [-]."""
+
+LADDER = (5, 7, 10, 15, 22, 33, 44, 66, 100, 150, 220, 330, 440, 660, 1000)
+"""Record counts tried below a study's own (steps of about √2, from FEMA P695's 22 and 44)."""
+
+Fit = tuple[float, float | None] | None
+"""(θ, β) of a fit, β None where the data do not fix it; None without a fit."""
+
+
+@dataclass(frozen=True)
+class Resampling:
+    """What the bootstrap resamples for one fragility: one row per record and the fit of rows.
+
+    Attributes
+    ----------
+    rows : per record, its data: an IDA's (capacity code, first level, last level), a stripe
+        study's 1/0/NaN per level (reached, not, not analyzed)
+    refit : the fit of a selection of rows (`fragility.fit_capacities`, `fit_lognormal`)
+    log_capacities : the log-capacities [ln of the measure's unit] where every record's capacity
+        is known (an IDA without censoring): the fit is then their mean and standard deviation,
+        in closed form for many resamplings at once; None otherwise
+    """
+
+    rows: np.ndarray
+    refit: Callable[[np.ndarray], Fit]
+    log_capacities: np.ndarray | None = None
+
+    @classmethod
+    def of_capacities(cls, rows: np.ndarray, refit: Callable[[np.ndarray], Fit]) -> Resampling:
+        """An IDA's rows (capacity, first level, last level); its capacities in closed form where
+        none is censored (coded 0 or +inf)."""
+        known = np.isfinite(rows[:, 0]) & (rows[:, 0] > 0.0)
+        return cls(rows, refit, np.log(rows[:, 0]) if known.all() else None)
+
+    @property
+    def count(self) -> int:
+        """The number of records."""
+        return int(self.rows.shape[0])
+
+    def subset(self, chosen: np.ndarray) -> Resampling:
+        """The resampling of some of the records (indices)."""
+        logs = None if self.log_capacities is None else self.log_capacities[chosen]
+        return Resampling(self.rows[chosen], self.refit, logs)
+
+
+def bootstrap(resampling: Resampling, rng: np.random.Generator, count: int) -> np.ndarray:
+    """(θ, β) of each of ``count`` resamplings of the records with replacement whose fit fixes
+    both, as `fragility`'s bootstrap draws them (one ``rng.integers`` per resampling, in order).
+
+    Returns
+    -------
+    An array (draws, 2): θ [the measure's unit] and β [-].
+    """
+    n = resampling.count
+    picks = [rng.integers(0, n, n) for _ in range(count)]
+    if resampling.log_capacities is not None and picks:
+        logs = resampling.log_capacities[np.array(picks)]
+        beta = logs.std(axis=1)
+        return np.column_stack([np.exp(logs.mean(axis=1)), beta])[beta > 0.0]
+    fits = [resampling.refit(resampling.rows[chosen]) for chosen in picks]
+    found = [(f[0], f[1]) for f in fits if f is not None and f[1] is not None]
+    return np.array(found, dtype=float).reshape(-1, 2)
+
+
+def percentile_interval(values: np.ndarray | Sequence[float]) -> tuple[float, float] | None:
+    """The 5 % and 95 % percentiles of bootstrap values; None without values."""
+    values = np.asarray(values, dtype=float)
+    if values.size == 0:
+        return None
+    low, high = np.percentile(values, [5.0, 95.0])
+    return float(low), float(high)
+
+
+def beta_interval(draws: Sequence[tuple[float, float]]) -> tuple[float, float] | None:
+    """The 90 % bootstrap interval of β: the 5 % and 95 % percentiles of the draws' β [-]."""
+    return percentile_interval([beta for _, beta in draws])
+
+
+def band(
+    draws: Sequence[tuple[float, float]] | np.ndarray, intensities: np.ndarray
+) -> tuple[np.ndarray, np.ndarray] | None:
+    """The 90 % band of a fragility curve: at each intensity, the 5 % and 95 % percentiles of
+    P(LS | x) = Φ(ln(x/θ_k)/β_k) over the bootstrap draws.
+
+    Parameters
+    ----------
+    draws
+        (θ_k [the measure's unit], β_k [-]) of each resampling.
+    intensities
+        x [the measure's unit], > 0.
+
+    Returns
+    -------
+    The lower and the upper probability at each intensity [-]; None without draws.
+    """
+    draws = np.asarray(draws, dtype=float).reshape(-1, 2)
+    if not draws.size:
+        return None
+    medians, betas = draws[:, :1], draws[:, 1:]
+    curves = ndtr(np.log(np.asarray(intensities, dtype=float)[None, :] / medians) / betas)
+    low, high = np.percentile(curves, [5.0, 95.0], axis=0)
+    return low, high
+
+
+def half_widths(fit: Fit, draws: np.ndarray) -> tuple[float, float] | None:
+    """The half-widths of the two 90 % intervals of a fit from its draws: the median's
+    ln(θ95/θ05)/2 and β's (β95 − β05)/(2·β̂) [-]; None without a fit that fixes β, or with fewer
+    than two draws."""
+    if fit is None or fit[1] is None or len(draws) < 2:
+        return None
+    median = percentile_interval(draws[:, 0])
+    beta = percentile_interval(draws[:, 1])
+    assert median is not None and beta is not None  # draws exist
+    return 0.5 * math.log(median[1] / median[0]), 0.5 * (beta[1] - beta[0]) / fit[1]
+
+
+def record_counts(total: int) -> list[int]:
+    """The record counts n tried for a study of ``total`` records: `LADDER`'s below it, and it."""
+    return [n for n in LADDER if n < total] + [total]
+
+
+@dataclass(frozen=True)
+class Width:
+    """The widths of the 90 % intervals of a fragility fitted to n of a study's records.
+
+    Attributes
+    ----------
+    records : n
+    subsets : subsets of n records drawn (1 at the study's count: the study itself)
+    fitted : of those, the ones whose fit fixes θ and β
+    median : the median's half-width ln(θ95/θ05)/2, the median over the fitted subsets [-];
+        None without one
+    beta : β's relative half-width (β95 − β05)/(2·β̂), likewise [-]
+    """
+
+    records: int
+    subsets: int
+    fitted: int
+    median: float | None
+    beta: float | None
+
+    @property
+    def settled(self) -> bool:
+        """Whether the median's half-width meets the rule (`SETTLED`)."""
+        return self.median is not None and self.median <= SETTLED
+
+
+@dataclass(frozen=True)
+class RecordsNeeded:
+    """How the intervals of one fragility narrow with the number of records.
+
+    Attributes
+    ----------
+    bridge, limit_state, measure : what it is of
+    records : the study's record count N
+    widths : one per record count tried (`record_counts`), the last the study's
+    """
+
+    bridge: str
+    limit_state: str
+    measure: str
+    records: int
+    widths: tuple[Width, ...]
+
+    @property
+    def settled_at(self) -> int | None:
+        """The smallest count tried from which on every count meets the rule; None if the
+        study's own does not."""
+        found = None
+        for width in reversed(self.widths):
+            if not width.settled:
+                break
+            found = width.records
+        return found
+
+    @property
+    def estimate(self) -> float | None:
+        """The count that meets the rule by the 1/√n law from the study's own width,
+        N·(w_N/`SETTLED`)²; None without one."""
+        own = self.widths[-1].median if self.widths else None
+        return None if own is None else self.records * (own / SETTLED) ** 2
+
+    def row(self) -> dict[str, object]:
+        """As JSON-ready data."""
+        return {
+            "bridge": self.bridge, "limit_state": self.limit_state, "measure": self.measure,
+            "records": self.records, "settled_at": self.settled_at, "estimate": self.estimate,
+            "rule": {"median_half_width_at_most": SETTLED},
+            "widths": [
+                {"records": w.records, "subsets": w.subsets, "fitted": w.fitted,
+                 "median_half_width": w.median, "beta_half_width": w.beta, "settled": w.settled}
+                for w in self.widths
+            ],
+        }  # fmt: skip
+
+
+def records_needed(
+    item: Fragility,
+    counts: Sequence[int] | None = None,
+    subsets: int = SUBSETS,
+    resamplings: int = BOOTSTRAP,
+    seed: int = 0,
+) -> RecordsNeeded | None:
+    """The widths of a fragility's intervals against the number of records (the module's
+    docstring gives the method).
+
+    Parameters
+    ----------
+    item
+        A fragility whose fit fixes θ and β, with its bootstrap (`fragility.fragilities`).
+    counts
+        Record counts n to try, each at most the study's; default `record_counts`.
+    subsets, resamplings
+        Subsets drawn at each n below the study's count, and bootstrap resamplings of each.
+    seed
+        Of the subsets and their resamplings: the same for every fragility, so that bridges and
+        limit states are compared on the same subsets.
+
+    Returns
+    -------
+    None for a fragility without a fit that fixes both, or without its records' rows.
+    """
+    resampling = item.resampling
+    if item.median is None or item.beta is None or resampling is None or not item.draws:
+        return None
+    total = resampling.count
+    rng = np.random.default_rng(seed)
+    widths = []
+    for n in sorted(set(record_counts(total) if counts is None else counts)):
+        if not 2 <= n <= total:
+            raise ValueError(f"a record count must lie within 2–{total}, not {n}")
+        if n == total:
+            own = half_widths((item.median, item.beta), np.array(item.draws))
+            widths.append(Width(n, 1, int(own is not None), *(own or (None, None))))
+            continue
+        found = []
+        for _ in range(subsets):
+            part = resampling.subset(np.sort(rng.choice(total, n, replace=False)))
+            fit = _fit(part)
+            found.append(half_widths(fit, bootstrap(part, rng, resamplings)))
+        kept = np.array([f for f in found if f is not None], dtype=float).reshape(-1, 2)
+        middle = np.median(kept, axis=0) if len(kept) else (None, None)
+        widths.append(Width(n, subsets, len(kept), *(None if m is None else float(m)
+                                                     for m in middle)))  # fmt: skip
+    return RecordsNeeded(item.bridge, item.limit_state, item.measure, total, tuple(widths))
+
+
+def _fit(resampling: Resampling) -> Fit:
+    """The fit of all of a resampling's records."""
+    logs = resampling.log_capacities
+    if logs is not None:
+        beta = float(np.std(logs))
+        return math.exp(float(np.mean(logs))), beta if beta > 0.0 else None
+    return resampling.refit(resampling.rows)
+
+
+def all_records_needed(
+    found: Sequence[Fragility], subsets: int = SUBSETS, seed: int = 0
+) -> list[RecordsNeeded]:
+    """`records_needed` of every fragility that has a fit fixing θ and β."""
+    needed = (records_needed(item, subsets=subsets, seed=seed) for item in found)
+    return [item for item in needed if item is not None]
