@@ -77,9 +77,10 @@ class Resampling:
     rows : per record, its data: an IDA's (capacity code, first level, last level), a stripe
         study's 1/0/NaN per level (reached, not, not analyzed)
     refit : the fit of a selection of rows (`fragility.fit_capacities`, `fit_lognormal`)
-    log_capacities : the log-capacities [ln of the measure's unit] where every record's capacity
-        is known (an IDA without censoring): the fit is then their mean and standard deviation,
-        in closed form for many resamplings at once; None otherwise
+    log_capacities : an IDA's log-capacities [ln of the measure's unit], NaN where censored;
+        None for stripes. A selection of records whose capacities are all known is fitted in
+        closed form (their mean and standard deviation, as `fit_capacities` does), many
+        selections at once
     """
 
     rows: np.ndarray
@@ -88,10 +89,10 @@ class Resampling:
 
     @classmethod
     def of_capacities(cls, rows: np.ndarray, refit: Callable[[np.ndarray], Fit]) -> Resampling:
-        """An IDA's rows (capacity, first level, last level); its capacities in closed form where
-        none is censored (coded 0 or +inf)."""
+        """An IDA's rows (capacity, first level, last level; a censored capacity coded 0 or
+        +inf)."""
         known = np.isfinite(rows[:, 0]) & (rows[:, 0] > 0.0)
-        return cls(rows, refit, np.log(rows[:, 0]) if known.all() else None)
+        return cls(rows, refit, np.log(np.where(known, rows[:, 0], np.nan)))
 
     @property
     def count(self) -> int:
@@ -113,14 +114,20 @@ def bootstrap(resampling: Resampling, rng: np.random.Generator, count: int) -> n
     An array (draws, 2): θ [the measure's unit] and β [-].
     """
     n = resampling.count
-    picks = [rng.integers(0, n, n) for _ in range(count)]
-    if resampling.log_capacities is not None and picks:
-        logs = resampling.log_capacities[np.array(picks)]
-        beta = logs.std(axis=1)
-        return np.column_stack([np.exp(logs.mean(axis=1)), beta])[beta > 0.0]
-    fits = [resampling.refit(resampling.rows[chosen]) for chosen in picks]
-    found = [(f[0], f[1]) for f in fits if f is not None and f[1] is not None]
-    return np.array(found, dtype=float).reshape(-1, 2)
+    picks = np.array([rng.integers(0, n, n) for _ in range(count)], dtype=int).reshape(count, n)
+    draws = np.full((count, 2), np.nan)
+    closed = np.zeros(count, dtype=bool)
+    if resampling.log_capacities is not None:
+        logs = resampling.log_capacities[picks]
+        closed = ~np.isnan(logs).any(axis=1)
+        beta = logs[closed].std(axis=1)
+        draws[closed] = np.column_stack([np.exp(logs[closed].mean(axis=1)),
+                                         np.where(beta > 0.0, beta, np.nan)])  # fmt: skip
+    for index in np.flatnonzero(~closed):
+        fit = resampling.refit(resampling.rows[picks[index]])
+        if fit is not None and fit[1] is not None:
+            draws[index] = fit
+    return draws[~np.isnan(draws).any(axis=1)]
 
 
 def percentile_interval(values: np.ndarray | Sequence[float]) -> tuple[float, float] | None:
@@ -309,7 +316,7 @@ def records_needed(
 def _fit(resampling: Resampling) -> Fit:
     """The fit of all of a resampling's records."""
     logs = resampling.log_capacities
-    if logs is not None:
+    if logs is not None and not np.isnan(logs).any():
         beta = float(np.std(logs))
         return math.exp(float(np.mean(logs))), beta if beta > 0.0 else None
     return resampling.refit(resampling.rows)
