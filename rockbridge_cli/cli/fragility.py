@@ -256,12 +256,26 @@ def _columns(found: list) -> dict:
 @figure_option("<results stem>-fragility.png beside RESULTS")
 def plot_fragility(results: Path, output: Path | None) -> None:
     """Fragility curves of RESULTS (a study with an intensity section): the share of records
-    reaching each limit state per level and the fitted lognormal, one style per bridge."""
+    reaching each limit state per level and the fitted lognormal, one style per bridge, over the
+    90 % band of the bootstrap's curves (grey)."""
     from ..plots.fragility import plot_fragility as draw
 
     click.echo(
         f"Figure: {draw(results, output or results.with_name(f'{results.stem}-fragility.png'))}"
     )
+
+
+@plot.command("records-needed")
+@results_argument()
+@figure_option("<results stem>-records-needed.png beside RESULTS")
+def plot_records_needed(results: Path, output: Path | None) -> None:
+    """How the 90 % intervals of each fragility of RESULTS narrow with the number of records:
+    per limit state, the half-widths of the median's and of β's against n, and the limit under
+    which the median is settled (rockbridge fragility RESULTS --records-needed tabulates them)."""
+    from ..plots.fragility import plot_records_needed as draw
+
+    target = output or results.with_name(f"{results.stem}-records-needed.png")
+    click.echo(f"Figure: {draw(results, target)}")
 
 
 @plot.command("ida")
