@@ -42,6 +42,10 @@ from .output import echo_json, export_csv, figure_option, results_argument, tabl
     "median and of β for n of the records (subsets drawn without replacement), and the n from "
     "which the median is settled.",
 )  # fmt: skip
+@click.option(
+    "--subsets", type=click.IntRange(min=1), default=40, show_default=True,
+    help="With --records-needed: subsets of n records drawn at each n below the study's count.",
+)  # fmt: skip
 def fragility(
     results: Path,
     as_json: bool,
@@ -51,6 +55,7 @@ def fragility(
     period_range: tuple[float, float] | None,
     compare_measures: bool,
     records_needed: bool,
+    subsets: int,
 ) -> None:
     """Fit a lognormal fragility per bridge and limit state to RESULTS, the file of a study with
     an intensity section: from stripes by maximum likelihood (Baker 2015), from an IDA the
@@ -66,7 +71,7 @@ def fragility(
         return
     found = fragilities(results, measure=measure, period=period, period_range=period_range)
     if records_needed:
-        _records_needed(found, results, as_json, csv_file)
+        _records_needed(found, results, as_json, csv_file, subsets)
         return
     if csv_file is not None:
         export_csv(csv_file, _columns(found), results)
@@ -100,11 +105,13 @@ def _interval(pair: tuple[float, float] | None) -> str:
     return "-" if pair is None else f"{pair[0]:.3g}–{pair[1]:.3g}"
 
 
-def _records_needed(found: list, results: Path, as_json: bool, csv_file: str | None) -> None:
+def _records_needed(
+    found: list, results: Path, as_json: bool, csv_file: str | None, subsets: int
+) -> None:
     """Print (or export) the widths of each fragility's intervals against the record count."""
-    from ..assessment.fragility_intervals import SETTLED, SUBSETS, all_records_needed
+    from ..assessment.fragility_intervals import SETTLED, all_records_needed
 
-    needed = all_records_needed(found)
+    needed = all_records_needed(found, subsets=subsets)
     if csv_file is not None:
         export_csv(csv_file, _needed_columns(needed), results)
         return
@@ -114,7 +121,7 @@ def _records_needed(found: list, results: Path, as_json: bool, csv_file: str | N
     total = max((item.records for item in needed), default=0)
     click.echo(textwrap.fill(
         "Half-widths of the 90 % intervals with n of the records: the median's ln(θ95/θ05)/2 "
-        f"(about its relative half-width), β's (β95 − β05)/2β; the median over {SUBSETS} "
+        f"(about its relative half-width), β's (β95 − β05)/2β; the median over {subsets} "
         "subsets of n records drawn without replacement, each with its own bootstrap; at "
         f"n = {total} the study's own intervals. Settled: the median's half-width at most "
         f"{SETTLED:.3f}, a standard error of ln θ of 0.10 (Shome et al. 1998).", width=100,
