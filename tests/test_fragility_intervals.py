@@ -21,17 +21,24 @@ Expected values, each from outside the code:
 
 from __future__ import annotations
 
+import csv
+import io
+import json
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
+from click.testing import CliRunner
 from scipy.stats import norm, t
+from studies import REPO
 
 from rockbridge_cli.assessment.fragility import (
     Fragility,
     _bootstrap,
     _fit_capacities,
     fit_capacities,
+    fragilities,
     fragilities_of,
 )
 from rockbridge_cli.assessment.fragility_intervals import (
@@ -46,6 +53,11 @@ from rockbridge_cli.assessment.fragility_intervals import (
     record_counts,
     records_needed,
 )
+from rockbridge_cli.assessment.hazard import read_hazard_curve
+from rockbridge_cli.assessment.risk import risks
+from rockbridge_cli.cli import main
+from rockbridge_cli.config.study import load_study
+from rockbridge_cli.study.run import run_study
 
 MEDIAN, BETA = 1.2, 0.4
 """The lognormal the capacities are drawn from: θ [g], β [-]."""
@@ -225,7 +237,7 @@ def test_the_band_of_draws_of_one_beta_is_the_curves_of_the_median_percentiles()
 
 def test_the_counts_are_the_ladder_below_the_study():
     assert record_counts(44) == [5, 7, 10, 15, 22, 33, 44]
-    assert record_counts(10) == [5, 7, 10] and record_counts(3) == [3]
+    assert record_counts(10) == [5, 7, 10] and record_counts(5) == [5]
 
 
 def test_settled_is_from_the_fewest_records_that_stay_settled():
@@ -251,5 +263,98 @@ def test_records_needed_of_stripes_narrow_with_the_records():
     medians = [w.median for w in needed.widths]
     assert min(medians[0], medians[2]) > medians[-1]
     assert medians[-1] == pytest.approx(0.5 * math.log(item.median_90[1] / item.median_90[0]))
-    with pytest.raises(ValueError, match="within 2–20"):
+    with pytest.raises(ValueError, match="within 5–20"):
         records_needed(item, counts=(30,))
+    few = Resampling(item.resampling.rows[:4], item.resampling.refit)
+    assert records_needed(replace(item, resampling=few)) is None  # too few to resample
+
+
+# A study
+
+
+EXAMPLE = REPO / "configs" / "hazard" / "example-site-pga.csv"
+K0, K = 1.0 / 475.0 * 0.69**3.0, 3.0
+"""The example site's power law, λ = K0·pga^−K (its file's comment)."""
+
+
+@pytest.fixture(scope="module")
+def study(tmp_path_factory):
+    """The h̄ = 1.25 bridge under the ten bundled records (configs/studies/paper-ida.yaml's), an
+    IDA of gap closure and abutment failure at `fast`: 148 analyses, about 2 s."""
+    folder = tmp_path_factory.mktemp("intervals")
+    path = folder / "study.yaml"
+    path.write_text(
+        f"bridges: [{(REPO / 'configs' / 'bridges' / 'studied-hbar1.25.yaml').as_posix()}]\n"
+        f"records: {{set: {(REPO / 'records' / 'ec8-type1-C-ag0.6g').as_posix()}}}\n"
+        "intensity: {measure: pga_g, ida: {start: 0.1, step: 0.4, max: 3.0, tolerance: 0.05, "
+        "limit_states: [gap_closure, abutment_failure]}}\n"
+        "fidelity: fast\noutput: {path: ida.h5, histories: none}\n",
+        encoding="utf-8",
+    )
+    loaded = load_study(path)
+    run_study(loaded, workers=1)
+    return loaded.output
+
+
+def invoke(*args):
+    return CliRunner().invoke(main, [str(a) for a in args])
+
+
+def test_the_command_gives_betas_interval_beside_the_medians(study):
+    """Table, --json and --csv: β's interval is the 5 % and 95 % percentiles of the draws that
+    give the median's."""
+    result = invoke("fragility", study)
+    assert result.exit_code == 0, result.output
+    assert "median 5–95 %  beta 5–95 %" in result.output.splitlines()[1]
+    rows = json.loads(invoke("fragility", study, "--json").output)
+    table = list(csv.DictReader(io.StringIO(invoke("fragility", study, "--csv", "-").output)))
+    for row, line, item in zip(rows, table, fragilities(study), strict=True):
+        medians, betas = np.array(item.draws).T
+        assert len(medians) > 50  # most resamplings of ten records fix β
+        assert row["median_90"] == pytest.approx(np.percentile(medians, [5.0, 95.0]), rel=1e-12)
+        assert row["beta_90"] == pytest.approx(np.percentile(betas, [5.0, 95.0]), rel=1e-12)
+        assert [float(line["beta_05"]), float(line["beta_95"])] == row["beta_90"]
+        assert f"{row['beta_90'][0]:.3g}–{row['beta_90'][1]:.3g}" in result.output
+
+
+def test_risk_integrates_the_draws_of_the_intervals(study):
+    """The example site is a power law, so each draw's λ is Cornell's K0·θ^−K·exp(K²β²/2)
+    (Cornell et al. 2002, Eq. 11): risk's interval is their 5 % and 95 % percentiles, from the
+    draws of the fragility's intervals (to the hazard file's 6 digits)."""
+    found = {item.limit_state: item for item in fragilities(study)}
+    for risk in risks(study, read_hazard_curve(EXAMPLE)):
+        medians, betas = np.array(found[risk.limit_state].draws).T
+        cornell = K0 * medians**-K * np.exp(0.5 * (K * betas) ** 2)
+        assert risk.rate_90 == pytest.approx(np.percentile(cornell, [5.0, 95.0]), rel=1e-5)
+
+
+def test_the_records_needed_are_printed_exported_and_drawn(study, tmp_path):
+    """Counts 5, 7 and 10 of the ten records; at 10, the study's own intervals: half the
+    ln-width of the median's interval of ``fragility --json``."""
+    result = invoke("fragility", study, "--records-needed", "--subsets", 10)
+    assert result.exit_code == 0, result.output
+    assert "the median over 10 subsets" in result.output
+    assert "records  median ±  beta ±  fitted  settled" in result.output
+    rows = {row["limit_state"]: row for row in
+            json.loads(invoke("fragility", study, "--json").output)}  # fmt: skip
+    needed = json.loads(invoke("fragility", study, "--records-needed", "--subsets", 10,
+                               "--json").output)  # fmt: skip
+    assert [row["limit_state"] for row in needed] == ["gap_closure", "abutment_failure"]
+    for row in needed:
+        assert [w["records"] for w in row["widths"]] == [5, 7, 10]
+        low, high = rows[row["limit_state"]]["median_90"]
+        own = row["widths"][-1]
+        assert own["median_half_width"] == pytest.approx(0.5 * math.log(high / low), rel=1e-12)
+        assert own["subsets"] == 1 and row["widths"][0]["subsets"] == 10
+        assert row["rule"] == {"median_half_width_at_most": pytest.approx(0.1645)}
+        line = f"studied-hbar1.25  {row['limit_state']}: "
+        assert any(text.startswith(line) for text in result.output.splitlines())
+    exported = invoke("fragility", study, "--records-needed", "--subsets", 10, "--csv", "-")
+    header = exported.output.splitlines()[0]
+    assert header.startswith("bridge,limit_state,measure,records,subsets,fitted,median_half")
+    assert len(exported.output.splitlines()) == 1 + 2 * 3
+    for kind in ("records-needed", "fragility"):
+        figure = tmp_path / f"{kind}.png"
+        drawn = invoke("plot", kind, study, "-o", figure)
+        assert drawn.exit_code == 0, drawn.output
+        assert figure.stat().st_size > 10_000

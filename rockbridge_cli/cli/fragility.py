@@ -109,9 +109,13 @@ def _records_needed(
     found: list, results: Path, as_json: bool, csv_file: str | None, subsets: int
 ) -> None:
     """Print (or export) the widths of each fragility's intervals against the record count."""
-    from ..assessment.fragility_intervals import SETTLED, all_records_needed
+    from ..assessment.fragility_intervals import MIN_RECORDS, SETTLED, all_records_needed
 
     needed = all_records_needed(found, subsets=subsets)
+    if not needed and not as_json and csv_file is None:
+        click.echo(f"No fragility with a fitted β from {MIN_RECORDS} records or more: nothing to "
+                   "subsample.")  # fmt: skip
+        return
     if csv_file is not None:
         export_csv(csv_file, _needed_columns(needed), results)
         return
