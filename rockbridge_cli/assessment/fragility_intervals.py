@@ -43,13 +43,10 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 import numpy as np
 from scipy.special import ndtr
-
-if TYPE_CHECKING:
-    from .fragility import Fragility
 
 BOOTSTRAP = 100
 """Resamplings of each subset's records for its intervals (the fit's count,
@@ -72,6 +69,26 @@ LADDER = (5, 7, 10, 15, 22, 33, 44, 66, 100, 150, 220, 330, 440, 660, 1000)
 
 Fit = tuple[float, float | None] | None
 """(θ, β) of a fit, β None where the data do not fix it; None without a fit."""
+
+
+class Fitted(Protocol):
+    """What the records needed read of a fit (`fragility.Fragility` has it; this module does not
+    import `fragility`, which imports it)."""
+
+    @property
+    def bridge(self) -> str: ...
+    @property
+    def limit_state(self) -> str: ...
+    @property
+    def measure(self) -> str: ...
+    @property
+    def median(self) -> float | None: ...
+    @property
+    def beta(self) -> float | None: ...
+    @property
+    def draws(self) -> tuple[tuple[float, float], ...]: ...
+    @property
+    def resampling(self) -> Resampling | None: ...
 
 
 @dataclass(frozen=True)
@@ -270,7 +287,7 @@ class RecordsNeeded:
 
 
 def records_needed(
-    item: Fragility,
+    item: Fitted,
     counts: Sequence[int] | None = None,
     subsets: int = SUBSETS,
     resamplings: int = BOOTSTRAP,
@@ -333,7 +350,7 @@ def _fit(resampling: Resampling) -> Fit:
 
 
 def all_records_needed(
-    found: Sequence[Fragility], subsets: int = SUBSETS, seed: int = 0
+    found: Sequence[Fitted], subsets: int = SUBSETS, seed: int = 0
 ) -> list[RecordsNeeded]:
     """`records_needed` of every fragility that has a fit fixing θ and β."""
     needed = (records_needed(item, subsets=subsets, seed=seed) for item in found)
