@@ -46,6 +46,7 @@ from rockbridge_cli.assessment.fragility_intervals import (
     RecordsNeeded,
     Resampling,
     Width,
+    _censored_fits,
     band,
     beta_interval,
     bootstrap,
@@ -148,7 +149,31 @@ def test_bootstrap_replays_the_fits_draws():
     resampling = Resampling.of_capacities(rows, _fit_capacities)
     assert np.isnan(resampling.log_capacities).sum() == np.isinf(coded).sum() > 0
     found = bootstrap(resampling, np.random.default_rng(7), 100)
-    np.testing.assert_allclose(found, np.array(expected), rtol=1e-13)  # closed form or Newton
+    np.testing.assert_allclose(found, np.array(expected), rtol=1e-6)  # the same maximum
+
+
+def test_many_censored_fits_at_once_are_the_plain_fits():
+    """`_censored_fits` (Newton's method on every resampling at once) against `fit_capacities`
+    one by one, on capacities drawn from the lognormal and censored below 0.7 g and above 1.8 g:
+    the same maximum of a concave likelihood, so the same θ and β to 1e-6 (where a resampling
+    holds few distinct records β is tiny and the likelihood flat to its round-off, which lets
+    the two stop 1e-7 apart), and the plain fit left only the few without a maximum inside the
+    fit's region."""
+    rng = np.random.default_rng(12)
+    capacities = MEDIAN * np.exp(BETA * rng.standard_normal(30))
+    coded = np.where(capacities > 1.8, np.inf, np.where(capacities <= 0.7, 0.0, capacities))
+    assert np.isinf(coded).sum() >= 2 and (coded == 0.0).sum() >= 2
+    rows = ida_rows(coded, 0.7, 1.8)
+    solved_count = 0
+    for n in (5, 10, 30):
+        part = rows[rng.choice(30, n, replace=False)]
+        picks = rng.integers(0, n, (200, n))
+        fits, solved = _censored_fits(part, picks)
+        solved_count += solved.sum()
+        for fit, chosen in zip(fits[solved], picks[solved], strict=True):
+            plain = fit_capacities(*part[chosen].T)
+            np.testing.assert_allclose(fit, plain, rtol=1e-6)
+    assert solved_count >= 0.95 * 600
 
 
 def test_beta_interval_is_the_percentiles_of_the_draws():

@@ -46,7 +46,7 @@ from dataclasses import dataclass
 from typing import Protocol
 
 import numpy as np
-from scipy.special import ndtr
+from scipy.special import log_ndtr, ndtr
 
 BOOTSTRAP = 100
 """Resamplings of each subset's records for its intervals (the fit's count,
@@ -66,6 +66,8 @@ interval."""
 
 LADDER = (5, 7, 10, 15, 22, 33, 44, 66, 100, 150, 220, 330, 440, 660, 1000)
 """Record counts tried below a study's own (steps of about √2, from FEMA P695's 22 and 44)."""
+
+_LOG_ROOT_2PI = 0.5 * math.log(2.0 * math.pi)
 
 Fit = tuple[float, float | None] | None
 """(θ, β) of a fit, β None where the data do not fix it; None without a fit."""
@@ -146,11 +148,122 @@ def bootstrap(resampling: Resampling, rng: np.random.Generator, count: int) -> n
         beta = logs[closed].std(axis=1)
         draws[closed] = np.column_stack([np.exp(logs[closed].mean(axis=1)),
                                          np.where(beta > 0.0, beta, np.nan)])  # fmt: skip
+        rest = np.flatnonzero(~closed)
+        fits, solved = _censored_fits(resampling.rows, picks[rest])
+        draws[rest[solved]] = fits[solved]
+        closed[rest[solved]] = True
     for index in np.flatnonzero(~closed):
         fit = resampling.refit(resampling.rows[picks[index]])
         if fit is not None and fit[1] is not None:
             draws[index] = fit
     return draws[~np.isnan(draws).any(axis=1)]
+
+
+def _censored_fits(rows: np.ndarray, picks: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """`fragility.fit_capacities` of many resamplings of an IDA's rows at once: Newton's method
+    on the censored likelihood of `lognormal.Sample`, each record weighted by how often a
+    resampling holds it, from `fit_capacities`' start. The likelihood is concave, so where the
+    step converges inside the fit's region (`lognormal.fit`) it is the same maximum; elsewhere
+    (no known capacity, no convergence, the maximum on the region's boundary) the resampling is
+    left to the plain fit.
+
+    Parameters
+    ----------
+    rows
+        Per record: the capacity (0: at most the first level; +inf: above the last), the first
+        and the last level [the measure's unit].
+    picks
+        Record indices of each resampling (resamplings × records).
+
+    Returns
+    -------
+    (θ, β) of each resampling [the measure's unit, -], and where they were found.
+    """
+    from . import lognormal
+
+    count, total = picks.shape[0], rows.shape[0]
+    weights = np.zeros((count, total))
+    np.add.at(weights, (np.repeat(np.arange(count), picks.shape[1]), picks.ravel()), 1.0)
+    code = rows[:, 0]
+    known = np.isfinite(code) & (code > 0.0)
+    logs = np.log(np.where(known, code, 1.0))
+    censored = ~known
+    below = code[censored] == 0.0
+    bounds = np.log(np.where(below, rows[censored, 1], rows[censored, 2]))
+    counts = weights[:, censored]
+    held = weights[:, known]
+    n = held.sum(axis=1)
+    sum_y, sum_yy = held @ logs[known], held @ logs[known] ** 2
+    mean = sum_y / np.maximum(n, 1.0)
+    spread = np.sqrt(np.maximum(sum_yy / np.maximum(n, 1.0) - mean**2, 0.0))
+    beta = np.maximum(np.where(n > 1, spread, 0.3), 0.05)
+    present = weights > 0.0
+    low = np.log(np.where(present, rows[:, 1], np.inf).min(axis=1))
+    high = np.log(np.where(present, rows[:, 2], -np.inf).max(axis=1))
+    sign = np.where(below, 1.0, -1.0)
+
+    def likelihood(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, ...]:
+        """ln L, its gradient and Hessian in (a, b) per resampling (−inf where a ≤ 0)."""
+        u = sign * (a[:, None] * bounds + b[:, None])
+        log_cdf = log_ndtr(u)
+        mills = np.exp(-0.5 * u * u - _LOG_ROOT_2PI - log_cdf)
+        first = counts * sign * mills
+        second = -counts * mills * (u + mills)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            value = (counts * log_cdf).sum(axis=1) + n * np.log(a) - 0.5 * (
+                a * a * sum_yy + 2.0 * a * b * sum_y + b * b * n)  # fmt: skip
+        value = np.where(a > 0.0, value, -np.inf)
+        ga = first @ bounds + n / a - (a * sum_yy + b * sum_y)
+        gb = first.sum(axis=1) - (a * sum_y + b * n)
+        haa = second @ bounds**2 - n / a**2 - sum_yy
+        hab = second @ bounds - sum_y
+        hbb = second.sum(axis=1) - n
+        return value, ga, gb, haa, hab, hbb
+
+    a, b = 1.0 / beta, -mean / beta
+    value, ga, gb, haa, hab, hbb = likelihood(a, b)
+    done = np.zeros(count, dtype=bool)
+    for _ in range(lognormal.STEPS):
+        determinant = haa * hbb - hab * hab
+        newton = (haa < 0.0) & (determinant > 1e-300)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step_a = np.where(newton, -(hbb * ga - hab * gb) / determinant, ga)
+            step_b = np.where(newton, -(haa * gb - hab * ga) / determinant, gb)
+        slope = ga * step_a + gb * step_b
+        length = np.ones(count)
+        pending = ~done
+        found = [value, ga, gb, haa, hab, hbb]
+        new_a, new_b = a, b
+        while pending.any():
+            trial = likelihood(a + length * step_a, b + length * step_b)
+            accepted = pending & (trial[0] >= value + 1e-4 * length * slope
+                                  - lognormal.ROUND_OFF * np.abs(value))  # fmt: skip
+            found = [np.where(accepted, t, f) for t, f in zip(trial, found, strict=True)]
+            new_a = np.where(accepted, a + length * step_a, new_a)
+            new_b = np.where(accepted, b + length * step_b, new_b)
+            pending &= ~accepted
+            length = np.where(pending, 0.5 * length, length)
+            stuck = pending & (length < 1e-12)  # no ascent left at this precision: the maximum
+            done |= stuck
+            pending &= ~stuck
+            if not pending.any():
+                break
+        small = (np.abs(length * step_a) <= 1e-12 * (1.0 + np.abs(a))) & (
+            np.abs(length * step_b) <= 1e-12 * (1.0 + np.abs(b)))  # fmt: skip
+        moved = ~done
+        a, b = np.where(moved, new_a, a), np.where(moved, new_b, b)
+        value, ga, gb, haa, hab, hbb = (np.where(moved, f, g) for f, g in zip(
+            found, (value, ga, gb, haa, hab, hbb), strict=True))  # fmt: skip
+        done |= moved & small
+        if done.all():
+            break
+    with np.errstate(divide="ignore", invalid="ignore"):
+        median = -b / a
+        steep, flat = 1.0 / lognormal.BETA_RANGE[0], 1.0 / lognormal.BETA_RANGE[1]
+        inside = ((a >= flat) & (a <= steep) & (median >= low - lognormal.MARGIN)
+                  & (median <= high + lognormal.MARGIN))  # fmt: skip
+        fits = np.column_stack([np.exp(median), 1.0 / a])
+    return fits, done & inside & (n > 0) & np.isfinite(fits).all(axis=1)
 
 
 def percentile_interval(values: np.ndarray | Sequence[float]) -> tuple[float, float] | None:
