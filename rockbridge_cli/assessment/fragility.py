@@ -279,7 +279,8 @@ def _stripe_fragility(bridge, mine, intensity, rng, bootstrap) -> list[Fragility
         found.append(Fragility(
             bridge, state, intensity["measure"], median, beta, _interval(draws),
             levels.tolist(), (counts[0] / np.maximum(counts[1], 1)).tolist(), reached_at, draws,
-            resampling=Resampling(table, lambda t: fit_lognormal(levels, *_counts(t))),
+            resampling=Resampling(table, lambda t: fit_lognormal(levels, *_counts(t)),
+                                  levels=levels),
         ))  # fmt: skip
     return found
 

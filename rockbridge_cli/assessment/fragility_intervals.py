@@ -105,12 +105,15 @@ class Resampling:
     log_capacities : an IDA's log-capacities [ln of the measure's unit], NaN where censored;
         None for stripes. A selection of records whose capacities are all known is fitted in
         closed form (their mean and standard deviation, as `fit_capacities` does), many
-        selections at once
+        selections at once, the others by Newton's method at once (`_censored_fits`)
+    levels : a stripe study's levels [the measure's unit] (many selections at once by Newton's
+        method, `_stripe_fits`); None for an IDA
     """
 
     rows: np.ndarray
     refit: Callable[[np.ndarray], Fit]
     log_capacities: np.ndarray | None = None
+    levels: np.ndarray | None = None
 
     @classmethod
     def of_capacities(cls, rows: np.ndarray, refit: Callable[[np.ndarray], Fit]) -> Resampling:
@@ -127,7 +130,7 @@ class Resampling:
     def subset(self, chosen: np.ndarray) -> Resampling:
         """The resampling of some of the records (indices)."""
         logs = None if self.log_capacities is None else self.log_capacities[chosen]
-        return Resampling(self.rows[chosen], self.refit, logs)
+        return Resampling(self.rows[chosen], self.refit, logs, self.levels)
 
 
 def bootstrap(resampling: Resampling, rng: np.random.Generator, count: int) -> np.ndarray:
@@ -152,6 +155,9 @@ def bootstrap(resampling: Resampling, rng: np.random.Generator, count: int) -> n
         fits, solved = _censored_fits(resampling.rows, picks[rest])
         draws[rest[solved]] = fits[solved]
         closed[rest[solved]] = True
+    elif resampling.levels is not None and count:
+        fits, closed = _stripe_fits(resampling.rows, resampling.levels, picks)
+        draws[closed] = fits[closed]
     for index in np.flatnonzero(~closed):
         fit = resampling.refit(resampling.rows[picks[index]])
         if fit is not None and fit[1] is not None:
@@ -179,8 +185,6 @@ def _censored_fits(rows: np.ndarray, picks: np.ndarray) -> tuple[np.ndarray, np.
     -------
     (θ, β) of each resampling [the measure's unit, -], and where they were found.
     """
-    from . import lognormal
-
     count, total = picks.shape[0], rows.shape[0]
     weights = np.zeros((count, total))
     np.add.at(weights, (np.repeat(np.arange(count), picks.shape[1]), picks.ravel()), 1.0)
@@ -200,7 +204,91 @@ def _censored_fits(rows: np.ndarray, picks: np.ndarray) -> tuple[np.ndarray, np.
     present = weights > 0.0
     low = np.log(np.where(present, rows[:, 1], np.inf).min(axis=1))
     high = np.log(np.where(present, rows[:, 2], -np.inf).max(axis=1))
-    sign = np.where(below, 1.0, -1.0)
+    known_sums = (n, sum_y, sum_yy)
+    fits, solved = _newton_many(bounds, np.where(below, 1.0, -1.0), counts, known_sums,
+                                (mean, beta), (low, high))  # fmt: skip
+    return fits, solved & (n > 0)
+
+
+def _stripe_fits(
+    table: np.ndarray, levels: np.ndarray, picks: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """`fragility.fit_lognormal` of many resamplings of a stripe study's records at once: Baker's
+    binomial likelihood with each record weighted by how often a resampling holds it, by
+    `_newton_many`. A resampling whose levels leave no fit or separate the records (β open) is
+    left to the plain fit, which says so without Newton's method.
+
+    Parameters
+    ----------
+    table
+        Records × levels: 1 where the record reaches the state, 0 where not, NaN where it was
+        not analyzed.
+    levels
+        The intensity levels [the measure's unit].
+    picks
+        Record indices of each resampling (resamplings × records).
+
+    Returns
+    -------
+    (θ, β) of each resampling [the measure's unit, -], and where they were found.
+    """
+    count = picks.shape[0]
+    weights = np.zeros((count, table.shape[0]))
+    np.add.at(weights, (np.repeat(np.arange(count), picks.shape[1]), picks.ravel()), 1.0)
+    reached = weights @ np.nan_to_num(table)
+    tried = weights @ (~np.isnan(table)).astype(float)
+    logs = np.log(levels)
+    analyzed = tried > 0.0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        fractions = np.where(analyzed, reached / tried, np.nan)
+    mixed = (fractions > 0.0) & (fractions < 1.0)
+    running = np.fmax.accumulate(fractions, axis=1)
+    rising = np.where(analyzed, fractions >= running, True).all(axis=1)
+    empty = (reached.sum(axis=1) == 0.0) | (reached == tried).all(axis=1)
+    separated = (mixed.sum(axis=1) <= 1) & rising  # `fit_lognormal` leaves β open
+    crossing = logs[np.argmax(np.nan_to_num(running) >= 0.5, axis=1)]  # about where half reach
+    zero = np.zeros(count)
+    fits, solved = _newton_many(
+        np.concatenate([logs, logs]), np.repeat([1.0, -1.0], logs.size),
+        np.hstack([reached, tried - reached]), (zero, zero, zero), (crossing, np.full(count, 0.3)),
+        (np.full(count, logs.min()), np.full(count, logs.max())),
+    )  # fmt: skip
+    return fits, solved & ~empty & ~separated
+
+
+def _newton_many(
+    bounds: np.ndarray,
+    sign: np.ndarray,
+    counts: np.ndarray,
+    known_sums: tuple[np.ndarray, np.ndarray, np.ndarray],
+    start: tuple[np.ndarray, np.ndarray],
+    span: tuple[np.ndarray, np.ndarray],
+) -> tuple[np.ndarray, np.ndarray]:
+    """The maximum-likelihood (θ, β) of many samples at once, by `lognormal.fit`'s Newton's
+    method (its steps, line search and stopping rule), vectorized over the samples.
+
+    Parameters
+    ----------
+    bounds, sign
+        Log-levels bounding capacities [ln of the measure's unit], and +1 where the capacities
+        lie at or below a bound, −1 above.
+    counts
+        Per sample (rows), the capacities each bound holds.
+    known_sums
+        Per sample, the count of known log-capacities, their sum and the sum of their squares.
+    start, span
+        Per sample, (μ, β) to start from, and the lowest and highest log-level.
+
+    Returns
+    -------
+    (θ, β) per sample [the measure's unit, -], and where Newton's method converged inside the
+    fit's region (elsewhere the plain fit decides).
+    """
+    from . import lognormal
+
+    n, sum_y, sum_yy = known_sums
+    low, high = span
+    count = counts.shape[0]
 
     def likelihood(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, ...]:
         """ln L, its gradient and Hessian in (a, b) per resampling (−inf where a ≤ 0)."""
@@ -220,7 +308,7 @@ def _censored_fits(rows: np.ndarray, picks: np.ndarray) -> tuple[np.ndarray, np.
         hbb = second.sum(axis=1) - n
         return value, ga, gb, haa, hab, hbb
 
-    a, b = 1.0 / beta, -mean / beta
+    a, b = 1.0 / start[1], -start[0] / start[1]
     value, ga, gb, haa, hab, hbb = likelihood(a, b)
     done = np.zeros(count, dtype=bool)
     for _ in range(lognormal.STEPS):
@@ -263,7 +351,7 @@ def _censored_fits(rows: np.ndarray, picks: np.ndarray) -> tuple[np.ndarray, np.
         inside = ((a >= flat) & (a <= steep) & (median >= low - lognormal.MARGIN)
                   & (median <= high + lognormal.MARGIN))  # fmt: skip
         fits = np.column_stack([np.exp(median), 1.0 / a])
-    return fits, done & inside & (n > 0) & np.isfinite(fits).all(axis=1)
+    return fits, done & inside & np.isfinite(fits).all(axis=1)
 
 
 def percentile_interval(values: np.ndarray | Sequence[float]) -> tuple[float, float] | None:
@@ -336,6 +424,9 @@ class Width:
     median : the median's half-width ln(θ95/θ05)/2, the median over the fitted subsets [-];
         None without one
     beta : β's relative half-width (β95 − β05)/(2·β̂), likewise [-]
+    kept : the share of the resamplings whose fit fixes β, the mean over the fitted subsets
+        [-]: the others are left out of the intervals, and they are the extreme ones (stripes
+        whose levels separate a few records), so the intervals are too narrow where it is small
     """
 
     records: int
@@ -343,6 +434,7 @@ class Width:
     fitted: int
     median: float | None
     beta: float | None
+    kept: float | None = 1.0
 
     @property
     def settled(self) -> bool:
@@ -393,7 +485,8 @@ class RecordsNeeded:
             "rule": {"median_half_width_at_most": SETTLED},
             "widths": [
                 {"records": w.records, "subsets": w.subsets, "fitted": w.fitted,
-                 "median_half_width": w.median, "beta_half_width": w.beta, "settled": w.settled}
+                 "median_half_width": w.median, "beta_half_width": w.beta,
+                 "resamplings_kept": w.kept, "settled": w.settled}
                 for w in self.widths
             ],
         }  # fmt: skip
@@ -439,17 +532,24 @@ def records_needed(
             raise ValueError(f"a record count must lie within {MIN_RECORDS}–{total}, not {n}")
         if n == total:
             own = half_widths((item.median, item.beta), np.array(item.draws))
-            widths.append(Width(n, 1, int(own is not None), *(own or (None, None))))
+            share = len(item.draws) / BOOTSTRAP  # the fit's resamplings, `fragility.BOOTSTRAP`
+            median, beta = own or (None, None)
+            widths.append(Width(n, 1, int(own is not None), median, beta, share))
             continue
-        found = []
+        found, shares = [], []
         for _ in range(subsets):
             part = resampling.subset(np.sort(rng.choice(total, n, replace=False)))
-            fit = _fit(part)
-            found.append(half_widths(fit, bootstrap(part, rng, resamplings)))
+            draws = bootstrap(part, rng, resamplings)
+            found.append(half_widths(_fit(part), draws))
+            if found[-1] is not None:
+                shares.append(len(draws) / resamplings)
         kept = np.array([f for f in found if f is not None], dtype=float).reshape(-1, 2)
-        middle = np.median(kept, axis=0) if len(kept) else (None, None)
-        widths.append(Width(n, subsets, len(kept), *(None if m is None else float(m)
-                                                     for m in middle)))  # fmt: skip
+        if len(kept):
+            middle = np.median(kept, axis=0)
+            widths.append(Width(n, subsets, len(kept), float(middle[0]), float(middle[1]),
+                                float(np.mean(shares))))  # fmt: skip
+        else:
+            widths.append(Width(n, subsets, 0, None, None, None))
     return RecordsNeeded(item.bridge, item.limit_state, item.measure, total, tuple(widths))
 
 

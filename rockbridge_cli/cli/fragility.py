@@ -132,14 +132,21 @@ def _records_needed(
     ))  # fmt: skip
     rows = [
         [item.bridge, item.limit_state, w.records, w.median, w.beta, f"{w.fitted}/{w.subsets}",
-         "yes" if w.settled else "no"]
+         "-" if w.kept is None else f"{100 * w.kept:.0f} %", "yes" if w.settled else "no"]
         for item in needed for w in item.widths
     ]  # fmt: skip
     click.echo(table_text(
-        ["bridge", "limit state", "records", "median ±", "beta ±", "fitted", "settled"], rows
+        ["bridge", "limit state", "records", "median ±", "beta ±", "fitted", "kept", "settled"],
+        rows,
     ))  # fmt: skip
     for item in needed:
         click.echo(f"{item.bridge}  {item.limit_state}: {_verdict(item)}")
+    if any(w.kept is not None and w.kept < 0.9 for item in needed for w in item.widths):
+        click.echo(textwrap.fill(
+            "kept: the share of the resamplings whose fit fixes β. Where it is below 90 % "
+            "(stripes whose levels separate a few records) the ones left out are the extreme "
+            "ones, and the half-widths are too narrow.", width=100,
+        ))  # fmt: skip
 
 
 def _verdict(item) -> str:
@@ -176,6 +183,7 @@ def _needed_columns(needed: list) -> dict:
         "fitted": np.array([w.fitted for _, w in rows]),
         "median_half_width": numbers(w.median for _, w in rows),
         "beta_half_width": numbers(w.beta for _, w in rows),
+        "resamplings_kept": numbers(w.kept for _, w in rows),
         "settled": np.array([w.settled for _, w in rows]),
         "settled_at": numbers(item.settled_at for item, _ in rows),
         "estimate": numbers(item.estimate for item, _ in rows),
