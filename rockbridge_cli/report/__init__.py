@@ -382,7 +382,7 @@ INTERVALS = (
     "The 5–95 % intervals of the median and of β, the band and the risk's intervals come from "
     "one bootstrap: the records resampled with replacement 100 times and refitted. With few "
     "records they are too narrow (a 90 % interval of β holds the true β in about 65 % of "
-    "10-record studies, 84 % of 44-record ones); rockbridge fragility RESULTS --records-needed "
+    "10-record studies, 83 % of 44-record ones); rockbridge fragility RESULTS --records-needed "
     "shows how they narrow with the number of records."
 )
 """What the report says of the fragility's intervals (`assessment.fragility_intervals`)."""
