@@ -13,13 +13,17 @@ with the hazard: one set of resamplings for all.
 For a lognormal fit without censoring, ln θ̂ is the mean of n log-capacities and β̂ their standard
 deviation, so their standard errors are β/√n and, asymptotically, β/√(2n) (the normal sample's
 mean and standard deviation); a 90 % interval spans ±1.645 of them. The intervals therefore
-shrink as 1/√n, and ln θ's is β times wider than β's relative one: β settles far more slowly
-than the median (its relative standard error 1/√(2n) is 10 % only from 50 records on).
+shrink as 1/√n, and ln θ's half-width is √2·β times β's relative one: below β = 0.7, β settles
+more slowly than the median (its relative standard error 1/√(2n), whatever β, is 10 % only from
+50 records on).
 
 **Records needed.** The study's records are subsampled: for each count n below the study's N,
 `SUBSETS` subsets of n records drawn without replacement, each a study of n records with its
 own bootstrap interval (`BOOTSTRAP` resamplings, as the fit's); at n = N the study's own
-interval. The width at n is the median over the subsets of
+interval. The resamplings are fitted many at once: in closed form where their capacities are
+all known, else by the fit's Newton's method vectorized over them (`_newton_many`; the same
+maximum of a concave likelihood), and one by one only where that finds none. The width at n is
+the median over the subsets of
 
 * the median's half-width ln(θ95/θ05)/2 [-] (about the relative half-width of its interval), and
 * β's relative half-width (β95 − β05)/(2·β̂) [-].
@@ -34,8 +38,8 @@ The percentile bootstrap under-covers with few records. From a lognormal, the in
 the true median in about P(|t_{n−1}| ≤ 1.645·√((n−1)/n)) of the studies (85 % at n = 10, 89 %
 at 44; 84 % and 87.5 % measured with 100 resamplings), β's interval the true β in 65 % at
 n = 10, 76 % at 22, 83 % at 44 and 87 % at 200 (β̂ is the 1/n estimate, biased low, its bootstrap
-spread too narrow, and the 5 % and 95 % percentiles of 100 resamplings rest on five draws each);
-tests/test_fragility_intervals.py measures them.
+spread too narrow, and the 5 % and 95 % percentiles of 100 resamplings rest on five draws each:
+88 % at 200 with 1000); tests/test_fragility_intervals.py measures them.
 """
 
 from __future__ import annotations
