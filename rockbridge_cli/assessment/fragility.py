@@ -15,9 +15,9 @@ overturned) is censored at the level where its curve ended, as a competing risk;
 can reach has no fit. Both fits are one likelihood, maximised by Newton's method
 (`assessment.lognormal`).
 
-The uncertainty of θ is a bootstrap over the records (the same record at every level is one
-draw). A run stores the fits in its results file (`/fragility`, `store`); `fragilities` computes
-them from the peak table and never changes the file.
+The uncertainty of θ and β is a bootstrap over the records (the same record at every level is
+one draw; `fragility_intervals`). A run stores the fits in its results file (`/fragility`,
+`store`); `fragilities` computes them from the peak table and never changes the file.
 """
 
 from __future__ import annotations
@@ -36,6 +36,7 @@ from ..errors import InputError
 from ..motions.intensity import MEASURES, scaled_id
 from ..results.reading import open_results, peak_columns
 from . import limit_states, lognormal
+from .fragility_intervals import Resampling, beta_interval
 from .ida import Lattice, Outcome, Walk, walk
 from .limit_states import Verdict
 from .spectrum import store as store_spectrum
@@ -67,6 +68,8 @@ class Fragility:
     unreachable : per record of an IDA on which the state cannot be observed, the failure limit
         state that ended its curve first and the level there (`assessment.ida`): its capacity
         is None, and the fit censors it at that level
+    resampling : the records' rows the bootstrap resamples and their fit
+        (`fragility_intervals`, which subsamples them for the records needed)
     """
 
     bridge: str
@@ -80,6 +83,12 @@ class Fragility:
     capacities: dict[str, float | None]
     draws: tuple[tuple[float, float], ...] = ()
     unreachable: dict[str, tuple[str, float]] = field(default_factory=dict)
+    resampling: Resampling | None = field(default=None, repr=False, compare=False)
+
+    @property
+    def beta_90(self) -> tuple[float, float] | None:
+        """5 % and 95 % percentiles of β over the bootstrap's draws, those of ``median_90``."""
+        return beta_interval(self.draws)
 
     def row(self) -> dict[str, object]:
         """As JSON-ready data."""
@@ -87,6 +96,7 @@ class Fragility:
             "bridge": self.bridge, "limit_state": self.limit_state, "measure": self.measure,
             "median": self.median, "beta": self.beta,
             "median_90": list(self.median_90) if self.median_90 else None,
+            "beta_90": list(self.beta_90) if self.beta_90 else None,
             "levels": self.levels, "fractions": self.fractions, "capacities": self.capacities,
             "unreachable": {record: {"ended_by": by, "level": level}
                             for record, (by, level) in self.unreachable.items()},
@@ -269,6 +279,8 @@ def _stripe_fragility(bridge, mine, intensity, rng, bootstrap) -> list[Fragility
         found.append(Fragility(
             bridge, state, intensity["measure"], median, beta, _interval(draws),
             levels.tolist(), (counts[0] / np.maximum(counts[1], 1)).tolist(), reached_at, draws,
+            resampling=Resampling(table, lambda t: fit_lognormal(levels, *_counts(t)),
+                                  levels=levels),
         ))  # fmt: skip
     return found
 
@@ -333,6 +345,7 @@ def _ida_fragility(bridge, mine, intensity, rng, bootstrap, conversion) -> list[
         found.append(Fragility(
             bridge, state, intensity["measure"] if conversion is None else conversion.measure,
             median, beta, _interval(draws), levels, fractions, capacities, draws, unreachable,
+            Resampling.of_capacities(data, _fit_capacities),
         ))  # fmt: skip
     return found
 

@@ -19,7 +19,9 @@ the extrapolation rather than on the curve.
 
 The return period is 1/λ_LS and the probability of at least one occurrence in T years is
 1 − exp(−λ_LS·T) (Poisson occurrences). The 90 % interval is the 5 and 95 % percentiles of λ_LS
-over the fragility's bootstrap resamplings of the records (`Fragility.draws`, each a (θ, β)).
+over the fragility's bootstrap resamplings of the records (`Fragility.draws`, each a (θ, β)): the
+draws whose percentiles are the fragility's intervals of θ and β and whose curves span its band
+(`fragility_intervals`), so that risk and fragility rest on the same resamplings.
 
 A limit state that no record reaches within the levels run has no fit; its frequency is then at
 most the hazard's rate at the highest level run (reported as a bound, ``<``), unless a failure

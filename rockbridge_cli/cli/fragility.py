@@ -3,6 +3,7 @@ section; ``plot fragility`` and ``plot ida`` draw them."""
 
 from __future__ import annotations
 
+import textwrap
 from pathlib import Path
 
 import click
@@ -35,6 +36,16 @@ from .output import echo_json, export_csv, figure_option, results_argument, tabl
     help="Tabulate, per bridge and limit state, each measure's β (efficiency) and the trend of "
     "the log-capacities with magnitude and distance (sufficiency), from an IDA.",
 )  # fmt: skip
+@click.option(
+    "--records-needed", is_flag=True,
+    help="Tabulate, per bridge and limit state, the half-widths of the 90 % intervals of the "
+    "median and of β for n of the records (subsets drawn without replacement), and the n from "
+    "which the median is settled.",
+)  # fmt: skip
+@click.option(
+    "--subsets", type=click.IntRange(min=1), default=40, show_default=True,
+    help="With --records-needed: subsets of n records drawn at each n below the study's count.",
+)  # fmt: skip
 def fragility(
     results: Path,
     as_json: bool,
@@ -43,19 +54,25 @@ def fragility(
     period: float | None,
     period_range: tuple[float, float] | None,
     compare_measures: bool,
+    records_needed: bool,
+    subsets: int,
 ) -> None:
     """Fit a lognormal fragility per bridge and limit state to RESULTS, the file of a study with
     an intensity section: from stripes by maximum likelihood (Baker 2015), from an IDA the
     log-mean and log-standard deviation of the capacities (censored where a record reaches the
-    state at the first level or never); 90 % interval of the median by a bootstrap over the
-    records. The run stores the same in RESULTS (/fragility). An IDA's capacities convert exactly
-    to any other intensity measure (--measure): nothing is run again."""
+    state at the first level or never); 90 % intervals of the median and of β by a bootstrap over
+    the records. The run stores the fits in RESULTS (/fragility). An IDA's capacities convert
+    exactly to any other intensity measure (--measure): nothing is run again. --records-needed
+    shows how the intervals narrow with the number of records."""
     from ..assessment.fragility import design_level, fragilities, unreachable_note
 
     if compare_measures:
         _compare(results, period or 1.0, period_range or (0.2, 3.0), as_json, csv_file)
         return
     found = fragilities(results, measure=measure, period=period, period_range=period_range)
+    if records_needed:
+        _records_needed(found, results, as_json, csv_file, subsets)
+        return
     if csv_file is not None:
         export_csv(csv_file, _columns(found), results)
         return
@@ -65,14 +82,14 @@ def fragility(
     design = design_level(results)
     if design is not None and found and found[0].measure != design[0]:
         design = None  # a level of the study's measure, not of the one fitted
-    headers = ["bridge", "limit state", "median", "beta", "median 5–95 %", "records reaching"]
+    headers = ["bridge", "limit state", "median", "beta", "median 5–95 %", "beta 5–95 %",
+               "records reaching"]  # fmt: skip
     headers += ["median / design"] if design else []
     rows = []
     for item in found:
         reaching = sum(value is not None for value in item.capacities.values())
-        interval = "-" if item.median_90 is None else (
-            f"{item.median_90[0]:.3g}–{item.median_90[1]:.3g}")  # fmt: skip
-        rows.append([item.bridge, item.limit_state, item.median, item.beta, interval,
+        rows.append([item.bridge, item.limit_state, item.median, item.beta,
+                     _interval(item.median_90), _interval(item.beta_90),
                      f"{reaching}/{len(item.capacities)}"])  # fmt: skip
         if design:
             rows[-1].append(None if item.median is None else item.median / design[1])
@@ -82,6 +99,96 @@ def fragility(
     for item in found:
         if note := unreachable_note(item):
             click.echo(f"{item.bridge}  {note}")
+
+
+def _interval(pair: tuple[float, float] | None) -> str:
+    return "-" if pair is None else f"{pair[0]:.3g}–{pair[1]:.3g}"
+
+
+def _records_needed(
+    found: list, results: Path, as_json: bool, csv_file: str | None, subsets: int
+) -> None:
+    """Print (or export) the widths of each fragility's intervals against the record count."""
+    from ..assessment.fragility_intervals import MIN_RECORDS, SETTLED, all_records_needed
+
+    needed = all_records_needed(found, subsets=subsets)
+    if not needed and not as_json and csv_file is None:
+        click.echo(f"No fragility with a fitted β from {MIN_RECORDS} records or more: nothing to "
+                   "subsample.")  # fmt: skip
+        return
+    if csv_file is not None:
+        export_csv(csv_file, _needed_columns(needed), results)
+        return
+    if as_json:
+        echo_json([item.row() for item in needed])
+        return
+    total = max((item.records for item in needed), default=0)
+    click.echo(textwrap.fill(
+        "Half-widths of the 90 % intervals with n of the records: the median's ln(θ95/θ05)/2 "
+        f"(about its relative half-width), β's (β95 − β05)/2β; the median over {subsets} "
+        "subsets of n records drawn without replacement, each with its own bootstrap; at "
+        f"n = {total} the study's own intervals. Settled: the median's half-width at most "
+        f"{SETTLED:.3f}, a standard error of ln θ of 0.10 (Shome et al. 1998).", width=100,
+    ))  # fmt: skip
+    rows = [
+        [item.bridge, item.limit_state, w.records, w.median, w.beta, f"{w.fitted}/{w.subsets}",
+         "-" if w.kept is None else f"{100 * w.kept:.0f} %", "yes" if w.settled else "no"]
+        for item in needed for w in item.widths
+    ]  # fmt: skip
+    click.echo(table_text(
+        ["bridge", "limit state", "records", "median ±", "beta ±", "fitted", "kept", "settled"],
+        rows,
+    ))  # fmt: skip
+    for item in needed:
+        click.echo(f"{item.bridge}  {item.limit_state}: {_verdict(item)}")
+    if any(w.kept is not None and w.kept < 0.9 for item in needed for w in item.widths):
+        click.echo(textwrap.fill(
+            "kept: the share of the resamplings whose fit fixes β. Where it is below 90 % "
+            "(stripes whose levels separate a few records) the ones left out are the extreme "
+            "ones, and the half-widths are too narrow.", width=100,
+        ))  # fmt: skip
+
+
+def _verdict(item) -> str:
+    """Whether a fragility is settled, from how many records, or how many it would take."""
+    import math
+
+    fewest = item.widths[0].records
+    if item.settled_at is None:
+        law = "" if item.estimate is None else (
+            f"; by the 1/√n law, about {math.ceil(item.estimate)}")  # fmt: skip
+        return f"not settled with {item.records} records{law}"
+    if item.settled_at == fewest < item.records:
+        return f"settled already with {fewest} of {item.records} records, the fewest tried"
+    return f"settled from {item.settled_at} of {item.records} records"
+
+
+def _needed_columns(needed: list) -> dict:
+    """The records-needed rows as CSV columns: one row per fragility and record count."""
+    import numpy as np
+
+    from ..assessment.fragility_intervals import SETTLED
+
+    rows = [(item, w) for item in needed for w in item.widths]
+
+    def numbers(values) -> np.ndarray:
+        return np.array([np.nan if v is None else v for v in values], dtype=float)
+
+    return {
+        "bridge": np.array([item.bridge for item, _ in rows]),
+        "limit_state": np.array([item.limit_state for item, _ in rows]),
+        "measure": np.array([item.measure for item, _ in rows]),
+        "records": np.array([w.records for _, w in rows]),
+        "subsets": np.array([w.subsets for _, w in rows]),
+        "fitted": np.array([w.fitted for _, w in rows]),
+        "median_half_width": numbers(w.median for _, w in rows),
+        "beta_half_width": numbers(w.beta for _, w in rows),
+        "resamplings_kept": numbers(w.kept for _, w in rows),
+        "settled": np.array([w.settled for _, w in rows]),
+        "settled_at": numbers(item.settled_at for item, _ in rows),
+        "estimate": numbers(item.estimate for item, _ in rows),
+        "rule_median_half_width": np.full(len(rows), SETTLED),
+    }
 
 
 def _compare(
@@ -153,6 +260,8 @@ def _columns(found: list) -> dict:
         "beta": np.array([number(item.beta) for item in found], dtype=float),
         "median_05": np.array([item.median_90[0] if item.median_90 else np.nan for item in found]),
         "median_95": np.array([item.median_90[1] if item.median_90 else np.nan for item in found]),
+        "beta_05": np.array([item.beta_90[0] if item.beta_90 else np.nan for item in found]),
+        "beta_95": np.array([item.beta_90[1] if item.beta_90 else np.nan for item in found]),
     }
     for record in records:
         columns[f"capacity_{record}"] = np.array(
@@ -166,12 +275,26 @@ def _columns(found: list) -> dict:
 @figure_option("<results stem>-fragility.png beside RESULTS")
 def plot_fragility(results: Path, output: Path | None) -> None:
     """Fragility curves of RESULTS (a study with an intensity section): the share of records
-    reaching each limit state per level and the fitted lognormal, one style per bridge."""
+    reaching each limit state per level and the fitted lognormal, one style per bridge, over the
+    90 % band of the bootstrap's curves (grey)."""
     from ..plots.fragility import plot_fragility as draw
 
     click.echo(
         f"Figure: {draw(results, output or results.with_name(f'{results.stem}-fragility.png'))}"
     )
+
+
+@plot.command("records-needed")
+@results_argument()
+@figure_option("<results stem>-records-needed.png beside RESULTS")
+def plot_records_needed(results: Path, output: Path | None) -> None:
+    """How the 90 % intervals of each fragility of RESULTS narrow with the number of records:
+    per limit state, the half-widths of the median's and of β's against n, and the limit under
+    which the median is settled (rockbridge fragility RESULTS --records-needed tabulates them)."""
+    from ..plots.fragility import plot_records_needed as draw
+
+    target = output or results.with_name(f"{results.stem}-records-needed.png")
+    click.echo(f"Figure: {draw(results, target)}")
 
 
 @plot.command("ida")

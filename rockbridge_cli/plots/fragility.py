@@ -1,6 +1,7 @@
 """Fragility curves of a study with an intensity section: per limit state, the share of records
-that reach it at each intensity level (markers; from an IDA, at or below each capacity) and the
-fitted lognormal (lines), one style per bridge."""
+that reach it at each intensity level (markers; from an IDA, at or below each capacity), the
+fitted lognormal (lines), one style per bridge, and the 90 % band of the bootstrap's curves
+(grey, `fragility_intervals.band`); and how the intervals narrow with the number of records."""
 
 from __future__ import annotations
 
@@ -8,9 +9,11 @@ from pathlib import Path
 
 import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.ticker import NullFormatter
 from scipy.stats import norm
 
 from ..assessment.fragility import Fragility, fragilities
+from ..assessment.fragility_intervals import SETTLED, RecordsNeeded, all_records_needed, band
 from ..motions.intensity import MEASURES
 from .common import PLAIN, check_format, panel_label, save, style
 
@@ -40,6 +43,7 @@ def plot_fragility(
     for axes in grid.flat[len(states) :]:
         axes.set_visible(False)
     for axes, state, letter in zip(grid.flat, states, "ABCDEFGHIJKL", strict=False):
+        banded = False  # one legend entry for the bands
         for index, bridge in enumerate(bridges):
             item = next(f for f in found if f.bridge == bridge and f.limit_state == state)
             look = style(index)
@@ -48,8 +52,14 @@ def plot_fragility(
                       markeredgecolor=look["markeredgecolor"], label=bridge)  # fmt: skip
             if item.median is not None and item.beta is not None:
                 x = np.geomspace(min(item.levels) / 2, max(item.levels) * 1.5, 200)
+                spread = band(item.draws, x)
+                if spread is not None:
+                    label = None if banded else "90 % band (bootstrap)"
+                    axes.fill_between(x, *spread, color="0.5", alpha=0.2, linewidth=0, zorder=1,
+                                      label=label)  # fmt: skip
+                    banded = True
                 axes.plot(x, norm.cdf(np.log(x / item.median) / item.beta),
-                          color=look["color"], linestyle=look["linestyle"])  # fmt: skip
+                          color=look["color"], linestyle=look["linestyle"], zorder=3)  # fmt: skip
         axes.set_title(state.replace("_", " "))
         mine = [f for f in found if f.limit_state == state]
         if all(c is None for f in mine for c in f.capacities.values()):
@@ -67,6 +77,67 @@ def plot_fragility(
         axes.set_xlabel(MEASURES[found[0].measure].label if found else "")
     for axes in grid[:, 0]:
         axes.set_ylabel("share of records reaching it [-]")
+    handles, labels = grid[0, 0].get_legend_handles_labels()
+    figure.legend(handles, labels, loc="outside upper center", ncols=min(len(labels), 3),
+                  frameon=False)  # fmt: skip
+    return save(figure, output)
+
+
+def plot_records_needed(
+    results: str | Path, output: str | Path, needed: list[RecordsNeeded] | None = None
+) -> Path:
+    """Draw, per limit state, the half-widths of the 90 % intervals of the median (filled
+    markers, solid) and of β (open markers, dashed) against the number of records
+    (`fragility_intervals.records_needed`), one style per bridge, and the rule's limit on the
+    median's (dotted).
+
+    Parameters
+    ----------
+    needed
+        The widths, when the caller has them already.
+
+    Returns
+    -------
+    pathlib.Path
+        The figure file.
+    """
+    output = check_format(output)
+    needed = all_records_needed(fragilities(results)) if needed is None else needed
+    bridges = list(dict.fromkeys(item.bridge for item in needed))
+    states = list(dict.fromkeys(item.limit_state for item in needed)) or ["-"]
+    counts_tried = sorted({w.records for item in needed for w in item.widths})
+    rows = max(1, -(-len(states) // 2))
+    figure = Figure(figsize=(9.0, 3.5 * rows), layout="constrained")
+    grid = figure.subplots(rows, 2, sharex=True, sharey=True, squeeze=False)
+    for axes in grid.flat[len(states) :]:
+        axes.set_visible(False)
+    for axes, state, letter in zip(grid.flat, states, "ABCDEFGHIJKL", strict=False):
+        for index, bridge in enumerate(bridges):
+            item = next((f for f in needed if f.bridge == bridge and f.limit_state == state), None)
+            if item is None:
+                continue
+            look = style(index)
+            counts = [w.records for w in item.widths]
+            axes.plot(counts, [np.nan if w.median is None else w.median for w in item.widths],
+                      color=look["color"], marker=look["marker"], linestyle="-",
+                      label=f"{bridge}: median")  # fmt: skip
+            axes.plot(counts, [np.nan if w.beta is None else w.beta for w in item.widths],
+                      color=look["color"], marker=look["marker"], linestyle="--",
+                      markerfacecolor="white", label=f"{bridge}: β")  # fmt: skip
+        axes.axhline(SETTLED, color="black", linestyle=":", linewidth=1.0,
+                     label=f"settled: median ± {SETTLED:.3f}")  # fmt: skip
+        axes.set_title(state.replace("_", " "))
+        axes.set_xscale("log")
+        axes.set_xticks(counts_tried, [str(n) for n in counts_tried])
+        axes.xaxis.set_minor_formatter(NullFormatter())
+        axes.grid(True, color="0.9", linewidth=0.5)
+        panel_label(axes, letter)
+    widths = [v for f in needed for w in f.widths for v in (w.median, w.beta) if v is not None]
+    grid[0, 0].set_ylim(0.0, 1.05 * max([SETTLED, *widths]))  # the panels share it
+    for axes in grid[-1]:
+        axes.set_xlabel("records n [-]")
+    for axes in grid[:, 0]:
+        axes.set_ylabel("half-width of the 90 % interval [-]")
     handles, labels = grid[0, 0].get_legend_handles_labels()
     figure.legend(handles, labels, loc="outside upper center", ncols=min(len(labels), 3),
                   frameon=False)  # fmt: skip

@@ -361,7 +361,7 @@ def _intensity_section(
     found = fragilities(results)
     design = intensity.get("design")
     rows = [[item.bridge, item.limit_state, number(item.median), number(item.beta),
-             "-" if item.median_90 is None else f"{item.median_90[0]:.3g}–{item.median_90[1]:.3g}"]
+             _interval(item.median_90), _interval(item.beta_90)]
             + ([number(None if item.median is None else item.median / design)] if design else [])
             for item in found]  # fmt: skip
     measure = intensity["measure"]
@@ -372,15 +372,31 @@ def _intensity_section(
                  "Each record's peak against its intensity level; a cross ends a curve where "
                  "the bridge failed.") if _is_ida(intensity) else "",
         _section(f"Fragility ({measure})", figure(plot_fragility, results, found=found),
-                 "Share of the records reaching each limit state, and the fitted lognormal."),
+                 "Share of the records reaching each limit state, and the fitted lognormal; "
+                 "grey, the 90 % band of the curves the bootstrap over the records fits."),
         f"<p>{margin}</p>" if margin else "",
-        table_html(["bridge", "limit state", "median", "β", "median, 5–95 %"]
+        f'<p class="note">{escaped(INTERVALS)}</p>',
+        table_html(["bridge", "limit state", "median", "β", "median, 5–95 %", "β, 5–95 %"]
                + (["median / design"] if design else []), rows, text_columns=(0, 1)),
         _unreachable(found),
         _efficiency_section(results) if _is_ida(intensity) else "",
         "" if hazard is None else _risk_section(found, intensity, hazard, years),
     ]  # fmt: skip
     return "\n".join(part for part in parts if part)
+
+
+INTERVALS = (
+    "The 5–95 % intervals of the median and of β, the band and the risk's intervals come from "
+    "one bootstrap: the records resampled with replacement 100 times and refitted. With few "
+    "records they are too narrow (a 90 % interval of β holds the true β in about 65 % of "
+    "10-record studies, 83 % of 44-record ones); rockbridge fragility RESULTS --records-needed "
+    "shows how they narrow with the number of records."
+)
+"""What the report says of the fragility's intervals (`assessment.fragility_intervals`)."""
+
+
+def _interval(pair: tuple[float, float] | None) -> str:
+    return "-" if pair is None else f"{pair[0]:.3g}–{pair[1]:.3g}"
 
 
 def _unreachable(found: list) -> str:
