@@ -485,3 +485,12 @@ def test_sensitivity_of_an_ida_capacity_and_the_folded_fragility(tmp_path):
     assert row["statistic"] == "median capacity" and row["samples"] == 2
     peak = invoke("sensitivity", "i.h5", "--quantity", "dcr_backfill")
     assert peak.exit_code == 2 and "ask for a capacity" in peak.output
+    folded = invoke("fragility", "i.h5", "--fold-samples", "--json")
+    assert folded.exit_code == 0, folded.output
+    (fit,) = json.loads(folded.output)
+    assert fit["bridge"] == "studied-hbar1.25" and fit["samples"] == 6
+    assert "beta_RTR" in invoke("fragility", "i.h5", "--fold-samples").output
+    report = invoke("report", "i.h5", "-o", "i.html")
+    assert report.exit_code == 0, report.output
+    page = (tmp_path / "i.html").read_text(encoding="utf-8")
+    assert "Sampled bridges: abutments.ultimate_displacement" in page and "β_RTR" in page

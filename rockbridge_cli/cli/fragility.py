@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import textwrap
 from pathlib import Path
+from typing import Any
 
 import click
 
@@ -46,6 +47,11 @@ from .output import echo_json, export_csv, figure_option, results_argument, tabl
     "--subsets", type=click.IntRange(min=1), default=40, show_default=True,
     help="With --records-needed: subsets of n records drawn at each n below the study's count.",
 )  # fmt: skip
+@click.option(
+    "--fold-samples", is_flag=True,
+    help="Of a sampled study (uncertainty section): per bridge file, the fragility over every "
+    "sample × record, beside β_RTR, β_U and the shortcut √(β_RTR² + β_U²).",
+)  # fmt: skip
 def fragility(
     results: Path,
     as_json: bool,
@@ -56,6 +62,7 @@ def fragility(
     compare_measures: bool,
     records_needed: bool,
     subsets: int,
+    fold_samples: bool,
 ) -> None:
     """Fit a lognormal fragility per bridge and limit state to RESULTS, the file of a study with
     an intensity section: from stripes by maximum likelihood (Baker 2015), from an IDA the
@@ -63,9 +70,13 @@ def fragility(
     state at the first level or never); 90 % intervals of the median and of β by a bootstrap over
     the records. The run stores the fits in RESULTS (/fragility). An IDA's capacities convert
     exactly to any other intensity measure (--measure): nothing is run again. --records-needed
-    shows how the intervals narrow with the number of records."""
+    shows how the intervals narrow with the number of records; --fold-samples folds a sampled
+    study's parameter uncertainty in."""
     from ..assessment.fragility import design_level, fragilities, unreachable_note
 
+    if fold_samples:
+        _folded(results, as_json, csv_file)
+        return
     if compare_measures:
         _compare(results, period or 1.0, period_range or (0.2, 3.0), as_json, csv_file)
         return
@@ -311,3 +322,29 @@ def plot_ida(results: Path, output: Path | None, quantity: str) -> None:
 
     target = output or results.with_name(f"{results.stem}-ida.png")
     click.echo(f"Figure: {draw(results, target, quantity)}")
+
+
+def _folded(results: Path, as_json: bool, csv_file: str | None) -> None:
+    from ..assessment.sampled_fragility import folded_fragilities
+
+    rows = [item.row() for item in folded_fragilities(results)]
+    if csv_file is not None:
+        columns = {key: [row[key] for row in rows] for key in rows[0] if key != "median_90"}
+        export_csv(csv_file, columns, results)  # type: ignore[arg-type]
+        return
+    if as_json:
+        echo_json(rows)
+        return
+    click.echo(f"measure: {rows[0]['measure'] if rows else '-'}; folded over every sample × record")
+    click.echo(table_text(
+        ["bridge", "limit state", "median", "beta", "median 5–95 %", "samples fitted",
+         "beta_RTR", "beta_U", "shortcut"],
+        [[r["bridge"], r["limit_state"], r["median"], r["beta"],
+          _span(r["median_90"]),
+          f"{r['samples_fitted']}/{r['samples']}", r["beta_rtr"], r["beta_u"],
+          r["beta_shortcut"]] for r in rows],
+    ))  # fmt: skip
+
+
+def _span(bounds: Any) -> str:
+    return "-" if not bounds else f"{bounds[0]:.3g}–{bounds[1]:.3g}"
