@@ -414,6 +414,8 @@ def test_a_tornado_swings_each_field_between_its_percentiles(tmp_path):
     assert capacity["output_high"] < capacity["output_median"] < capacity["output_low"]
     assert rows[0]["swing"] >= rows[1]["swing"]
     assert invoke("plot", "sensitivity", "t.h5", "-o", "t.png").exit_code == 0
+    folded = invoke("fragility", "t.h5", "--fold-samples")
+    assert folded.exit_code == 2 and "not draws from the distributions" in folded.output
 
 
 def _stripes(medians: list[float], beta: float, records: int, seed: int) -> dict:

@@ -71,6 +71,10 @@ def folded_fragilities(path: str | Path, seed: int = 0) -> list[FoldedFragility]
     if intensity is None or not samples:
         raise InputError(path, [("", "not a sampled study with an intensity section (uncertainty "
                                  "and intensity): no fragility to fold")])  # fmt: skip
+    if config["uncertainty"].get("design") == "tornado":
+        why = ("a tornado's bridges are chosen percentiles, not draws from the distributions: "
+               "fold a study with an lhs, sobol, random or saltelli design")  # fmt: skip
+        raise InputError(path, [("", why)])
     paired_all = config["uncertainty"].get("pairing", "all") == "all"
     return fold(columns, intensity, list(samples), paired_all, seed)
 

@@ -46,7 +46,7 @@ def sampled_section(
             parts.append(f"<p>{len(design['fields'])} fields drawn by a {escaped(kind)} design "
                          f"of {design.get('size')} samples; each sample's values are columns of "
                          "the peak table.</p>")  # fmt: skip
-        if intensity is not None:
+        if intensity is not None and kind != "tornado":
             parts.append(_folded(folded_fragilities(results)))
     except InputError as exc:  # a study cut short: say so, draw the rest
         parts.append(f"<p>{escaped(exc.problems[0][1])}</p>")
