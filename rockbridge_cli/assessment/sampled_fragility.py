@@ -68,13 +68,13 @@ def folded_fragilities(path: str | Path, seed: int = 0) -> list[FoldedFragility]
         config = json.loads(file.attrs["config"])
         samples = bridge_samples(file)
         columns = peak_columns(file)
-    if intensity is None or not samples:
-        raise InputError(path, [("", "not a sampled study with an intensity section (uncertainty "
-                                 "and intensity): no fragility to fold")])  # fmt: skip
-    if config["uncertainty"].get("design") == "tornado":
+    if (config.get("uncertainty") or {}).get("design") == "tornado":
         why = ("a tornado's bridges are chosen percentiles, not draws from the distributions: "
                "fold a study with an lhs, sobol, random or saltelli design")  # fmt: skip
         raise InputError(path, [("", why)])
+    if intensity is None or not samples:
+        raise InputError(path, [("", "not a sampled study with an intensity section (uncertainty "
+                                 "and intensity): no fragility to fold")])  # fmt: skip
     paired_all = config["uncertainty"].get("pairing", "all") == "all"
     return fold(columns, intensity, list(samples), paired_all, seed)
 
