@@ -68,12 +68,8 @@ class Numerics(NamedTuple):
 
 def motions_of(study: Study) -> Motions:
     """The samples of a study's records that its description measures (`Motions`)."""
-    intensity = study.intensity or {}
-    spectral = (
-        intensity.get("period"),
-        intensity.get("period_range"),
-        intensity.get("damping", 0.05),
-    )
+    intensity = study.intensity_section
+    spectral = (None, None, 0.05) if intensity is None else intensity.spectral
     measured: dict[Key, tuple[np.ndarray, float]] = {}
     pulsed: dict[Key, tuple[np.ndarray, float]] = {}
     for item in study.records:
