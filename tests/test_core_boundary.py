@@ -143,8 +143,8 @@ LAYERS = (
     ("core", "errors", "cpus", "interrupts"),
     ("motions", "paths"),
     ("records", "warmup"),
-    ("config",),
     ("results",),
+    ("config",),
     ("assessment",),
     ("study", "plots"),
     ("report",),
@@ -219,3 +219,11 @@ def test_the_parent_of_a_study_loads_no_compiled_kernel():
     )
     assert result.returncode == 0, result.stderr
     assert result.stdout.strip() == "[]"
+
+
+def test_the_results_writer_only_writes():
+    """The results file knows no config, no ground-motion numerics and no record files: what it
+    stores of a study is computed by `study.describe` (issue 38)."""
+    for path in (PACKAGE / "results").glob("*.py"):
+        rooms = {room(m) for m in imports(path) & SOURCES.keys() if m != "rockbridge_cli"}
+        assert rooms <= {"results", "core", "errors", "paths"}, (path.name, rooms)

@@ -31,6 +31,7 @@ from rockbridge_cli.core.summary import summarize
 from rockbridge_cli.errors import InputError
 from rockbridge_cli.report import write_report
 from rockbridge_cli.results import read_peaks
+from rockbridge_cli.results.sections import IdaSection
 from rockbridge_cli.study.run import run_study
 
 IDA = (
@@ -53,8 +54,13 @@ def invoke(*args):
 # The rule
 
 
+def _ida(data: dict) -> IdaSection:
+    """An intensity section's IDA, of no limit state unless ``data`` names them."""
+    return IdaSection.of({"limit_states": [], **data})
+
+
 def test_the_lattice_holds_every_scan_and_bisection_level():
-    lattice = Lattice.of({"start": 0.1, "step": 0.2, "max": 4.0, "tolerance": 0.02})
+    lattice = Lattice.of(_ida({"start": 0.1, "step": 0.2, "max": 4.0, "tolerance": 0.02}))
     assert lattice.depth == 7  # 0.2 / 2^7 = 0.0016 ≤ 0.02 · 0.1 < 0.2 / 2^6
     assert lattice.level(0) == 0.1 and lattice.level(lattice.count - 1) == pytest.approx(3.9)
     assert lattice.level(3 * lattice.stride) == pytest.approx(0.7, rel=1e-15)
@@ -74,7 +80,7 @@ def synthetic(lattice, thresholds):
 
 @pytest.mark.parametrize("tolerance", [0.2, 0.05, 0.01])
 def test_a_capacity_brackets_the_threshold_to_the_tolerance(tolerance):
-    lattice = Lattice.of({"start": 0.1, "step": 0.3, "max": 3.0, "tolerance": tolerance})
+    lattice = Lattice.of(_ida({"start": 0.1, "step": 0.3, "max": 3.0, "tolerance": tolerance}))
     thresholds = {"a": 0.1234, "b": 1.777, "c": 2.65}  # scan levels 0.1, 0.4, …, 2.8
     reaches, ran = synthetic(lattice, thresholds)
     steps = walk(lattice, tolerance, tuple(thresholds), reaches)
@@ -87,7 +93,7 @@ def test_a_capacity_brackets_the_threshold_to_the_tolerance(tolerance):
 
 
 def test_reached_at_start_and_never_reached():
-    lattice = Lattice.of({"start": 0.5, "step": 0.5, "max": 2.0, "tolerance": 0.05})
+    lattice = Lattice.of(_ida({"start": 0.5, "step": 0.5, "max": 2.0, "tolerance": 0.05}))
     reaches, ran = synthetic(lattice, {"early": 0.1, "never": 9.0})
     steps = walk(lattice, 0.05, ("early", "never"), reaches)
     assert steps.capacities["early"] == (-1, 0)  # at most start: nothing below to bisect
@@ -98,7 +104,7 @@ def test_reached_at_start_and_never_reached():
 def test_a_non_monotonic_curve_follows_the_rule():
     """Reached at the third scan level only: the capacity is between the second and the third,
     whatever the levels above say."""
-    lattice = Lattice.of({"start": 1.0, "step": 1.0, "max": 5.0, "tolerance": 0.1})
+    lattice = Lattice.of(_ida({"start": 1.0, "step": 1.0, "max": 5.0, "tolerance": 0.1}))
     resurrects = {2 * lattice.stride}
 
     def reaches(n):
@@ -112,7 +118,7 @@ def test_a_non_monotonic_curve_follows_the_rule():
 
 def test_the_walk_asks_for_what_it_needs_next():
     """Without verdicts the rule asks for the start; with the scan done, for the bisections."""
-    lattice = Lattice.of({"start": 1.0, "step": 1.0, "max": 3.0, "tolerance": 0.3})
+    lattice = Lattice.of(_ida({"start": 1.0, "step": 1.0, "max": 3.0, "tolerance": 0.3}))
     assert walk(lattice, 0.3, ("s",), lambda n: None).wanted == {0}
     scan = {0: Outcome(frozenset()), lattice.stride: Outcome(frozenset({"s"}))}
     steps = walk(lattice, 0.3, ("s",), scan.get)
@@ -139,7 +145,7 @@ def test_a_curve_ends_at_its_first_failure():
     """The abutment fails from 2.0 on: overturning cannot be observed, the scan stops at 2.2, the
     first scan level at or above 2.0, nothing above it runs, and the curve ends at the lowest
     level that failed, the abutment's capacity."""
-    lattice = Lattice.of({"start": 0.2, "step": 0.4, "max": 4.0, "tolerance": 0.05})
+    lattice = Lattice.of(_ida({"start": 0.2, "step": 0.4, "max": 4.0, "tolerance": 0.05}))
     states = ("gap_closure", "abutment_failure", "overturning")
     outcome, ran = ending(lattice, {"gap_closure": 0.3}, {"abutment_failure": 2.0})
     steps = walk(lattice, 0.05, states, outcome)
@@ -157,7 +163,7 @@ def test_a_failure_found_by_bisection_shortens_the_curve():
     2.05 (from 2.04 on, a bridge whose failures come in the other order in one direction): the
     curve ends there, the abutment's failure is unreachable, overturning's capacity is bracketed
     below 2.05, and the rule replayed on its own verdicts asks for nothing more."""
-    lattice = Lattice.of({"start": 0.2, "step": 0.4, "max": 4.0, "tolerance": 0.02})
+    lattice = Lattice.of(_ida({"start": 0.2, "step": 0.4, "max": 4.0, "tolerance": 0.02}))
     states = ("abutment_failure", "overturning")
     outcome, ran = ending(lattice, {}, {"abutment_failure": 2.1, "overturning": 2.04})
     scan_only = {n: outcome(n) for n in range(0, 6 * lattice.stride, lattice.stride)}

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import h5py
 import numpy as np
@@ -381,3 +382,53 @@ def test_a_flipped_byte_is_reported_not_read(done, tmp_path):
         else:
             with pytest.raises(InputError, match="damaged"):
                 read_history(damaged, STUDIED[0], "R1")
+
+
+def test_read_intensity_types_the_section_as_stored(tmp_path):
+    """One reader of the intensity section: what the file stores, typed, equal to the section
+    the study's config validated; None without one; a malformed one is an input error."""
+    from typing import get_args
+
+    from rockbridge_cli.config.intensity import Intensity
+    from rockbridge_cli.motions.intensity import MEASURES
+    from rockbridge_cli.results.reading import read_intensity
+    from rockbridge_cli.results.sections import (
+        MEASURE_NAMES,
+        IdaSection,
+        IntensitySection,
+    )
+
+    stripes = {"measure": "sa_g", "levels": [0.2, 0.6], "period": 0.5, "design": 0.4}
+    ida = {"measure": "avgsa_g", "period_range": [0.2, 1.0], "ida": {
+        "start": 0.1, "step": 0.2, "max": 4.0, "tolerance": 0.02,
+        "limit_states": ["gap_closure", "overturning"]}}  # fmt: skip
+    with h5py.File(tmp_path / "r.h5", "w") as file:
+        assert read_intensity(file) is None
+        file.attrs["intensity"] = json.dumps(Intensity.model_validate(stripes).model_dump())
+        assert read_intensity(file) == IntensitySection("sa_g", (0.2, 0.6), None, 0.5, None,
+                                                        0.05, 0.4)  # fmt: skip
+        file.attrs["intensity"] = json.dumps(Intensity.model_validate(ida).model_dump())
+        found = read_intensity(file)
+        assert found is not None and found.levels is None and found.period_range == (0.2, 1.0)
+        assert found.ida == IdaSection(0.1, 0.2, 4.0, 0.02, ("gap_closure", "overturning"))
+        assert found.spectral == (None, (0.2, 1.0), 0.05)
+        for broken in ({"measure": "pga_g"}, {"measure": "pga", "levels": [1.0]},
+                       {"measure": "pga_g", "levels": [1.0], "period": "1 s"}):  # fmt: skip
+            file.attrs["intensity"] = json.dumps(broken)
+            with pytest.raises(InputError, match="not an intensity section"):
+                read_intensity(file)
+    measure = Intensity.model_fields["measure"].annotation
+    assert set(MEASURE_NAMES) == set(get_args(measure)) == set(MEASURES) - {"pga_tan_alpha"}
+
+
+def test_no_reader_parses_the_intensity_attribute_itself():
+    """The intensity and spectrum sections are read by `results.reading` alone (issue 38)."""
+    import rockbridge_cli
+
+    package = Path(rockbridge_cli.__file__).parent
+    reader = package / "results" / "reading.py"
+    for path in package.rglob("*.py"):
+        text = path.read_text(encoding="utf-8")
+        if path != reader:
+            assert 'attrs.get("intensity"' not in text and 'attrs["intensity"]' not in text, path
+            assert '["spectrum"]' not in text, path

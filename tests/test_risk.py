@@ -27,6 +27,7 @@ from rockbridge_cli.cli import main
 from rockbridge_cli.config.study import load_study
 from rockbridge_cli.errors import InputError
 from rockbridge_cli.report import write_report
+from rockbridge_cli.results.sections import IntensitySection
 from rockbridge_cli.study.run import run_study
 
 EXAMPLE = REPO / "configs" / "hazard" / "example-site-pga.csv"
@@ -133,7 +134,9 @@ def test_the_interval_is_the_bootstrap_draws_percentiles():
     draws = tuple(zip(rng.lognormal(0.7, 0.05, 200), rng.uniform(0.1, 0.2, 200), strict=True))
     found = [fragility(2.0, 0.15, {"R1": 2.0}, draws)]
     intensity = {"measure": "pga_g", "levels": [0.5, 1.0, 3.0]}
-    (item,) = risks_of(found, intensity, read_hazard_curve(EXAMPLE), years=50.0)
+    (item,) = risks_of(
+        found, IntensitySection.of(intensity), read_hazard_curve(EXAMPLE), years=50.0
+    )
     expected = np.percentile(cornell(K0, K, *np.array(draws).T), [5.0, 95.0])
     np.testing.assert_allclose(item.rate_90, expected, rtol=1e-5)  # the file's 6 digits
     assert item.rate == pytest.approx(float(cornell(K0, K, 2.0, 0.15)), rel=1e-5)
@@ -144,31 +147,40 @@ def test_the_interval_is_the_bootstrap_draws_percentiles():
 
 def test_a_state_no_record_reaches_is_bounded_by_the_hazard_at_the_top():
     curve = read_hazard_curve(EXAMPLE)
-    scan = {"start": 0.1, "step": 0.2, "max": 4.0, "tolerance": 0.02}
+    scan = {"start": 0.1, "step": 0.2, "max": 4.0, "tolerance": 0.02, "limit_states": []}
     never = fragility(None, None, {"R1": None, "R2": None})
-    (item,) = risks_of([never], {"measure": "pga_g", "ida": scan}, curve)
+    (item,) = risks_of([never], IntensitySection.of({"measure": "pga_g", "ida": scan}), curve)
     assert item.bound == "<" and item.rate == pytest.approx(K0 * 3.9**-K, rel=1e-5)  # last scan
     assert item.return_period == pytest.approx(3.9**K / K0, rel=1e-5) and item.beyond is None
     always = fragility(None, None, {"R1": 0.5, "R2": 0.5})
-    (item,) = risks_of([always], {"measure": "pga_g", "levels": [0.5, 1.0]}, curve)
+    (item,) = risks_of(
+        [always], IntensitySection.of({"measure": "pga_g", "levels": [0.5, 1.0]}), curve
+    )
     assert item.bound == ">" and item.rate == pytest.approx(K0 * 0.5**-K, rel=1e-5)
     ended = fragility(None, None, {"R1": None, "R2": None}, unreachable={"R2": ("x", 2.0)})
-    (item,) = risks_of([ended], {"measure": "pga_g", "ida": scan}, curve)
+    (item,) = risks_of([ended], IntensitySection.of({"measure": "pga_g", "ida": scan}), curve)
     assert item.bound == "<" and item.rate == pytest.approx(K0 * 2.0**-K, rel=1e-5)  # R2's end
     both = {"R1": ("overturning", 2.0), "R2": ("overturning", 1.5)}
     unreachable = fragility(None, None, {"R1": None, "R2": None}, unreachable=both)
-    (item,) = risks_of([unreachable], {"measure": "pga_g", "ida": scan}, curve)
+    (item,) = risks_of([unreachable], IntensitySection.of({"measure": "pga_g", "ida": scan}), curve)
     assert item.rate is None and item.note == (
         "abutment_failure: unreachable — a pier overturns first on 2/2 records"
     )
     unresolved = fragility(0.8, None, {"R1": 0.6, "R2": 1.0})
-    (item,) = risks_of([unresolved], {"measure": "pga_g", "levels": [0.6, 1.0]}, curve)
+    (item,) = risks_of(
+        [unresolved], IntensitySection.of({"measure": "pga_g", "levels": [0.6, 1.0]}), curve
+    )
     assert item.bound == "" and item.rate == pytest.approx(K0 * 0.8**-K, rel=1e-5)
 
 
 def test_years_must_be_positive():
     with pytest.raises(InputError, match="positive number of years"):
-        risks_of([], {"measure": "pga_g", "levels": [1.0]}, read_hazard_curve(EXAMPLE), 0.0)
+        risks_of(
+            [],
+            IntensitySection.of({"measure": "pga_g", "levels": [1.0]}),
+            read_hazard_curve(EXAMPLE),
+            0.0,
+        )
 
 
 # A study
@@ -250,8 +262,8 @@ def test_a_spectral_acceleration_matches_only_at_its_period(tmp_path):
     curve.write_text("SA(1.0) [g], annual_rate [1/year]\n0.1, 0.1\n1.0, 0.001\n")
     at_one = {"measure": "sa_g", "period": 1.0, "levels": [0.2, 0.4]}
     found = [Fragility("b", "gap_closure", "sa_g", 0.3, 0.2, None, [], [], {"R1": 0.3})]
-    (item,) = risks_of(found, at_one, read_hazard_curve(curve))
+    (item,) = risks_of(found, IntensitySection.of(at_one), read_hazard_curve(curve))
     assert item.rate == pytest.approx(float(cornell(1e-3, 2.0, 0.3, 0.2)), rel=1e-12)
     with pytest.raises(InputError, match=r"the curve is of sa_g\(1 s\), the fragilities of "
                        r"sa_g\(0.5 s\)"):  # fmt: skip
-        risks_of(found, {**at_one, "period": 0.5}, read_hazard_curve(curve))
+        risks_of(found, IntensitySection.of({**at_one, "period": 0.5}), read_hazard_curve(curve))

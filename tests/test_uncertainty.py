@@ -23,6 +23,7 @@ from rockbridge_cli.cli import main
 from rockbridge_cli.config.study import load_study
 from rockbridge_cli.config.uncertainty import Uncertainty
 from rockbridge_cli.results import read_peaks
+from rockbridge_cli.results.sections import IntensitySection
 from rockbridge_cli.study.run import run_study
 
 
@@ -449,7 +450,9 @@ def test_the_folded_fragility_is_the_mixture_of_the_samples():
 
     medians = list(np.exp(np.linspace(-0.4, 0.4, 8)) * 0.6)
     columns = _stripes(medians, 0.3, 300, seed=4)
-    intensity = {"measure": "pga_g", "levels": sorted(set(columns["intensity"].tolist()))}
+    intensity = IntensitySection.of(
+        {"measure": "pga_g", "levels": sorted(set(columns["intensity"].tolist()))}
+    )
     samples = [f"b+s{k}" for k in range(8)]
     found = {f.folded.limit_state: f for f in fold(columns, intensity, samples, True)}
     item = found["gap_closure"]

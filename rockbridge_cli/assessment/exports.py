@@ -28,7 +28,6 @@ did not run to its end (pelicun drops those rows).
 
 from __future__ import annotations
 
-import json
 import re
 import xml.etree.ElementTree as ElementTree
 from pathlib import Path
@@ -39,7 +38,8 @@ from ..core.quantities import NO_FAILURE
 from ..errors import InputError
 from ..motions.intensity import MEASURES, scaled_id
 from ..paths import writable
-from ..results.reading import open_results, peak_columns
+from ..results.reading import open_results, peak_columns, read_intensity
+from ..results.sections import IntensitySection
 from .fragility import Fragility, fragilities
 from .hazard import OPENQUAKE_MEASURES, UNITS
 from .risk import levels_range
@@ -70,10 +70,11 @@ def openquake_fragility_model(results: str | Path, output: str | Path) -> list[s
     """
     target = writable(output)
     with open_results(results) as file:
-        intensity = json.loads(file.attrs.get("intensity", "null"))
-    found = fragilities(results, bootstrap=0)
-    measure = intensity["measure"]
-    imt, unit = _openquake_type(results, measure, intensity.get("period"))
+        intensity = read_intensity(file)
+    found = fragilities(results, bootstrap=0)  # refuses a study without an intensity section
+    assert intensity is not None
+    measure = intensity.measure
+    imt, unit = _openquake_type(results, measure, intensity.period)
     factor = UNITS[MEASURES[measure].unit][1] / UNITS[unit][1]
     fitted, left_out = _fitted(found)
     if not fitted:
@@ -170,7 +171,7 @@ def pelicun_demands(results: str | Path, folder: str | Path) -> list[Path]:
         The study has no intensity section (no stripes).
     """
     with open_results(results) as file:
-        intensity = json.loads(file.attrs.get("intensity", "null"))
+        intensity = read_intensity(file)
         columns = peak_columns(file)
         capacities = {
             name: float(node.attrs.get("model_u_ab", np.nan))
@@ -188,23 +189,23 @@ def pelicun_demands(results: str | Path, folder: str | Path) -> list[Path]:
             rows = mine["intensity"] == level
             if set(mine["base_record"][rows]) != records:
                 continue  # an IDA level that not every record ran
-            path = folder / f"{scaled_id(bridge, level, intensity['measure'])}.csv"
+            path = folder / f"{scaled_id(bridge, level, intensity.measure)}.csv"
             _write_demands(path, {name: values[rows] for name, values in mine.items()},
                            intensity, level)  # fmt: skip
             written.append(path)
     return written
 
 
-def _write_demands(path: Path, rows: dict[str, np.ndarray], intensity: dict, level: float) -> None:
+def _write_demands(
+    path: Path, rows: dict[str, np.ndarray], intensity: IntensitySection, level: float
+) -> None:
     """One pelicun demand sample: a header, a units row and one row per record."""
     header, units, values = [""], ["Units"], []
     for name, column, unit in PELICUN_DEMANDS:
         header.append(f"1-{name}")
         units.append(unit)
         values.append(rows[column])
-    measure = {"pga_g": "PGA", "sa_g": f"SA_{intensity.get('period') or 0:.2f}"}.get(
-        intensity["measure"]
-    )
+    measure = {"pga_g": "PGA", "sa_g": f"SA_{intensity.period or 0:.2f}"}.get(intensity.measure)
     if measure is not None:
         header.append(f"1-{measure}-0-1")
         units.append("g")

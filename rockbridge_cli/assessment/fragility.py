@@ -33,11 +33,12 @@ import numpy as np
 
 from ..core.quantities import LIMIT_STATES
 from ..errors import InputError
-from ..motions.intensity import MEASURES, scaled_id
-from ..results.reading import open_results, peak_columns
+from ..motions.intensity import MEASURES
+from ..results.reading import open_results, peak_columns, read_intensity, read_spectrum_section
+from ..results.sections import IntensitySection
 from . import limit_states, lognormal
 from .fragility_intervals import Resampling, beta_interval
-from .ida import Lattice, Outcome, Walk, walk
+from .ida import Rule, Walk
 from .limit_states import Verdict
 from .spectrum import store as store_spectrum
 
@@ -217,15 +218,15 @@ def fragilities(
         of stripes or cannot be computed from the file.
     """
     with open_results(path) as file:
-        intensity = json.loads(file.attrs.get("intensity", "null"))
+        intensity = read_intensity(file)
         columns = peak_columns(file)
         if intensity is None:
             raise InputError(path, [("", "the study has no intensity section: nothing to fit")])
-        if "spectrum" in json.loads(file.attrs.get("config", "{}")):
+        if read_spectrum_section(file) is not None:
             raise InputError(path, [("", "an overturning spectrum, not records of one hazard: "
                                      "rockbridge plot overturning draws it")])  # fmt: skip
         conversion = None
-        if measure is not None and measure != intensity["measure"]:
+        if measure is not None and measure != intensity.measure:
             from .measures import Conversion
 
             conversion = Conversion.of(file, path, measure, period, period_range)
@@ -235,14 +236,15 @@ def fragilities(
 def design_level(path: str | Path) -> tuple[str, float] | None:
     """(measure, level) of the design level a study's intensity section states, None without."""
     with open_results(path) as file:
-        intensity = json.loads(file.attrs.get("intensity", "null")) or {}
-    design = intensity.get("design")
-    return None if design is None else (intensity["measure"], float(design))
+        intensity = read_intensity(file)
+    if intensity is None or intensity.design is None:
+        return None
+    return intensity.measure, intensity.design
 
 
 def fragilities_of(
     columns: dict[str, np.ndarray],
-    intensity: dict,
+    intensity: IntensitySection,
     bootstrap: int = BOOTSTRAP,
     seed: int = 0,
     conversion: Conversion | None = None,
@@ -255,7 +257,7 @@ def fragilities_of(
     found = []
     for bridge in dict.fromkeys(columns["bridge"]):
         mine = {name: values[columns["bridge"] == bridge] for name, values in columns.items()}
-        if intensity.get("ida"):
+        if intensity.ida is not None:
             found += _ida_fragility(bridge, mine, intensity, rng, bootstrap, conversion)
         else:
             found += _stripe_fragility(bridge, mine, intensity, rng, bootstrap)
@@ -277,7 +279,7 @@ def _stripe_fragility(bridge, mine, intensity, rng, bootstrap) -> list[Fragility
         }
         median, beta = fit or (None, None)
         found.append(Fragility(
-            bridge, state, intensity["measure"], median, beta, _interval(draws),
+            bridge, state, intensity.measure, median, beta, _interval(draws),
             levels.tolist(), (counts[0] / np.maximum(counts[1], 1)).tolist(), reached_at, draws,
             resampling=Resampling(table, lambda t: fit_lognormal(levels, *_counts(t)),
                                   levels=levels),
@@ -286,8 +288,8 @@ def _stripe_fragility(bridge, mine, intensity, rng, bootstrap) -> list[Fragility
 
 
 def _ida_fragility(bridge, mine, intensity, rng, bootstrap, conversion) -> list[Fragility]:
-    lattice = Lattice.of(intensity["ida"])
-    states = tuple(intensity["ida"]["limit_states"])
+    rule = Rule.of(intensity)
+    lattice, states = rule.lattice, rule.states
     verdicts = {
         record: Verdict(status, mode, ratio)
         for record, status, mode, ratio in zip(
@@ -296,12 +298,7 @@ def _ida_fragility(bridge, mine, intensity, rng, bootstrap, conversion) -> list[
     }
     walks: dict[str, Walk] = {}
     for base in dict.fromkeys(mine["base_record"]):
-
-        def outcome(n: int, base=base) -> Outcome | None:
-            verdict = verdicts.get(scaled_id(base, lattice.level(n), intensity["measure"]))
-            return None if verdict is None else verdict.outcome(states)
-
-        steps = walk(lattice, intensity["ida"]["tolerance"], states, outcome)
+        steps = rule.replay(base, verdicts.get)
         if not steps.wanted:  # a curve an interrupted run or a failed analysis left unfinished
             walks[base] = steps  # has no capacities yet
 
@@ -343,7 +340,7 @@ def _ida_fragility(bridge, mine, intensity, rng, bootstrap, conversion) -> list[
         fractions = [float(np.sum(reached <= level)) / len(coded) for level in levels]
         median, beta = fit or (None, None)
         found.append(Fragility(
-            bridge, state, intensity["measure"] if conversion is None else conversion.measure,
+            bridge, state, intensity.measure if conversion is None else conversion.measure,
             median, beta, _interval(draws), levels, fractions, capacities, draws, unreachable,
             Resampling.of_capacities(data, _fit_capacities),
         ))  # fmt: skip
@@ -413,10 +410,10 @@ def store(file: h5py.File) -> None:
     row per bridge × limit state (median, beta, the 90 % interval of the median) and, per row,
     each record's capacity (``capacities``, rows × records, NaN where not reached). A spectrum
     study's file gets its spectrum instead (`spectrum.store`)."""
-    intensity = json.loads(file.attrs.get("intensity", "null"))
+    intensity = read_intensity(file)
     if intensity is None:
         return
-    if "spectrum" in json.loads(file.attrs["config"]):  # its IDA finds a spectrum's boundaries
+    if read_spectrum_section(file) is not None:  # its IDA finds a spectrum's boundaries
         store_spectrum(file)
         return
     found = fragilities_of(peak_columns(file), intensity)
@@ -426,16 +423,16 @@ def store(file: h5py.File) -> None:
         "lognormal fragility per bridge and limit state (rockbridge_cli.assessment.fragility), "
         "as the run computed it; rockbridge fragility RESULTS.h5 prints the same"
     )
-    group.attrs["measure"] = intensity["measure"]
+    group.attrs["measure"] = intensity.measure
     group.attrs["records"] = json.dumps(records)
     columns: dict[str, tuple[str, list[Any]]] = {
         "bridge": ("-", [item.bridge for item in found]),
         "limit_state": ("-", [item.limit_state for item in found]),
-        "median": (MEASURES[intensity["measure"]].unit, [_number(item.median) for item in found]),
+        "median": (MEASURES[intensity.measure].unit, [_number(item.median) for item in found]),
         "beta": ("-", [_number(item.beta) for item in found]),
-        "median_05": (MEASURES[intensity["measure"]].unit,
+        "median_05": (MEASURES[intensity.measure].unit,
                       [_number(item.median_90 and item.median_90[0]) for item in found]),
-        "median_95": (MEASURES[intensity["measure"]].unit,
+        "median_95": (MEASURES[intensity.measure].unit,
                       [_number(item.median_90 and item.median_90[1]) for item in found]),
     }  # fmt: skip
     for name, (unit, values) in columns.items():
@@ -450,7 +447,7 @@ def store(file: h5py.File) -> None:
         dtype=float,
     ).reshape(len(found), len(records))
     dataset = group.create_dataset("capacities", data=capacities)
-    dataset.attrs["units"] = MEASURES[intensity["measure"]].unit
+    dataset.attrs["units"] = MEASURES[intensity.measure].unit
     dataset.attrs["description"] = (
         "rows as the other columns, columns as the records attribute: the lowest level at which "
         "the record reaches the state (NaN: not within the levels run)"

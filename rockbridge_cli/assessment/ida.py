@@ -13,16 +13,20 @@ again not reach the state; the rule is the definition, and every level run is ke
 Every level an IDA can run lies on a lattice, ``start + step · n / 2^depth`` (bisection halves
 the step), so a level has one exact value and one id however it was reached, and the position of
 an analysis in the results is its lattice index. The rule is a function of the verdicts found so
-far: a study runs it in rounds (`study.plan`), and the fragility fits replay it from the stored
-verdicts (`assessment.fragility`) without running anything.
+far, replayed by one function (`Rule.replay`): a study runs it in rounds (`study.plan`), and the
+fragility fits (`assessment.fragility`) and the overturning spectra (`assessment.spectrum`) replay
+it from the stored verdicts without running anything.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
-from typing import Any, NamedTuple
+from typing import NamedTuple, Protocol
+
+from ..motions.intensity import scaled_id
+from ..results.sections import IdaSection, IntensitySection
 
 
 @dataclass(frozen=True)
@@ -39,11 +43,11 @@ class Lattice:
     count: int
 
     @classmethod
-    def of(cls, ida: Mapping[str, Any]) -> Lattice:
-        """The lattice of an ``intensity.ida`` section."""
-        start, step = float(ida["start"]), float(ida["step"])
-        depth = max(0, math.ceil(math.log2(step / (ida["tolerance"] * start))))
-        scans = math.floor((ida["max"] - start) / step + 1e-9)  # 1e-9: 4.0 − 0.1 by 0.1 is 39
+    def of(cls, ida: IdaSection) -> Lattice:
+        """The lattice of an intensity section's IDA."""
+        start, step = ida.start, ida.step
+        depth = max(0, math.ceil(math.log2(step / (ida.tolerance * start))))
+        scans = math.floor((ida.max - start) / step + 1e-9)  # 1e-9: 4.0 − 0.1 by 0.1 is 39
         return cls(start, step, depth, scans * 2**depth + 1)
 
     @property
@@ -68,6 +72,52 @@ class Outcome(NamedTuple):
 
     reached: frozenset[str]
     ended_by: str = ""
+
+
+class Judged(Protocol):
+    """What an analysis's verdict tells the rule (`limit_states.Verdict`)."""
+
+    def outcome(self, names: Iterable[str]) -> Outcome: ...
+
+
+@dataclass(frozen=True)
+class Rule:
+    """The IDA of an intensity section: its lattice, the bisection's relative ``tolerance``, the
+    limit states it finds the capacities of, and the measure its scaled records' ids name."""
+
+    lattice: Lattice
+    tolerance: float
+    states: tuple[str, ...]
+    measure: str
+
+    @classmethod
+    def of(cls, intensity: IntensitySection) -> Rule:
+        """The rule of an intensity section with an IDA.
+
+        Raises
+        ------
+        ValueError
+            The section has no IDA (stripes).
+        """
+        if intensity.ida is None:
+            raise ValueError("an intensity section of stripes has no IDA rule")
+        ida = intensity.ida
+        return cls(Lattice.of(ida), ida.tolerance, ida.limit_states, intensity.measure)
+
+    def record(self, base: str, n: int) -> str:
+        """The id of record ``base`` scaled to the level at lattice index ``n``
+        (`motions.intensity.scaled_id`)."""
+        return scaled_id(base, self.lattice.level(n), self.measure)
+
+    def replay(self, base: str, verdict: Callable[[str], Judged | None]) -> Walk:
+        """Where the curve of record ``base`` stands: the rule followed on the verdicts so far,
+        ``verdict`` giving that of a scaled record's analysis by its id (None: not run yet)."""
+
+        def outcome(n: int) -> Outcome | None:
+            found = verdict(self.record(base, n))
+            return None if found is None else found.outcome(self.states)
+
+        return walk(self.lattice, self.tolerance, self.states, outcome)
 
 
 @dataclass(frozen=True)

@@ -10,9 +10,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
+
+from ..results.sections import IntensitySection
 
 IDA_POINTER = (
     "an IDA's levels differ by record (each curve ends at its own failure): its summary is the "
@@ -37,7 +38,9 @@ class Group:
     rows: np.ndarray
 
 
-def summary_groups(columns: dict[str, np.ndarray], intensity: dict[str, Any] | None) -> list[Group]:
+def summary_groups(
+    columns: dict[str, np.ndarray], intensity: IntensitySection | None
+) -> list[Group]:
     """The groups of a peak table's rows that a summary over the records takes: per bridge, and
     per intensity level in a multiple-stripe study (levels in increasing order).
 
@@ -46,12 +49,12 @@ def summary_groups(columns: dict[str, np.ndarray], intensity: dict[str, Any] | N
     ValueError
         The study is an IDA (`IDA_POINTER` says why, and what to use instead).
     """
-    if intensity and intensity.get("ida"):
+    if intensity is not None and intensity.ida is not None:
         raise ValueError(IDA_POINTER)
     groups = []
     for bridge in dict.fromkeys(columns["bridge"].tolist()):
         mine = columns["bridge"] == bridge
-        if not intensity:
+        if intensity is None:
             groups.append(Group(bridge, None, mine))
             continue
         for level in sorted(set(columns["intensity"][mine].tolist())):
@@ -72,7 +75,7 @@ def levels_of(columns: dict[str, np.ndarray]) -> list[float]:
 
 
 def rows_at_level(
-    columns: dict[str, np.ndarray], intensity: dict[str, Any], level: float | None, unit: str
+    columns: dict[str, np.ndarray], intensity: IntensitySection, level: float | None, unit: str
 ) -> tuple[np.ndarray, float]:
     """The rows of a multiple-stripe study at one of its levels, and that level as stored.
 
@@ -82,7 +85,7 @@ def rows_at_level(
         The study is an IDA (`IDA_POINTER`), or ``level`` is not one of the stripes' (the message
         lists them).
     """
-    if intensity.get("ida"):
+    if intensity.ida is not None:
         raise ValueError(IDA_POINTER)
     levels = levels_of(columns)
     near = [x for x in levels if level is not None and math.isclose(x, level, rel_tol=1e-9)]

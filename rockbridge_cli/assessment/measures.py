@@ -10,10 +10,10 @@ differ from record to record.
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import h5py
 import numpy as np
@@ -21,6 +21,11 @@ import numpy as np
 from ..core.quantities import STANDARD_GRAVITY
 from ..errors import InputError
 from ..motions.intensity import MEASURES, convert, measure_value
+from ..results.reading import read_intensity
+from ..results.sections import IntensitySection
+
+Spectral = tuple[float | None, Any, float]
+"""(period [s], period range [s], damping [-]) of a spectral measure."""
 
 
 @dataclass(frozen=True)
@@ -58,14 +63,14 @@ class Conversion:
         InputError
             The measure is unknown, lacks its period, or the study is not an IDA.
         """
-        intensity = json.loads(file.attrs.get("intensity", "null"))
+        intensity = read_intensity(file)
         if measure not in MEASURES:
             raise InputError(path, [("measure", f"unknown {measure!r}: choose one of "
                                      f"{', '.join(MEASURES)}")])  # fmt: skip
         if measure == "sa_g" and period is None or measure == "avgsa_g" and period_range is None:
             raise InputError(path, [("measure", f"{measure} needs its period (--period, "
                                      "--period-range)")])  # fmt: skip
-        if intensity is None or not intensity.get("ida"):
+        if intensity is None or intensity.ida is None:
             why = "only an IDA's capacities convert (stripes are fitted in the study's measure)"
             raise InputError(path, [("measure", why)])
         base = "pga_g" if measure == "pga_tan_alpha" else measure
@@ -75,16 +80,15 @@ class Conversion:
             node = records[name]
             if "acceleration" not in node:  # a record that could not be read: no analyses
                 continue
-            natives[name] = _value(node, intensity["measure"], intensity)
-            spectral = {"period": period, "period_range": period_range,
-                        "damping": intensity.get("damping", 0.05)}  # fmt: skip
-            targets[name] = _value(node, base, spectral)
+            natives[name] = _value(node, intensity.measure, intensity.spectral, intensity)
+            spectral = (period, period_range, intensity.damping)
+            targets[name] = _value(node, base, spectral, intensity)
         per_bridge = {}
         if measure == "pga_tan_alpha":  # PGA over the tall pier's rocking threshold g·tan α1
             for name, node in file["bridges"].items():
                 threshold = float(node.attrs["model_g"]) * math.tan(float(node.attrs["alpha1"]))
                 per_bridge[name] = STANDARD_GRAVITY / threshold
-        return cls(measure, intensity["measure"], natives, targets, per_bridge)
+        return cls(measure, intensity.measure, natives, targets, per_bridge)
 
     def value(self, bridge: str, record: str, level: float) -> float:
         """The level of the other measure of ``record`` scaled to ``level`` of the study's."""
@@ -95,25 +99,22 @@ class Conversion:
         return converted * self.per_bridge.get(bridge, 1.0)
 
 
-def _value(node: h5py.Group, name: str, spectral: dict) -> float:
-    """A stored record's value of a measure: the attribute the run wrote where it is the same
-    measure (Sa at the same period), else computed from the stored samples."""
+def _value(node: h5py.Group, name: str, spectral: Spectral, intensity: IntensitySection) -> float:
+    """A stored record's value of a measure at ``spectral`` (period, period range, damping):
+    the attribute the run wrote (at the study's ``intensity``) where it is the same measure (Sa
+    at the same period), else computed from the stored samples."""
     stored = name in node.attrs and (
-        name not in ("sa_g", "avgsa_g") or _same_periods(node, name, spectral)
+        name not in ("sa_g", "avgsa_g") or _same_periods(name, spectral, intensity)
     )
     if stored:
         return float(node.attrs[name])
-    return measure_value(
-        name, node["acceleration"][()], float(node.attrs["time_step"]), spectral.get("period"),
-        spectral.get("period_range"), spectral.get("damping", 0.05),
-    )  # fmt: skip
+    return measure_value(name, node["acceleration"][()], float(node.attrs["time_step"]), *spectral)
 
 
-def _same_periods(node: h5py.Group, name: str, spectral: dict) -> bool:
-    """Whether the Sa or AvgSa stored with a record is at the periods asked."""
-    intensity = json.loads(node.file.attrs.get("intensity", "null")) or {}
-    key = "period" if name == "sa_g" else "period_range"
-    asked = spectral.get(key)
-    stored = intensity.get(key)
+def _same_periods(name: str, spectral: Spectral, intensity: IntensitySection) -> bool:
+    """Whether the Sa or AvgSa stored with a record (at the study's ``intensity``) is at the
+    periods asked."""
+    which = 0 if name == "sa_g" else 1
+    asked, stored = spectral[which], intensity.spectral[which]
     same = stored is not None and asked is not None and np.array_equal(stored, asked)
-    return same and intensity.get("damping", 0.05) == spectral.get("damping", 0.05)
+    return same and intensity.damping == spectral[2]

@@ -32,7 +32,6 @@ not resolve is taken as a certain capacity at its median: λ_LS = λ_IM(θ).
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -42,7 +41,8 @@ from scipy.special import log_ndtr
 
 from ..errors import InputError
 from ..motions.intensity import MEASURES
-from ..results.reading import open_results
+from ..results.reading import open_results, read_intensity
+from ..results.sections import IntensitySection
 from .fragility import Fragility, fragilities, unreachable_note
 from .hazard import HazardCurve
 from .ida import Lattice
@@ -163,13 +163,15 @@ def risks(results: str | Path, curve: HazardCurve, years: float = YEARS) -> list
         The study has no intensity section, or the curve is of another intensity measure than
         the fragilities.
     """
+    found = fragilities(results)  # refuses a study without an intensity section
     with open_results(results) as file:
-        intensity = json.loads(file.attrs.get("intensity", "null"))
-    return risks_of(fragilities(results), intensity, curve, years)
+        intensity = read_intensity(file)
+    assert intensity is not None
+    return risks_of(found, intensity, curve, years)
 
 
 def risks_of(
-    found: list[Fragility], intensity: dict, curve: HazardCurve, years: float = YEARS
+    found: list[Fragility], intensity: IntensitySection, curve: HazardCurve, years: float = YEARS
 ) -> list[Risk]:
     """`risks` of fragilities already fitted, with the study's intensity section."""
     if not years > 0.0:
@@ -178,14 +180,14 @@ def risks_of(
     result = []
     for item in found:
         if item.measure not in matched:
-            period = intensity.get("period") if item.measure == intensity["measure"] else None
+            period = intensity.period if item.measure == intensity.measure else None
             unit = MEASURES[item.measure].unit
             matched[item.measure] = curve.matched(item.measure, unit, period)
         result.append(_risk(item, intensity, matched[item.measure], years))
     return result
 
 
-def _risk(item: Fragility, intensity: dict, curve: HazardCurve, years: float) -> Risk:
+def _risk(item: Fragility, intensity: IntensitySection, curve: HazardCurve, years: float) -> Risk:
     def made(rate: float | None, bound: str = "", interval=None, beyond=None) -> Risk:
         return Risk(item.bridge, item.limit_state, item.measure, rate, bound, interval, beyond,
                     years, unreachable_note(item))  # fmt: skip
@@ -203,12 +205,14 @@ def _risk(item: Fragility, intensity: dict, curve: HazardCurve, years: float) ->
     return made(float(rate), "", interval, float(beyond))
 
 
-def _bound(item: Fragility, intensity: dict, curve: HazardCurve) -> tuple[float | None, str]:
+def _bound(
+    item: Fragility, intensity: IntensitySection, curve: HazardCurve
+) -> tuple[float | None, str]:
     """The bound on λ_LS of a limit state without a fit: ``<`` λ_IM(level) where no record
     reaches it, at the highest level run or, where a failure ended a record's curve first, the
     lowest level such a curve ended at; none where that is every record's; ``>`` λ_IM(lowest
     level) where every record reaches it at the lowest."""
-    if item.measure != intensity["measure"] or not item.capacities:
+    if item.measure != intensity.measure or not item.capacities:
         return None, ""
     lowest, highest = levels_range(intensity)
     capacities = list(item.capacities.values())
@@ -222,13 +226,14 @@ def _bound(item: Fragility, intensity: dict, curve: HazardCurve) -> tuple[float 
     return None, ""
 
 
-def levels_range(intensity: dict) -> tuple[float, float]:
+def levels_range(intensity: IntensitySection) -> tuple[float, float]:
     """The lowest and the highest intensity level a study's intensity section can run: the
     stripes' levels, or an IDA's first and last scan level [the measure's unit]."""
-    if intensity.get("ida"):
-        lattice = Lattice.of(intensity["ida"])
+    if intensity.ida is not None:
+        lattice = Lattice.of(intensity.ida)
         return lattice.start, lattice.level(lattice.count - 1)
-    return min(intensity["levels"]), max(intensity["levels"])
+    assert intensity.levels is not None  # a section has one of levels and ida
+    return min(intensity.levels), max(intensity.levels)
 
 
 def risk_table(found: list[Risk], years: float) -> tuple[list[str], list[list[str]]]:

@@ -20,7 +20,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..results.reading import bridge_samples, open_results, peak_columns
+from ..results.reading import bridge_samples, open_results, peak_columns, read_intensity
+from ..results.sections import IntensitySection
 from .fragility import Fragility, fragilities_of
 
 
@@ -64,7 +65,7 @@ def folded_fragilities(path: str | Path, seed: int = 0) -> list[FoldedFragility]
         The study sampled no bridges, or has no intensity section.
     """
     with open_results(path) as file:
-        intensity = json.loads(file.attrs.get("intensity", "null"))
+        intensity = read_intensity(file)
         config = json.loads(file.attrs["config"])
         samples = bridge_samples(file)
         columns = peak_columns(file)
@@ -81,7 +82,7 @@ def folded_fragilities(path: str | Path, seed: int = 0) -> list[FoldedFragility]
 
 def fold(
     columns: dict[str, np.ndarray],
-    intensity: dict,
+    intensity: IntensitySection,
     samples: list[str],
     paired_all: bool,
     seed: int = 0,

@@ -29,7 +29,14 @@ from scipy import stats
 from ..core.quantities import LIMIT_STATES, check_limit_state
 from ..errors import InputError
 from ..results.layout import PEAK_COLUMNS, TEXT_COLUMNS
-from ..results.reading import bridge_samples, open_results, peak_columns, swept_values
+from ..results.reading import (
+    bridge_samples,
+    open_results,
+    peak_columns,
+    read_intensity,
+    swept_values,
+)
+from ..results.sections import IntensitySection
 from .limit_states import reached
 
 CAPACITY = "capacity:"
@@ -342,7 +349,7 @@ def _outputs(
         raise InputError(path, [("--quantity", str(exc))]) from None
     with open_results(path) as file:
         design = json.loads(file.attrs["config"]).get("uncertainty")
-        intensity = json.loads(file.attrs.get("intensity", "null"))
+        intensity = read_intensity(file)
         if design is None or design.get("design") != kind:
             purpose = "Sobol' indices" if kind == "saltelli" else "one-at-a-time swings"
             why = (
@@ -352,12 +359,12 @@ def _outputs(
         samples = bridge_samples(file)
         columns = peak_columns(file)
     if quantity.startswith(CAPACITY):
-        if not (intensity or {}).get("ida"):
+        if intensity is None or intensity.ida is None:
             why = f"{quantity}: capacities come from an IDA, and this study has none"
             raise InputError(path, [("--quantity", why)])
         rows, outputs = _capacities(columns, intensity, quantity.removeprefix(CAPACITY))
         return design, samples, rows, _every(outputs, samples), "median capacity"
-    if (intensity or {}).get("ida"):
+    if intensity is not None and intensity.ida is not None:
         why = (f"{quantity}: an IDA's analyses stand at the levels each curve chose; ask for a "
                "capacity (capacity:abutment_failure, …)")  # fmt: skip
         raise InputError(path, [("--quantity", why)])
@@ -409,7 +416,7 @@ def _values(columns: dict[str, np.ndarray], quantity: str) -> np.ndarray:
 
 
 def _capacities(
-    columns: dict[str, np.ndarray], intensity: dict, state: str
+    columns: dict[str, np.ndarray], intensity: IntensitySection, state: str
 ) -> tuple[dict[str, np.ndarray], dict[str, float]]:
     """Per bridge, its records' capacities for ``state`` (NaN where a record's is censored) and
     its fragility's median θ (NaN without a fit)."""

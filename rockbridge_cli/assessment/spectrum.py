@@ -21,9 +21,9 @@ import numpy as np
 
 from ..core.quantities import ABUTMENT, PIER1_OVERTURNING, PIER2_OVERTURNING
 from ..errors import InputError
-from ..motions.intensity import scaled_id
-from ..results.reading import open_results, peak_columns
-from .ida import Lattice, Outcome, walk
+from ..results.reading import open_results, peak_columns, read_intensity, read_spectrum_section
+from ..results.sections import IntensitySection, SpectrumSection
+from .ida import Rule
 from .limit_states import Verdict
 
 REGIONS = (
@@ -78,18 +78,26 @@ def read_spectrum(path: str | Path) -> OverturningSpectrum:
         The file's study is not a spectrum study.
     """
     with open_results(path) as file:
-        config = json.loads(file.attrs["config"])
-        if "spectrum" not in config:
-            raise InputError(path, [("", "the study has no spectrum section: no spectrum")])
-        return spectrum_of(peak_columns(file), config)
+        return _spectrum_of_file(file, path)
 
 
-def spectrum_of(columns: dict[str, np.ndarray], config: dict) -> OverturningSpectrum:
-    """`read_spectrum` of a peak table's columns and the study's resolved config."""
-    spectrum, ida = config["spectrum"], config["intensity"]["ida"]
-    lattice = Lattice.of(ida)
-    states = tuple(ida["limit_states"])
-    records, amplitudes = spectrum["records"], spectrum["amplitude_ratios"]
+def _spectrum_of_file(file: h5py.File, path: str | Path) -> OverturningSpectrum:
+    spectrum, intensity = read_spectrum_section(file), read_intensity(file)
+    if spectrum is None or intensity is None or intensity.ida is None:
+        raise InputError(path, [("", "the study has no spectrum section: no spectrum")])
+    bridge = next(iter(file["bridges"]))  # a spectrum is of one bridge
+    return spectrum_of(peak_columns(file), bridge, spectrum, intensity)
+
+
+def spectrum_of(
+    columns: dict[str, np.ndarray], bridge: str, spectrum: SpectrumSection,
+    intensity: IntensitySection,
+) -> OverturningSpectrum:  # fmt: skip
+    """`read_spectrum` of a peak table's columns, given the study's one bridge (its id), its
+    spectrum section and the intensity section it runs as (an IDA of ``scale``)."""
+    rule = Rule.of(intensity)
+    lattice, states = rule.lattice, rule.states
+    records, amplitudes = spectrum.records, spectrum.amplitude_ratios
     rows = {record: i for i, record in enumerate(columns["record"])}
     verdicts = {
         record: Verdict(columns["status"][i], columns["failure_mode"][i],
@@ -100,24 +108,18 @@ def spectrum_of(columns: dict[str, np.ndarray], config: dict) -> OverturningSpec
     boundaries = {state: np.full(len(records), np.nan) for state in states}
     below = {state: np.full(len(records), np.nan) for state in states}
     for i, base in enumerate(records):
-
-        def outcome(n: int, base=base) -> Outcome | None:
-            verdict = verdicts.get(scaled_id(base, lattice.level(n), "scale"))
-            return None if verdict is None else verdict.outcome(states)
-
         for j in range(len(amplitudes)):
-            row = rows.get(scaled_id(base, lattice.level(j * lattice.stride), "scale"))
+            row = rows.get(rule.record(base, j * lattice.stride))
             regions[i, j] = NOT_RUN if row is None else _region(columns, row)
-        found = walk(lattice, ida["tolerance"], states, outcome).capacities
+        found = rule.replay(base, verdicts.get).capacities
         for state, (low, high) in found.items():
             if high is not None:
                 boundaries[state][i] = lattice.level(high)
                 below[state][i] = lattice.level(low) if low >= 0 else math.nan
     return OverturningSpectrum(
-        config["bridges"][0]["id"], spectrum["pulse"], spectrum["frequency_parameter"],
-        spectrum["reference"], spectrum["reference_acceleration"],
-        np.array(spectrum["frequency_ratios"]), np.array(amplitudes), list(records), regions,
-        boundaries, below,
+        bridge, spectrum.pulse, spectrum.frequency_parameter, spectrum.reference,
+        spectrum.reference_acceleration, np.array(spectrum.frequency_ratios),
+        np.array(amplitudes), list(records), regions, boundaries, below,
     )  # fmt: skip
 
 
@@ -141,7 +143,7 @@ def _region(columns: dict[str, np.ndarray], row: int) -> int:
 def store(file: h5py.File) -> None:
     """Write the spectrum of an open results file of a spectrum study into it, as ``/spectrum``:
     the axes, the map of regions (a CF flag variable) and each limit state's boundary."""
-    spectrum = spectrum_of(peak_columns(file), json.loads(file.attrs["config"]))
+    spectrum = _spectrum_of_file(file, file.filename)
     group = file.create_group("spectrum")
     group.attrs.update({
         "description": "overturning spectrum (rockbridge_cli.assessment.spectrum), as the run "

@@ -64,13 +64,14 @@ def analyze(
     Exits 1 if the integrator stopped before the end of the record (its peaks are then NaN).
     """
     config, motion = _inputs(bridge, record, units, time_step, vertical, fidelity, tail)
-    setup = _set_up(config, motion, fidelity)
+    built = config.to_bridge()  # once: the set-up, the analysis and the hint share it
+    setup = _set_up(built, motion, fidelity)
     if output is None:
         from ..core.analysis import analyze as run_analysis  # the compiled core: loaded on use
 
         with held():  # Ctrl-C stops the command once the compiled integrator has returned
             response = run_analysis(
-                config.to_bridge(), motion.acceleration, motion.time_step, fidelity, tail=tail,
+                built, motion.acceleration, motion.time_step, fidelity, tail=tail,
                 vertical=motion.vertical,
             )  # fmt: skip
         summary = response.peak_row()
@@ -97,7 +98,8 @@ def analyze(
     else:
         label = f"{motion.name} ({motion.duration:g} s, PGA {motion.peak_acceleration / G:.3g} g)"
         echo_table(_rows(config.label(bridge.stem), label, summary))
-    if summary["status"] == "ok" and (hint := _tail_hint(config, summary, times, theta1, mode,
+    alpha = built.model.alpha1
+    if summary["status"] == "ok" and (hint := _tail_hint(alpha, summary, times, theta1, mode,
                                                          tail)):  # fmt: skip
         click.echo(f"note: {hint}", err=True)
     if summary["status"] != "ok":
@@ -140,7 +142,7 @@ def _inputs(bridge: Path, record: Path, units, time_step, vertical, fidelity: st
     return config, motion
 
 
-def _set_up(config, motion, fidelity: str) -> float:
+def _set_up(bridge, motion, fidelity: str) -> float:
     """What an analysis costs once per process, before its solve: loading the compiled kernels
     and building the bridge's tables, timed by analyzing two samples of rest [s]."""
     import time
@@ -151,18 +153,17 @@ def _set_up(config, motion, fidelity: str) -> float:
 
     started = time.perf_counter()
     with held():
-        run_analysis(config.to_bridge(), np.zeros(2), motion.time_step, fidelity)
+        run_analysis(bridge, np.zeros(2), motion.time_step, fidelity)
     return time.perf_counter() - started
 
 
-def _tail_hint(config, summary: dict, times, theta1, mode, tail: float) -> str:
-    """A hint of ``--tail`` where the bridge still rocks, strongly, as the record (and its
-    tail) ends; "" otherwise."""
+def _tail_hint(alpha: float, summary: dict, times, theta1, mode, tail: float) -> str:
+    """A hint of ``--tail`` where the bridge, of slenderness ``alpha`` (α1 [rad]), still rocks,
+    strongly, as the record (and its tail) ends; "" otherwise."""
     import numpy as np
 
     from ..core.quantities import NO_FAILURE
 
-    alpha = config.to_bridge().model.alpha1
     if summary["failure_mode"] != NO_FAILURE or not len(mode) or mode[-1] == 0:
         return ""
     last = float(np.nanmax(np.abs(theta1[times >= times[-1] - 1.0])))

@@ -1,4 +1,4 @@
-"""Commands for ground motions: ``generate-records`` and ``plot spectra``."""
+"""Commands for ground motions: ``generate-records`` and the figures ``plot spectra|record``."""
 
 from __future__ import annotations
 

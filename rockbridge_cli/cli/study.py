@@ -1,5 +1,5 @@
-"""Commands for studies: ``run``, ``peaks`` and the figures ``plot peaks|history|onset|q|
-restitution|spans``."""
+"""Commands for studies: ``run``, ``peaks``, ``merge`` and the figures of a results file ``plot
+peaks|sweep|history``."""
 
 from __future__ import annotations
 
@@ -244,7 +244,7 @@ def _heading(study, workers: int, scheduler: str | None, chosen: bool, part) -> 
         heading = f"workers: {workers} (the CPUs this process may use; --workers to change)"
     if part is not None:
         heading += f"; shard {shard_label(part)}"
-    if (study.intensity or {}).get("ida"):
+    if (intensity := study.intensity_section) is not None and intensity.ida is not None:
         heading += "\nIDA: each round runs the levels the verdicts so far call for; the total grows"
     return heading
 
@@ -305,18 +305,18 @@ def _bridge_table(results: Path) -> str:
 
     from ..assessment.levels import summary_groups
     from ..core.quantities import NO_FAILURE
-    from ..results.reading import open_results, peak_columns
+    from ..results.reading import open_results, peak_columns, read_intensity
 
     with open_results(results) as file:
         columns = peak_columns(file)
-        intensity = json.loads(file.attrs.get("intensity", "null"))
+        intensity = read_intensity(file)
         recheck = bool(json.loads(file.attrs.get("knobs", "{}")).get("recheck", False))
     rechecked = _rechecks(columns, recheck)
     try:
         groups = summary_groups(columns, intensity)
     except ValueError as exc:
         return f"peaks: {str(exc).replace('RESULTS', str(results))}{rechecked}"
-    level = [] if intensity is None else [f"level [{MEASURES[intensity['measure']].unit}]"]
+    level = [] if intensity is None else [f"level [{MEASURES[intensity.measure].unit}]"]
     headers = ["bridge", *level, "ok", *(header for _, header, _ in _DISPLAY), "backfill d/c",
                "failures"]  # fmt: skip
     rows = []

@@ -35,6 +35,7 @@ from pydantic import (
 from ..core.fidelity import PRESETS, Fidelity, check_work, resolve
 from ..core.quantities import HISTORY_UNITS
 from ..errors import InputError
+from ..results.sections import IntensitySection
 from . import loading
 from .bridge import BridgeConfig, load_bridge
 from .intensity import Intensity
@@ -284,6 +285,12 @@ class Study:
             **({"uncertainty": self.uncertainty} if self.uncertainty is not None else {}),
             **({"pairs": [list(p) for p in self.pairs]} if self.pairs is not None else {}),
         }
+
+    @property
+    def intensity_section(self) -> IntensitySection | None:
+        """The intensity section, typed as a results file's readers take it (validated with the
+        study: `config.intensity.Intensity`)."""
+        return None if self.intensity is None else IntensitySection.of(self.intensity)
 
     def with_knobs(self, **changed: Any) -> Study:
         """The study with more fidelity knobs changed (a command line's ``--tail``), checked as

@@ -4,7 +4,6 @@ bridge (crosses), and each record's capacity for each limit state (markers, one 
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
@@ -14,7 +13,7 @@ from ..assessment.fragility import fragilities_of
 from ..core.quantities import NO_FAILURE, display_unit
 from ..errors import InputError
 from ..motions.intensity import MEASURES
-from ..results.reading import open_results, peak_columns, peak_units
+from ..results.reading import open_results, peak_columns, peak_units, read_intensity
 from .common import check_format, panel_label, save, style
 
 """Units drawn in thousandths."""
@@ -44,7 +43,7 @@ def plot_ida(results: str | Path, output: str | Path, quantity: str = "u_deck_ma
     """
     output = check_format(output)
     with open_results(results) as file:
-        intensity = json.loads(file.attrs.get("intensity", "null"))
+        intensity = read_intensity(file)
         columns, units = peak_columns(file), peak_units(file)
     if intensity is None:
         raise InputError(results, [("", "the study has no intensity section: no IDA curves")])
@@ -87,7 +86,7 @@ def plot_ida(results: str | Path, output: str | Path, quantity: str = "u_deck_ma
         axes.set_xlabel(f"{quantity} [{unit}]")
         axes.grid(True, color="0.9", linewidth=0.5)
         panel_label(axes, letter)
-    panels[0].set_ylabel(MEASURES[intensity["measure"]].label)
+    panels[0].set_ylabel(MEASURES[intensity.measure].label)
     labelled = {
         label: handle
         for axes in panels

@@ -9,7 +9,6 @@ bridge's mean over them.
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 
@@ -20,7 +19,7 @@ from ..assessment.levels import rows_at_level
 from ..core.quantities import SHOWN
 from ..errors import InputError
 from ..motions.intensity import MEASURES
-from ..results.reading import bridge_attributes, open_results, peak_columns
+from ..results.reading import bridge_attributes, open_results, peak_columns, read_intensity
 from .common import (
     FAILURE_LINE,
     GAP_LINE,
@@ -79,10 +78,10 @@ def plot_peaks(results: str | Path, output: str | Path, level: float | None = No
     output = check_format(output)
     with open_results(results) as file:
         peaks, bridges = peak_columns(file), bridge_attributes(file)
-        intensity = json.loads(file.attrs.get("intensity", "null"))
+        intensity = read_intensity(file)
     if intensity is not None:
         try:
-            rows, _ = rows_at_level(peaks, intensity, level, MEASURES[intensity["measure"]].unit)
+            rows, _ = rows_at_level(peaks, intensity, level, MEASURES[intensity.measure].unit)
         except ValueError as exc:
             raise InputError(results, [("level", f"Fig. 9: {exc}")]) from None
         peaks = {name: values[rows] for name, values in peaks.items()}

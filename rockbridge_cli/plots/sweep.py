@@ -16,7 +16,14 @@ from ..assessment.levels import rows_at_level
 from ..core.quantities import check_limit_state, display_unit
 from ..errors import InputError
 from ..motions.intensity import MEASURES
-from ..results.reading import open_results, peak_columns, peak_units, swept_values
+from ..results.reading import (
+    open_results,
+    peak_columns,
+    peak_units,
+    read_intensity,
+    swept_values,
+)
+from ..results.sections import IntensitySection
 from .common import check_format, save, style
 
 
@@ -58,21 +65,22 @@ def plot_sweep(
         swept = swept_values(file)
         varies = {name: json.loads(node.attrs.get("varied", "[]"))
                   for name, node in file["bridges"].items()}  # fmt: skip
-        intensity = json.loads(file.attrs.get("intensity", "null"))
+        intensity = read_intensity(file)
     fields = list(dict.fromkeys(path for values in swept.values() for path in values))
     if field not in fields:
         reason = f"{field!r} is not swept here; swept: {', '.join(fields) or 'nothing'}"
         raise InputError(results, [("field", reason)])
     capacity = intensity is not None and _is_limit_state(quantity)
     if not capacity and (quantity not in columns or columns[quantity].dtype.kind != "f"):
-        reason = f"not a peak column{' or a limit state' if intensity else ''}: {quantity!r}"
+        also = " or a limit state" if intensity is not None else ""
+        reason = f"not a peak column{also}: {quantity!r}"
         raise InputError(results, [("quantity", reason)])
     rows, level = _rows(results, columns, intensity, quantity, capacity, level)
     columns = {name: values[rows] for name, values in columns.items()}
     bridges = [b for b in dict.fromkeys(columns["bridge"]) if field in varies.get(b, ())]
     mine = {b: swept[b] for b in bridges}
     lines = _lines(columns, mine, field, quantity, intensity if capacity else None)
-    factor, unit = (1.0, MEASURES[intensity["measure"]].unit if intensity else "-")
+    factor, unit = (1.0, unit_of(intensity) if intensity is not None else "-")
     if not capacity:
         unit, factor = display_unit(units[quantity])
     figure = Figure(figsize=(6.5, 4.5), layout="constrained")
@@ -86,8 +94,8 @@ def plot_sweep(
                           linewidth=0)  # fmt: skip
     what = f"capacity: {quantity.replace('_', ' ')}" if capacity else quantity
     band = "median, 90 % interval" if capacity else "median over the records, 16–84 %"
-    if level is not None:
-        band += f", at {intensity['measure']} = {level:g} {unit_of(intensity)}"
+    if level is not None and intensity is not None:
+        band += f", at {intensity.measure} = {level:g} {unit_of(intensity)}"
     axes.set_title(band, fontsize="medium")
     axes.set_xlabel(f"{field} [{units.get(field, '-')}]")
     axes.set_ylabel(f"{what} [{unit}]")
@@ -97,7 +105,8 @@ def plot_sweep(
 
 
 def _rows(
-    results: str | Path, columns: dict, intensity: dict | None, quantity: str, capacity: bool,
+    results: str | Path, columns: dict, intensity: IntensitySection | None, quantity: str,
+    capacity: bool,
     level: float | None,
 ) -> tuple[np.ndarray, float | None]:  # fmt: skip
     """The rows drawn (analyses that ran; a peak's at one intensity level) and that level."""
@@ -110,8 +119,8 @@ def _rows(
     try:
         rows, level = rows_at_level(columns, intensity, level, unit_of(intensity))
     except ValueError as exc:
-        where = "quantity" if intensity.get("ida") else "level"
-        also = "; or a limit state's capacity" if intensity.get("ida") else ""
+        where = "quantity" if intensity.ida is not None else "level"
+        also = "; or a limit state's capacity" if intensity.ida is not None else ""
         reason = f"{quantity!r} per swept value: {exc}{also}"
         raise InputError(results, [(where, reason)]) from None
     return ok & rows, level
@@ -119,7 +128,7 @@ def _rows(
 
 def _lines(
     columns: dict, swept: dict[str, dict[str, float]], field: str, quantity: str,
-    capacity: dict | None,
+    capacity: IntensitySection | None,
 ) -> dict[tuple, list[tuple[float, float, float, float]]]:  # fmt: skip
     """Per line (bridge file, values of the other swept fields), the points (field value, median,
     low, high) of the bridges in ``swept`` (their swept values, by bridge id): of a peak, or of
@@ -145,9 +154,9 @@ def _lines(
     return lines
 
 
-def unit_of(intensity: dict) -> str:
+def unit_of(intensity: IntensitySection) -> str:
     """The unit of a study's intensity measure."""
-    return MEASURES[intensity["measure"]].unit
+    return MEASURES[intensity.measure].unit
 
 
 def _is_limit_state(name: str) -> bool:

@@ -2,7 +2,8 @@
 with what (provenance), the demand/capacity summary, the paper's Figs. 9 and 10, the peak table
 with units, the failures with their messages, the record set's EN 1998-1 compliance and, for a
 study with an intensity section, the IDA and fragility curves and, given a site's hazard curve,
-the annual frequency of each limit state there.
+the annual frequency of each limit state there. Its inputs' sections are `inputs`', its tables'
+markup `markup`'s.
 
 Figures are PNG images embedded as data URIs and the style sheet is inline, so the one file can be
 mailed, archived or opened offline; the layout reflows to a phone's width and prints on A4.
@@ -31,8 +32,10 @@ from ..results.reading import (
     open_results,
     peak_columns,
     peak_units,
+    read_intensity,
     swept_values,
 )
+from ..results.sections import IntensitySection
 from .inputs import record_sets, records_table
 from .markup import MAX_ROWS, cell, escaped, number, table_html
 from .sampled import sampled_section
@@ -108,7 +111,7 @@ def write_report(
         inputs = records_table(file["records"])
         kept = bool(json.loads(attributes.get("histories", "[]")))
         swept = list(dict.fromkeys(f for values in swept_values(file).values() for f in values))
-    intensity = json.loads(attributes.get("intensity", "null"))
+        intensity = read_intensity(file)
     design = json.loads(attributes.get("config", "{}")).get("uncertainty")
     swept = [] if design else swept  # sampled values: drawn by their own section
     records = list(dict.fromkeys(columns["record"]))
@@ -147,7 +150,11 @@ def write_report(
 
 
 def _written_by(
-    results: Path, attributes: dict, columns: dict, bridges: int, intensity: dict | None
+    results: Path,
+    attributes: dict,
+    columns: dict,
+    bridges: int,
+    intensity: IntensitySection | None,
 ) -> str:
     """The line under the title: what the file holds, and which rockbridge wrote it when."""
     return (
@@ -192,34 +199,35 @@ def _default_record(records: list[str]) -> str | None:
     return next(iter(paper + records), None)
 
 
-def _levels(intensity: dict | None, columns: dict[str, np.ndarray]) -> str:
+def _levels(intensity: IntensitySection | None, columns: dict[str, np.ndarray]) -> str:
     """How the analyses scale the records: " at N levels of pga_g", " in an IDA of pga_g"."""
-    if not intensity:
+    if intensity is None:
         return ""
-    if _is_ida(intensity):
-        return f" in an IDA of {intensity['measure']}"
-    return f" at {len(set(columns['intensity'].tolist()))} levels of {intensity['measure']}"
+    if intensity.ida is not None:
+        return f" in an IDA of {intensity.measure}"
+    return f" at {len(set(columns['intensity'].tolist()))} levels of {intensity.measure}"
 
 
 def _figures(
-    results: Path, figure: Callable[..., str], intensity: dict | None, swept: list[str],
-    chosen: str | None, under: list[str], sampled: bool = False,
+    results: Path, figure: Callable[..., str], intensity: IntensitySection | None,
+    swept: list[str], chosen: str | None, under: list[str], sampled: bool = False,
 ) -> list[str]:  # fmt: skip
     """Fig. 9 (a study without a sweep and without an IDA; with stripes, at their design level if
     it is one of them), or the swept fields' figures; then Fig. 10 under ``chosen``, of the
     bridges ``under`` it (all of them, unless the run stopped early)."""
     parts = []
-    level = (intensity or {}).get("design")
+    level = None if intensity is None else intensity.design
     if swept:
         parts += [_sweep_section(results, figure, intensity, field) for field in swept[:MAX_SWEPT]]
     elif sampled:  # a marker per sampled bridge would be noise: their section says what matters
         pass
-    elif not intensity or not _is_ida(intensity) and level in intensity["levels"]:
+    elif intensity is None or intensity.ida is None and level in (intensity.levels or ()):
         from ..plots.peaks import plot_peaks
 
-        at = f" at {intensity['measure']} = {level:g}" if intensity else ""
+        at = f" at {intensity.measure} = {level:g}" if intensity is not None else ""
         parts.append(_section(f"Peaks per record{at} (Fig. 9)",
-                              figure(plot_peaks, results, level=level if intensity else None),
+                              figure(plot_peaks, results,
+                                     level=level if intensity is not None else None),
                               "One marker per bridge and record; right: the means over the "
                               "records. (A) with the end-joint gap (dotted) and the "
                               "abutment–backfill failure (dashed)."))  # fmt: skip
@@ -234,7 +242,7 @@ def _figures(
 
 
 def _sweep_section(
-    results: Path, figure: Callable[..., str], intensity: dict | None, field: str
+    results: Path, figure: Callable[..., str], intensity: IntensitySection | None, field: str
 ) -> str:
     """One swept field's figure: the median capacity of the abutment's failure (or of the study's
     first limit state) in an intensity study, else the median peak deck displacement."""
@@ -243,7 +251,7 @@ def _sweep_section(
     if intensity is None:
         quantity, what = "u_deck_max", "the median over the records of the peak deck displacement"
     else:
-        states = (intensity.get("ida") or {}).get("limit_states") or ["abutment_failure"]
+        states = ("abutment_failure",) if intensity.ida is None else intensity.ida.limit_states
         quantity = "abutment_failure" if "abutment_failure" in states else states[0]
         what = f"the median capacity of {quantity.replace('_', ' ')} (90 % interval)"
     return _section(f"Against {field}", figure(plot_sweep, results, field=field,
@@ -263,8 +271,8 @@ def _description(attributes: dict[str, Any]) -> str:
     return str(study.get("description") or "") if isinstance(study, dict) else ""
 
 
-def _is_ida(intensity: dict | None) -> bool:
-    return bool(intensity and intensity.get("ida"))
+def _is_ida(intensity: IntensitySection | None) -> bool:
+    return intensity is not None and intensity.ida is not None
 
 
 def _figure_maker(folder: Path) -> Callable[..., str]:
@@ -307,7 +315,7 @@ def _provenance(attributes: dict[str, Any]) -> str:
 
 
 def _summary(
-    columns: dict[str, np.ndarray], bridges: dict[str, dict], intensity: dict | None
+    columns: dict[str, np.ndarray], bridges: dict[str, dict], intensity: IntensitySection | None
 ) -> str:
     """Per bridge (and intensity level, in a multiple-stripe study): analyses that ran, the
     backfill's demand/capacity ratio (largest and mean over the records) and the failures by
@@ -339,7 +347,7 @@ def _summary(
             f"{100 * ratio.mean():.1f} %" if ratio.size else "-",
             ", ".join(f"{n} {m}" for m, n in failed.items()) or "none",
         ])  # fmt: skip
-    level = [] if intensity is None else [f"level [{intensity['measure']}]"]
+    level = [] if intensity is None else [f"level [{intensity.measure}]"]
     headers = ["bridge", *level, "ran ok", "backfill d/c, largest", "backfill d/c, mean",
                "failures"]  # fmt: skip
     more = f'<p class="note">{len(groups) - MAX_ROWS} more rows.</p>' if (
@@ -351,7 +359,8 @@ def _summary(
 
 
 def _intensity_section(
-    results: Path, intensity: dict, figure: Callable[..., str], hazard: HazardCurve | None,
+    results: Path, intensity: IntensitySection, figure: Callable[..., str],
+    hazard: HazardCurve | None,
     years: float,
 ) -> str:  # fmt: skip
     from ..assessment.fragility import fragilities
@@ -359,12 +368,12 @@ def _intensity_section(
     from ..plots.ida import plot_ida
 
     found = fragilities(results)
-    design = intensity.get("design")
+    design = intensity.design
     rows = [[item.bridge, item.limit_state, number(item.median), number(item.beta),
              _interval(item.median_90), _interval(item.beta_90)]
             + ([number(None if item.median is None else item.median / design)] if design else [])
             for item in found]  # fmt: skip
-    measure = intensity["measure"]
+    measure = intensity.measure
     margin = (f"The design level is {design:g} ({measure}); the last column is each median's "
               "margin over it.") if design else ""  # fmt: skip
     parts = [
@@ -434,7 +443,9 @@ def _efficiency_section(results: Path) -> str:
     )
 
 
-def _risk_section(found: list, intensity: dict, hazard: HazardCurve, years: float) -> str:
+def _risk_section(
+    found: list, intensity: IntensitySection, hazard: HazardCurve, years: float
+) -> str:
     """Each limit state's annual frequency at the site of the hazard curve, its return period and
     its probability in ``years``."""
     from ..assessment.risk import risk_table, risks_of

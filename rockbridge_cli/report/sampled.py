@@ -8,11 +8,12 @@ from collections.abc import Callable
 from pathlib import Path
 
 from ..errors import InputError
+from ..results.sections import IntensitySection
 from .markup import escaped, number, table_html
 
 
 def sampled_section(
-    results: Path, design: dict, intensity: dict | None, figure: Callable[..., str]
+    results: Path, design: dict, intensity: IntensitySection | None, figure: Callable[..., str]
 ) -> str:
     """The section: its heading, a figure and a table where the design gives them.
 
@@ -30,9 +31,10 @@ def sampled_section(
     from ..plots.sensitivity import plot_sensitivity, plot_tornado
 
     kind = design.get("design", "lhs")
-    states = ((intensity or {}).get("ida") or {}).get("limit_states") or []
-    state = "abutment_failure" if "abutment_failure" in states else (states or [""])[0]
-    quantity = f"capacity:{state}" if (intensity or {}).get("ida") else "dcr_backfill"
+    ida = None if intensity is None else intensity.ida
+    states = ida.limit_states if ida is not None else ()
+    state = "abutment_failure" if "abutment_failure" in states else (states or ("",))[0]
+    quantity = f"capacity:{state}" if ida is not None else "dcr_backfill"
     parts = [f"<h2>Sampled bridges: {escaped(', '.join(design['fields']))}</h2>"]
     try:
         if kind == "saltelli":

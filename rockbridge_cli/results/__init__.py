@@ -1,5 +1,8 @@
-"""The results file: an HDF5 layout any HDF5 reader understands (`layout`), written in one
-streaming pass (`writing`) from packed analyses (`packing`), and read back (`reading`)."""
+"""The results file: an HDF5 layout any HDF5 reader understands (`layout`), written in one streaming
+pass (`writing`) from the study's description (`description`, a plain value the study layer
+computes) and packed analyses (`packing`), and read back (`reading`; the intensity and spectrum
+sections typed: `sections`). It knows neither the configs nor the ground-motion numerics: it only
+writes and reads."""
 
 from .layout import EVENT_COLUMNS, FORMAT, FORMAT_VERSION, HISTORY_TEXT, PEAK_COLUMNS, STATUSES
 from .packing import AnalysisResult, Packed

@@ -1,4 +1,5 @@
-"""Reading a results file back: the peak table, one analysis's events and histories, the bridges.
+"""Reading a results file back: the peak table, one analysis's events and histories, the bridges,
+the intensity and spectrum sections (typed: `sections`).
 
 Reading needs h5py and numpy only; the readers that return pandas DataFrames import pandas when
 they are called, so that a command printing a table starts quickly.
@@ -20,6 +21,7 @@ from ..errors import InputError, nearest
 from ..paths import journal_path
 from .layout import COUNT_COLUMNS, EVENT_COLUMNS, FORMAT, FORMAT_VERSION, READABLE_VERSIONS
 from .packing import AnalysisResult
+from .sections import IntensitySection, SpectrumSection
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -282,6 +284,44 @@ def read_bridges(path: str | Path) -> pd.DataFrame:
     with open_results(path) as file:
         rows = bridge_attributes(file)
     return pd.DataFrame.from_dict(rows, orient="index")
+
+
+def read_intensity(file: h5py.File) -> IntensitySection | None:
+    """The intensity section of an open results file (`sections.IntensitySection`), None where
+    its study has none.
+
+    Raises
+    ------
+    InputError
+        The file's ``intensity`` attribute is not an intensity section.
+    """
+    stored = json.loads(file.attrs.get("intensity", "null"))
+    if stored is None:
+        return None
+    try:
+        return IntensitySection.of(stored)
+    except (KeyError, TypeError, ValueError) as exc:
+        reason = f"not an intensity section ({exc})"
+        raise InputError(file.filename, [("intensity", reason)]) from None
+
+
+def read_spectrum_section(file: h5py.File) -> SpectrumSection | None:
+    """The spectrum section of an open results file (`sections.SpectrumSection`), None where its
+    study is not an overturning spectrum.
+
+    Raises
+    ------
+    InputError
+        The spectrum in the file's ``config`` attribute is not a spectrum section.
+    """
+    stored = json.loads(file.attrs.get("config", "{}")).get("spectrum")
+    if stored is None:
+        return None
+    try:
+        return SpectrumSection.of(stored)
+    except (KeyError, TypeError, ValueError) as exc:
+        reason = f"not a spectrum section ({exc})"
+        raise InputError(file.filename, [("config.spectrum", reason)]) from None
 
 
 def read_config_hash(path: str | Path) -> str:

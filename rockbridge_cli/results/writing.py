@@ -11,26 +11,15 @@ import json
 import platform
 from collections import Counter
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from pathlib import Path
-from typing import TYPE_CHECKING, Any, cast
+from typing import Any
 
 import h5py
 import numpy as np
 import scipy
 
 from .. import __version__
-from ..core.geometry import Model
-from ..core.quantities import (
-    EVENT_NAMES,
-    HISTORY_UNITS,
-    NO_FAILURE,
-    SIGNIFICANT_RATE,
-    STANDARD_GRAVITY,
-)
-from ..motions.intensity import MEASURES, record_measures
-from ..motions.pulse_identification import pulse_provenance
-from ..records.files import PROVENANCE
-from ..records.vertical import peak_vertical
+from ..core.quantities import EVENT_NAMES, HISTORY_UNITS, NO_FAILURE
+from .description import Attributes, Description, RecordGroup
 from .layout import (
     COMPRESSION,
     COUNT_COLUMNS,
@@ -42,11 +31,6 @@ from .layout import (
     TEXT_COLUMNS,
 )
 from .packing import EVENT_RECORD, NUMBERS, TEXTS, Chunk, Packed
-
-if TYPE_CHECKING:
-    from ..config.study import Study
-    from ..config.study_records import StudyRecord
-    from ..records.files import Record
 
 PEAK_ROWS = 4096
 """The HDF5 chunk length of the peak table."""
@@ -69,16 +53,9 @@ EVENTS_HELD = 4 * EVENT_ROWS
 """Rows of the event table held in memory before they are appended (about 8.7 MB): each append costs
 HDF5 about 8 ms whatever its length, 18 µs an analysis when it came every 65 536 events."""
 
-_MODEL_UNITS = {
-    "B": "m", "H1": "m", "H2": "m", "L1": "m", "L2": "m", "h": "m",
-    "m1": "kg", "m2": "kg", "md": "kg", "I1": "kg m2", "I2": "kg m2", "Id": "kg m2",
-    "g": "m/s2", "has_abutments": "-", "u_jo": "m", "k": "N/m", "c": "N s/m", "u_ab": "m",
-    "e": "-", "m_abut": "kg",
-}  # fmt: skip
-
 
 class ResultsWriter:
-    """Fills a results file whose description is written (`describe_study`, `copy_description`)
+    """Fills a results file whose description is written (`write_description`, `copy_description`)
     with analyses in the study's order.
 
     Parameters
@@ -246,42 +223,26 @@ def _describe_histories(group: h5py.Group, names: Iterable[str], size: int) -> N
         dataset.attrs["description"] = text
 
 
-def describe_study(
-    file: h5py.File,
-    study: Study,
-    created: str,
-    shard: tuple[int, int] | None = None,
-    summaries: Sequence[dict] | None = None,
+ROOT_UNITS = {
+    "output_step": "s", "significant_impact_rate": "rad/s", "n_analyses": "-", "n_complete": "-",
+}  # fmt: skip
+"""Units of the root's scalar attributes (its ``units`` attribute)."""
+
+
+def write_description(
+    file: h5py.File, description: Description, created: str, shard: tuple[int, int] | None = None
 ) -> None:
-    """Write what the results rest on: the study and its provenance (root attributes), its
-    records and its bridges.
+    """Write what the results rest on (`description.Description`, computed by the study layer):
+    the format, the versions of what wrote it and the study (root attributes), its records and
+    its bridges.
 
     Parameters
     ----------
+    created
+        When the run started (ISO 8601).
     shard
         (index, count) when the file holds one shard of the study (0-based index).
-    summaries
-        `core.summary.summarize` of each bridge of the study, in order, where a worker computed
-        them; default: computed here.
     """
-    _write_header(file, study, created)
-    if shard is not None:
-        file.attrs.update({"shard_index": shard[0], "shard_count": shard[1]})
-    _write_records(file.create_group("records"), study)
-    _write_bridges(file.create_group("bridges"), study, summaries)
-
-
-def copy_description(file: h5py.File, source: h5py.File, skip: tuple[str, ...]) -> None:
-    """Copy the description of another results file of the same study (root attributes except
-    ``skip``, records, bridges)."""
-    file.attrs.update({k: v for k, v in source.attrs.items() if k not in skip})
-    for name in ("records", "bridges"):
-        source.copy(source[name], file, name=name)
-
-
-def _write_header(file: h5py.File, study: Study, created: str) -> None:
-    resolved = study.resolved()
-    knobs = resolved["fidelity"]["knobs"]
     file.attrs.update(
         {
             "format": FORMAT,
@@ -294,72 +255,43 @@ def _write_header(file: h5py.File, study: Study, created: str) -> None:
             "hdf5_version": h5py.version.hdf5_version,
             "host": platform.node(),
             "created": created,
-            "study_file": study.path.as_posix(),
-            "study_yaml": study.text,
-            "config": json.dumps(resolved),  # one line: the C encoder, 10x faster
-            "config_hash": study.config_hash,
-            "fidelity": study.fidelity.preset,
-            "knobs": json.dumps(knobs),
-            "output_step": float(study.fidelity.knobs["output_step"]),
-            "significant_impact_rate": SIGNIFICANT_RATE,
-            "histories": json.dumps(list(study.histories)),
-            "warnings": json.dumps(list(study.warnings)),
-            "intensity": json.dumps(study.intensity),
+            **description.root,
         }
     )
-    _describe_attrs(
-        file,
-        {"output_step": "s", "significant_impact_rate": "rad/s", "n_analyses": "-",
-         "n_complete": "-"},
-    )  # fmt: skip
+    _describe_attrs(file, ROOT_UNITS)
+    if shard is not None:
+        file.attrs.update({"shard_index": shard[0], "shard_count": shard[1]})
+    _write_records(file.create_group("records"), description.records)
+    group = file.create_group("bridges")
+    for bridge, attributes in description.bridges.items():
+        _write_attributes(group.create_group(bridge), attributes)
 
 
-def _recorded(record: Record) -> bool:
-    """Whether a record is a recorded motion, whose velocity pulse is identified and stored (a
-    PEER file, or one whose provenance names its earthquake); a synthetic record, a stationary
-    process under an envelope, has none to find, and skipping it keeps 40 ms a record out of a
-    study's serial start."""
-    return record.metadata.get("format") == "PEER NGA AT2" or "earthquake" in record.metadata
+def copy_description(file: h5py.File, source: h5py.File, skip: tuple[str, ...]) -> None:
+    """Copy the description of another results file of the same study (root attributes except
+    ``skip``, records, bridges)."""
+    file.attrs.update({k: v for k, v in source.attrs.items() if k not in skip})
+    for name in ("records", "bridges"):
+        source.copy(source[name], file, name=name)
 
 
-def _write_records(group: h5py.Group, study: Study) -> None:
-    """One group per record, named by its id. The ids of one file name one group (HDF5 hard
-    links: its description is written once), and files of the same content share their samples
-    (a hard link too). A record an intensity section scales holds its factor (``scale``) and its
-    base record's samples as read (``base_acceleration``, one dataset for every level, linked),
-    not a scaled copy. A record analyzed with its vertical component holds it beside them
-    (``vertical_acceleration``, ``base_vertical_acceleration``)."""
+def _write_records(group: h5py.Group, records: Sequence[RecordGroup]) -> None:
+    """One group per record, named by its id. Records of one content are one group (HDF5 hard
+    links: its attributes are written once), and samples of one key one dataset (a hard link
+    too)."""
     described: dict[tuple[str, str], h5py.Group] = {}
     written: dict[str, h5py.Dataset] = {}
-    pulses: dict[tuple[str, str], dict[str, float]] = {}  # by record as read: once per record
-    intensity = study.intensity or {}
-    spectral = (
-        intensity.get("period"),
-        intensity.get("period_range"),
-        intensity.get("damping", 0.05),
-    )
-    for item in study.records:
-        key = (item.source, item.digest)
-        if key in described:  # h5py's low-level call: a third of ``group[id] = node``
-            group.id.links.create_hard(item.id.encode(), described[key].id, b".")
+    for record in records:
+        if record.key in described:  # h5py's low-level call: a third of ``group[id] = node``
+            group.id.links.create_hard(record.id.encode(), described[record.key].id, b".")
             continue
-        base = (item.source, item.base or item.id)
-        if base not in pulses and item.record is not None and _recorded(item.record):
-            record = item.as_read or item.record
-            pulses[base] = pulse_provenance(record.acceleration, record.time_step)
-        node = described[key] = _describe_record(group, item, spectral, pulses.get(base, {}))
-        samples = item.record if item.as_read is None else item.as_read
-        prefix = "" if item.as_read is None else "base_"
-        digest = item.digest if item.as_read is None else f"{item.source} as read"
-        components = {} if samples is None else {"acceleration": samples.acceleration}
-        if samples is not None and samples.vertical is not None:
-            components["vertical_acceleration"] = samples.vertical
-        for name, values in components.items():
-            samples_id = digest if name == "acceleration" else f"{digest} {name}"
-            if samples_id in written:
-                node[prefix + name] = written[samples_id]
+        node = described[record.key] = group.create_group(record.id)
+        _write_attributes(node, record.attributes)
+        for samples in record.samples:
+            if samples.key in written:
+                node[samples.name] = written[samples.key]
             else:
-                written[samples_id] = _write_samples(node, prefix + name, values)
+                written[samples.key] = _write_samples(node, samples.name, samples.values)
 
 
 def _write_samples(node: h5py.Group, name: str, acceleration: np.ndarray) -> h5py.Dataset:
@@ -377,91 +309,10 @@ def _write_samples(node: h5py.Group, name: str, acceleration: np.ndarray) -> h5p
     return dataset
 
 
-def _describe_record(
-    group: h5py.Group,
-    item: StudyRecord,
-    spectral: tuple[float | None, tuple | None, float],
-    pulse: dict[str, float],
-) -> h5py.Group:
-    """The group of one record, with what it is, where it comes from, its velocity ``pulse``
-    (`motions.pulse_identification.pulse_provenance` of the record as read, before an intensity
-    section scales it) and its intensity measures
-    (`motions.intensity.record_measures`; Sa and AvgSa at the study's ``spectral`` period,
-    period range and damping) as attributes."""
-    node = group.create_group(item.id)
-    node.attrs.update({"source": item.source, "sha256": item.digest, "error": item.error})
-    if item.as_read is not None:
-        node.attrs.update({"base_record": item.base, "scale": item.scale})
-    record = item.record
-    if record is not None:
-        node.attrs.update(
-            {
-                "name": record.name,
-                "time_step": record.time_step,
-                "n_samples": record.acceleration.size,
-                "duration": record.duration,
-                "pga": record.peak_acceleration,
-                "file_units": record.metadata.get("file_units", "m/s2"),
-                "standard_gravity": STANDARD_GRAVITY,  # what a file's g was converted with
-            }
-        )
-        if record.vertical is not None:
-            source = Path(record.metadata.get("vertical_source", "")).name
-            node.attrs.update(vertical_pga=peak_vertical(record), vertical_file=source)
-        provenance = {key: record.metadata[key] for key in PROVENANCE if key in record.metadata}
-        provenance |= pulse
-        measures = record_measures(record.acceleration, record.time_step, *spectral)
-        node.attrs.update({**provenance, **measures})
-        _describe_attrs(
-            node,
-            {"time_step": "s", "n_samples": "-", "duration": "s", "pga": "m/s2",
-             "file_units": "-", "standard_gravity": "m/s2",
-             **({"scale": "-"} if item.as_read is not None else {}),
-             **({"vertical_pga": "m/s2", "vertical_file": "-"} if record.vertical is not None
-                else {}),
-             **{key: PROVENANCE[key] for key in provenance},
-             **{name: MEASURES[name].unit for name in measures}},
-        )  # fmt: skip
-    return node
-
-
-def _write_bridges(group: h5py.Group, study: Study, summaries: Sequence[dict] | None) -> None:
-    from ..config.sweep import field_unit
-    from ..core.summary import SUMMARY_UNITS, summarize_all
-
-    bridges = [item.config.to_bridge() for item in study.bridges]
-    for item, bridge, summary in zip(
-        study.bridges, bridges, summaries or summarize_all(bridges), strict=True
-    ):
-        model = bridge.model
-        node = group.create_group(item.id)
-        node.attrs.update(
-            {
-                "name": item.config.label(item.id),
-                "source": item.source,
-                "config": json.dumps(item.config.model_dump(mode="json"), indent=1),
-                "model": summary["model"],
-                "mirrored": bridge.mirrored,
-                "governing_failure": summary["governing_failure"],
-                "swept": json.dumps(item.swept),
-                "swept_units": json.dumps({path: field_unit(path) for path in item.swept}),
-                "varied": json.dumps(list(item.varied)),
-                **({"sample": json.dumps(item.sample)} if item.sample else {}),
-            }
-        )
-        units = {}
-        for name, unit in SUMMARY_UNITS.items():
-            node.attrs[name] = np.nan if summary[name] is None else summary[name]
-            units[name] = unit
-        capacities = cast(dict[str, dict[str, float]], summary["failure_rotations"])
-        for limit, rotations in capacities.items():  # failure_rotation_<limit>_<p|n>
-            for mode, value in rotations.items():
-                node.attrs[f"failure_rotation_{limit}_{mode}"] = value
-                units[f"failure_rotation_{limit}_{mode}"] = "rad"
-        for name in Model._fields:
-            node.attrs[f"model_{name}"] = getattr(model, name)
-            units[f"model_{name}"] = _MODEL_UNITS[name]
-        _describe_attrs(node, units)
+def _write_attributes(node: h5py.Group, attributes: Attributes) -> None:
+    node.attrs.update(attributes.values)
+    if attributes.units is not None:
+        _describe_attrs(node, attributes.units)
 
 
 def _describe_attrs(node: h5py.Group | h5py.File, units: dict[str, str]) -> None:

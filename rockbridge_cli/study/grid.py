@@ -96,7 +96,8 @@ class Grid:
             )
             for r in study.records
         )  # fmt: skip
-        measure = study.intensity["measure"] if study.intensity else ""
+        intensity = study.intensity_section
+        measure = intensity.measure if intensity is not None else ""
         fidelity = study.fidelity
         recheck = None
         if fidelity.knobs["recheck"] and fidelity.preset != "reference":

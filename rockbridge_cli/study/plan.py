@@ -14,17 +14,18 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 
-from ..assessment.ida import Lattice, Outcome, Walk, walk
+from ..assessment.ida import Rule, Walk
 from ..assessment.limit_states import Verdict
-from ..config.intensity import Intensity, intensity_of
 from ..config.study import Study
+from ..motions.intensity import measure_value
 from .grid import Cell, Grid
 
 
 def plan_of(study: Study, grid: Grid, cells: list[Cell]) -> OneRound | Plan:
     """The plan of a study's ``cells`` (all of its grid's, or a shard's): an IDA's, or one
     round."""
-    if study.intensity is not None and study.intensity.get("ida") is not None:
+    intensity = study.intensity_section
+    if intensity is not None and intensity.ida is not None:
         return Plan(study, grid, cells)
     return OneRound(grid, cells)
 
@@ -65,17 +66,17 @@ class Plan:
     sized = False
 
     def __init__(self, study: Study, grid: Grid, curves: Iterable[Cell] | None = None):
-        intensity = Intensity.model_validate(study.intensity)
-        assert intensity.ida is not None
+        intensity = study.intensity_section
+        assert intensity is not None and intensity.ida is not None
         self.grid = grid
-        self.lattice = Lattice.of(intensity.ida.model_dump())
-        self.tolerance = intensity.ida.tolerance
-        self.states = tuple(intensity.ida.limit_states)
+        self.rule = Rule.of(intensity)
+        self.lattice = self.rule.lattice
         self.curves = list(grid.cells if curves is None else curves)
         self.natives = [
-            intensity_of(r.record, intensity) if r.record is not None else 1.0
+            measure_value(intensity.measure, r.record.acceleration, r.record.time_step,
+                          *intensity.spectral) if r.record is not None else 1.0
             for r in study.records
-        ]
+        ]  # fmt: skip
         self.mapped = study.spectrum is not None
 
     def round(self, verdicts: Mapping[tuple[str, str], Verdict]) -> list[Cell]:
@@ -88,13 +89,10 @@ class Plan:
         return sorted(self._cells(verdicts, "visited"))
 
     def walk(self, curve: Cell, verdicts: Mapping[tuple[str, str], Verdict]) -> Walk:
-        """Where one curve stands, given the verdicts so far."""
-
-        def outcome(n: int) -> Outcome | None:
-            verdict = verdicts.get(self.grid.ids(self.cell(curve, n)))
-            return None if verdict is None else verdict.outcome(self.states)
-
-        return walk(self.lattice, self.tolerance, self.states, outcome)
+        """Where one curve stands, given the verdicts so far (`assessment.ida.Rule.replay`)."""
+        bridge = self.grid.bridges[curve.bridge_index].id
+        base = self.grid.records[curve.record_index].id
+        return self.rule.replay(base, lambda record: verdicts.get((bridge, record)))
 
     def cell(self, curve: Cell, n: int) -> Cell:
         """The analysis of a curve at lattice index ``n``; its index orders the results by

@@ -43,7 +43,8 @@ from ..results.reading import (
     stored_results,
     stored_shard_of,
 )
-from ..results.writing import ResultsWriter, describe_study
+from ..results.writing import ResultsWriter, write_description
+from .describe import Motions, Numerics, describe, motions_of, numerics
 from .executors import LocalPool, Notice, executor
 from .grid import Grid
 from .journal import Journal, remove_journal
@@ -170,7 +171,7 @@ def run_study(
         try:
             try:
                 with executor(grid, journal, workers, scheduler, notice, pool) as offered:
-                    rounds.run(offered, plan, grid, verdicts, progress)
+                    rounds.run(offered, plan, grid, verdicts, progress, motions_of(study))
             finally:  # the plan as far as it got, the batches in flight included
                 ran = tuple(plan.ran(verdicts | journal.verdicts()))
                 grid = dataclasses.replace(grid, listed=ran)
@@ -218,7 +219,7 @@ def _finish(
     nothing was. A plan that is not ``sized`` (an IDA) is complete only if its rounds ended."""
     tally = None
     if len(journal) or not output.exists():
-        tally = _write(output, study, grid, shard, journal, created, assembly, rounds.summaries,
+        tally = _write(output, study, grid, shard, journal, created, assembly, rounds.numerics,
                        rounds.ended or sized)  # fmt: skip
     journal.remove()
     return tally
@@ -237,26 +238,29 @@ class _Rounds:
     ----------
     done, total : analyses finished, and offered, in this run
     solve_time : their integration time [s]
-    summaries : the bridges' (`core.summary.summarize_all`, from a worker: the kernels'), None
-        until they come back
+    numerics : what the results file's description needs of the compiled kernels and the slower
+        numerics (`describe.numerics`, from a worker), None until they come back
     ended : every round run (an IDA: its rule calls for no more levels)
     """
 
     done: int = 0
     total: int = 0
     solve_time: float = 0.0
-    summaries: list[dict] | None = None
+    numerics: Numerics | None = None
     ended: bool = False
 
     def run(
         self, offered: Any, plan: OneRound | Plan, grid: Grid,
-        verdicts: dict[tuple[str, str], Verdict], progress: Progress | None,
+        verdicts: dict[tuple[str, str], Verdict], progress: Progress | None, motions: Motions,
     ) -> None:  # fmt: skip
-        """Run the plan's rounds on the executor ``offered``, each on the verdicts so far."""
+        """Run the plan's rounds on the executor ``offered``, each on the verdicts so far, and
+        the numerics of the description (of the records' ``motions``) beside them: the bridges'
+        summaries in parts, which the workers share (a summary costs about 16 ms)."""
         bridges = [case.bridge for case in grid.bridges]
-        summarized = [  # in parts, which the workers share (a summary costs about 16 ms)
+        first = offered.call(numerics, bridges[:SUMMARIES_AT_ONCE], motions)
+        rest = [
             offered.call(summarize_all, bridges[start : start + SUMMARIES_AT_ONCE])
-            for start in range(0, len(bridges), SUMMARIES_AT_ONCE)
+            for start in range(SUMMARIES_AT_ONCE, len(bridges), SUMMARIES_AT_ONCE)
         ]
         while pending := plan.round(verdicts):
             self.total += len(pending)
@@ -268,7 +272,9 @@ class _Rounds:
                     self.done += 1
                     if progress is not None:
                         progress(finished, self.done, self.total)
-        self.summaries = [summary for part in summarized for summary in part()]
+        computed = first()
+        summaries = computed.summaries + [summary for part in rest for summary in part()]
+        self.numerics = computed._replace(summaries=summaries)
         self.ended = True
 
 
@@ -291,18 +297,19 @@ def _check_arguments(study: Study, workers: int | None, shard: tuple[int, int] |
 
 def _write(
     output: Path, study: Study, grid: Grid, shard: tuple[int, int] | None, journal: Journal,
-    created: str, assembly: Assembly | None, summaries: list[dict] | None, finished: bool = True,
+    created: str, assembly: Assembly | None, computed: Numerics | None, finished: bool = True,
 ) -> tuple[dict[str, int], int]:  # fmt: skip
     """Write the results file of ``grid``'s cells from the journal and the earlier file, in the
-    study's order, into
-    a temporary file renamed over the output at the end; ``summaries`` are the bridges' (`None`:
-    computed here); ``finished`` False for an IDA stopped before its rule called for no more
-    levels (the file is incomplete however many of its analyses it holds). Returns how many
-    analyses of the file ended with each status, and with a failure."""
+    study's order, into a temporary file renamed over the output at the end; ``computed`` are
+    the numerics of its description (`describe.numerics`; None: computed here); ``finished``
+    False for an IDA stopped before its rule called for no more levels (the file is incomplete
+    however many of its analyses it holds). Returns how many analyses of the file ended with
+    each status, and with a failure."""
     temporary = output.with_name(f".{output.name}.{os.getpid()}.tmp")
     try:
         with h5py.File(temporary, "w") as file, _earlier_results(output, grid) as earlier:
-            describe_study(file, study, created, shard, summaries)
+            bridges = [case.bridge for case in grid.bridges]
+            write_description(file, describe(study, bridges, computed), created, shard)
             cells = grid.cells
             writer = ResultsWriter(file, len(cells))
             merged = _merged(journal, earlier, {cell.index for cell in cells})
