@@ -3,7 +3,8 @@
 One module per command family: ``analyze`` (`analysis`), ``describe`` (`bridge`), ``run``,
 ``peaks``, ``merge`` and a results file's figures (`study`), ``generate-records`` and the
 records' figures (`records`), ``fragility`` and its figures (`fragility`), ``risk`` (`risk`),
-``export`` (`export`), ``report`` (`report`), ``spectrum`` and its figure (`spectrum`), the
+``export`` (`export`), ``report`` (`report`), ``sensitivity`` and its figure
+(`sensitivity`), ``spectrum`` and its figure (`spectrum`), the
 parametric figures of a bridge (`parametric`); what they share to print (`output`) and a run's
 progress (`progress`).
 

@@ -2,8 +2,9 @@
 with what (provenance), the demand/capacity summary, the paper's Figs. 9 and 10, the peak table
 with units, the failures with their messages, the record set's EN 1998-1 compliance and, for a
 study with an intensity section, the IDA and fragility curves and, given a site's hazard curve,
-the annual frequency of each limit state there. Its inputs' sections are `inputs`', its tables'
-markup `markup`'s.
+the annual frequency of each limit state there; for a sampled study, which field matters. Its
+inputs' sections are `inputs`', its tables' markup `markup`'s, a sampled study's section
+`sampled`'s.
 
 Figures are PNG images embedded as data URIs and the style sheet is inline, so the one file can be
 mailed, archived or opened offline; the layout reflows to a phone's width and prints on A4.
