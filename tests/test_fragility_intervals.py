@@ -59,6 +59,7 @@ from rockbridge_cli.assessment.hazard import read_hazard_curve
 from rockbridge_cli.assessment.risk import risks
 from rockbridge_cli.cli import main
 from rockbridge_cli.config.study import load_study
+from rockbridge_cli.results.sections import IntensitySection
 from rockbridge_cli.study.run import run_study
 
 MEDIAN, BETA = 1.2, 0.4
@@ -130,13 +131,16 @@ def stripes_table(capacities: np.ndarray, levels: tuple[float, ...]) -> dict[str
 LEVELS = (0.3, 0.6, 0.9, 1.2, 1.6, 2.0, 2.6, 3.4)
 """Stripes of the synthetic stripe studies [g]."""
 
+STRIPES = IntensitySection.of({"measure": "pga_g", "levels": list(LEVELS)})
+"""Their intensity section."""
+
 
 def test_bootstrap_replays_the_fits_draws():
     """Stripes through `fragilities_of` (Newton's fits) and censored IDA rows through
     `fragility._bootstrap`: the same seed gives the same resamplings, so the same draws, to the
     round-off of two ways to the same maximum."""
     capacities = MEDIAN * np.exp(BETA * np.random.default_rng(3).standard_normal(12))
-    found = fragilities_of(stripes_table(capacities, LEVELS), {"measure": "pga_g"}, seed=5)
+    found = fragilities_of(stripes_table(capacities, LEVELS), STRIPES, seed=5)
     first = found[0]  # gap closure: the first fit the study's generator draws for
     assert first.limit_state == "gap_closure" and first.resampling is not None
     np.testing.assert_allclose(  # the same maximum, found for all at once: to round-off
@@ -187,7 +191,7 @@ def test_many_stripe_fits_at_once_are_the_plain_fits():
     open: `fit_lognormal` decides those without Newton's method)."""
     rng = np.random.default_rng(13)
     capacities = MEDIAN * np.exp(BETA * rng.standard_normal(20))
-    found = fragilities_of(stripes_table(capacities, LEVELS), {"measure": "pga_g"})
+    found = fragilities_of(stripes_table(capacities, LEVELS), STRIPES)
     resampling = found[0].resampling
     solved_count = 0
     for n in (5, 10, 20):
@@ -309,7 +313,7 @@ def test_records_needed_of_stripes_narrow_with_the_records():
     """A stripe study of 20 records (Newton's fits): 5 and 10 records give wider intervals than
     20; at 20 they are the study's own intervals."""
     capacities = MEDIAN * np.exp(BETA * np.random.default_rng(8).standard_normal(20))
-    found = fragilities_of(stripes_table(capacities, LEVELS), {"measure": "pga_g"})
+    found = fragilities_of(stripes_table(capacities, LEVELS), STRIPES)
     item = next(f for f in found if f.limit_state == "gap_closure")
     needed = records_needed(item, subsets=10, resamplings=40)
     assert needed is not None and [w.records for w in needed.widths] == [5, 7, 10, 15, 20]

@@ -255,8 +255,11 @@ def fragilities_of(
     columns = {name: values[ok] for name, values in columns.items()}
     rng = np.random.default_rng(seed)
     found = []
+    order = np.argsort(columns["bridge"], kind="stable")  # each bridge's rows in their order,
+    ordered = columns["bridge"][order]  # found once, not once per bridge (a sampled study's 576)
     for bridge in dict.fromkeys(columns["bridge"]):
-        mine = {name: values[columns["bridge"] == bridge] for name, values in columns.items()}
+        rows = order[np.searchsorted(ordered, bridge) : np.searchsorted(ordered, bridge, "right")]
+        mine = {name: values[rows] for name, values in columns.items()}
         if intensity.ida is not None:
             found += _ida_fragility(bridge, mine, intensity, rng, bootstrap, conversion)
         else:
