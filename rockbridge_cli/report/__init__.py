@@ -139,7 +139,8 @@ def write_report(
         parts += _figures(results, figure, intensity, swept, chosen, under, bool(design))
         if design:
             parts.append(sampled_section(results, design, intensity, figure))
-        if intensity is not None:
+        drawn = design is None or design.get("design") == "tornado"  # else one per sample
+        if intensity is not None and drawn:
             parts.append(_intensity_section(results, intensity, figure, hazard, years))
     parts += [
         _peak_table(columns, units),

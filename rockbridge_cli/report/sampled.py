@@ -50,6 +50,8 @@ def sampled_section(
                          "the peak table.</p>")  # fmt: skip
         if intensity is not None and kind != "tornado":
             parts.append(_folded(folded_fragilities(results)))
+            parts.append("<p>Each sample's own fragility: rockbridge fragility RESULTS (one row "
+                         "per sample and limit state).</p>")  # fmt: skip
     except InputError as exc:  # a study cut short: say so, draw the rest
         parts.append(f"<p>{escaped(exc.problems[0][1])}</p>")
     return "\n".join(parts)
