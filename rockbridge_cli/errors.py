@@ -22,6 +22,9 @@ class InputError(Exception):
     def __init__(self, source: str | Path, problems: list[tuple[str, str]]):
         self.source = str(source)
         self.problems = problems
+        self.reach: tuple[str, ...] = ()
+        """Folders that a config's refused paths lead to (`config.loading.ConfigFolder`):
+        naming them in ``ROCKBRIDGE_PATHS`` lets the input through."""
         super().__init__(str(self))
 
     def __str__(self) -> str:
