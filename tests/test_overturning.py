@@ -256,3 +256,16 @@ def test_the_bundled_spectra_load(name):
     study = load_study(REPO / "configs" / "studies" / name)
     assert study.spectrum is not None and study.histories == ()
     assert len(study.records) == study.spectrum["frequencies"]["count"]
+    assert study.warnings == ()  # issue 40: "pulse: time step 0.118362 s is not a ground motion's"
+
+
+def test_run_summarises_a_spectrum_by_its_figure(tmp_path):
+    """Issue 40: `run` of a spectrum pointed to `fragility` and `plot ida` (an IDA's capacities)
+    where the figure of a spectrum is `plot overturning`."""
+    result = CliRunner().invoke(main, ["run", str(spectrum_study(tmp_path)), "--workers", "1"])
+    assert result.exit_code == 0, result.output
+    assert "\nspectrum: each frequency's rounds" in result.output
+    last = result.output.strip().splitlines()[-1]
+    assert last.endswith(f"rockbridge plot overturning {tmp_path / 'spectrum.h5'}"), last
+    assert "fragility" not in result.output and "plot ida" not in result.output
+    assert "warning" not in result.output

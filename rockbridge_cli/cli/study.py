@@ -244,7 +244,10 @@ def _heading(study, workers: int, scheduler: str | None, chosen: bool, part) -> 
         heading = f"workers: {workers} (the CPUs this process may use; --workers to change)"
     if part is not None:
         heading += f"; shard {shard_label(part)}"
-    if (study.intensity or {}).get("ida"):
+    if study.spectrum is not None:
+        heading += ("\nspectrum: each frequency's rounds run the amplitudes the verdicts so far "
+                    "call for; the total grows")  # fmt: skip
+    elif (study.intensity or {}).get("ida"):
         heading += "\nIDA: each round runs the levels the verdicts so far call for; the total grows"
     return heading
 
@@ -311,7 +314,12 @@ def _bridge_table(results: Path) -> str:
         columns = peak_columns(file)
         intensity = json.loads(file.attrs.get("intensity", "null"))
         recheck = bool(json.loads(file.attrs.get("knobs", "{}")).get("recheck", False))
+        spectrum = "spectrum" in file
     rechecked = _rechecks(columns, recheck)
+    if spectrum:  # run as an IDA of its pulse, read as a map
+        return ("spectrum: the lowest overturning amplitude at each frequency and the map of "
+                "what each analysis ended in: rockbridge plot overturning "
+                f"{results}{rechecked}")  # fmt: skip
     try:
         groups = summary_groups(columns, intensity)
     except ValueError as exc:
