@@ -229,6 +229,29 @@ def levels_range(intensity: dict) -> tuple[float, float]:
     return min(intensity["levels"]), max(intensity["levels"])
 
 
+MOSTLY_BEYOND = 0.5
+"""Share of λ from beyond the hazard curve's range above which `extrapolation_warning` warns."""
+
+
+def extrapolation_warning(found: list[Risk], curve: HazardCurve) -> str:
+    """A warning where more than `MOSTLY_BEYOND` of a frequency comes from the curve's
+    extensions beyond its points ("" where none does): that λ rests on an extrapolated power law,
+    and where all of every λ does, the curve is likely in another unit than its header says."""
+    shares = [item.beyond for item in found if item.beyond is not None]
+    heavy = [share for share in shares if share > MOSTLY_BEYOND]
+    if not heavy:
+        return ""
+    text = (
+        f"{len(heavy)} of {len(shares)} frequencies take more than half of λ (up to "
+        f"{100 * max(heavy):.0f} %) from beyond the hazard curve's points "
+        f"({curve.intensities[0]:.3g}–{curve.intensities[-1]:.3g} {curve.unit}), where its end "
+        "segments' power laws are extrapolated: extend the curve over the fragilities' medians"
+    )
+    if len(heavy) == len(shares) and min(heavy) > 0.99:  # no median within reach of the curve
+        text += f"; all of every λ: is the curve really in {curve.unit}?"
+    return text
+
+
 def risk_table(found: list[Risk], years: float) -> tuple[list[str], list[list[str]]]:
     """Headers and rows of the risk table, as text: λ, its interval, the return period, the
     probability in ``years`` [%] and its interval, the share from beyond the curve [%]."""
