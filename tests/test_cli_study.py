@@ -470,3 +470,23 @@ def test_a_closed_output_never_stops_a_run(tmp_path):
     assert list(read_peaks(tmp_path / "results" / "study.h5")["status"]) == [
         "error", "ok", "error", "ok",
     ]  # fmt: skip
+
+
+def test_the_summary_of_many_bridges_shows_the_rows_that_matter(tmp_path):
+    """Issue 40: 1000 bridges printed 1000 rows. A sweep of 24 gaps (no failure) prints the 20
+    with the largest backfill d/c, in the study's order, and says where every analysis is."""
+    extra = ("sweep: {fields: {abutments.gap: {start: 0.01, stop: 0.24, count: 24}}}\n"
+             "fidelity: fast\noutput: {histories: none}\n")  # fmt: skip
+    study = write_study(tmp_path, bridges=STUDIED[:1], records=("R1",), extra=extra)
+    result = invoke("run", study, "--workers", "1", "-o", str(tmp_path / "out.h5"))
+    assert result.exit_code == 0, result.output
+    table = result.output.split("peaks, largest over the records")[1].splitlines()
+    assert table[0].startswith(", the 20 of 24 rows with the most failures")
+    assert table[0].endswith(f"(every analysis: rockbridge peaks {tmp_path / 'out.h5'}):")
+    assert len(table) == 2 + 20
+    peaks = read_peaks(tmp_path / "out.h5")
+    assert (peaks["failure_mode"] == "none").all()
+    largest = peaks.nlargest(20, "dcr_backfill")["bridge"]
+    assert [line.split()[0] for line in table[2:]] == [
+        b for b in peaks["bridge"] if b in set(largest)
+    ]

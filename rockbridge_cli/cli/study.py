@@ -337,7 +337,22 @@ def _bridge_table(results: Path) -> str:
         rows.append([group.bridge, *([] if group.level is None else [group.level]), ok, *largest,
                      _largest(columns["dcr_backfill"][mine]), int(np.sum(failed))])  # fmt: skip
     heading = "peaks, largest over the records" + (" at each level" if level else "")
+    if len(rows) > SUMMARY_ROWS:  # a sweep of 1000 bridges: the rows that matter, not 1000
+        worst = sorted(range(len(rows)), key=lambda i: (-rows[i][-1], -_finite(rows[i][-2])))
+        rows = [rows[i] for i in sorted(worst[:SUMMARY_ROWS])]
+        heading += (f", the {SUMMARY_ROWS} of {len(groups)} rows with the most failures, then "
+                    "the largest backfill d/c (every analysis: rockbridge peaks "
+                    f"{results})")  # fmt: skip
     return f"{heading}:\n{table_text(headers, rows)}{rechecked}"
+
+
+SUMMARY_ROWS = 20
+"""Rows of `run`'s summary table at most."""
+
+
+def _finite(value: float) -> float:
+    """``value``, with NaN (no analysis ran) below every number."""
+    return -float("inf") if value != value else value
 
 
 def _rechecks(columns: dict, recheck: bool) -> str:
