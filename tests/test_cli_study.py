@@ -216,6 +216,22 @@ def test_progress_stays_short_for_a_big_study(capsys, terminal):
         assert len(lines) < 200  # redrawn every 0.1 s at most, and at the end
 
 
+def test_a_long_writing_of_the_results_file_says_how_far_it_is(capsys, monkeypatch):
+    """Issue 40: a Ctrl-C with a large journal saved for minutes without a line. The writing
+    says it starts before its first block, then every 10 s how far it is; an interrupted run
+    writes fewer analyses than the study's, so no "done" (the run's next line ends it)."""
+    clock = [0.0]
+    monkeypatch.setattr("rockbridge_cli.cli.progress.time.monotonic", lambda: clock[0] + 1.0)
+    display = ProgressDisplay(terminal=False)
+    for written, now in ((0, 0.0), (100, 4.0), (200, 10.5), (276, 12.0)):
+        clock[0] = now
+        display.assembling(written, 6000)
+    assert capsys.readouterr().err.splitlines() == [
+        "writing the results file (at most 6000 analyses): started",
+        "writing the results file: 200 analyses written",
+    ]
+
+
 def test_outputs_that_cannot_be_written_exit_2_before_any_work(tmp_path):
     """A figure, a CSV export or a record folder under a path that is a file: one message, 2."""
     blocker = tmp_path / "file"
