@@ -162,6 +162,12 @@ def test_the_page_stands_alone(page):
         assert base64.b64decode(source.split(",", 1)[1])[:4] == b"\x89PNG"
 
 
+def test_the_page_prints_on_a4(page):
+    """Issue 40: README says A4, a browser printed on its default, US Letter, without a page
+    size in the page's CSS (CSS Paged Media: `@page { size: A4 }`, 210 × 297 mm)."""
+    assert re.search(r"@page \{ size: A4;", page[0].read_text(encoding="utf-8"))
+
+
 def test_a_study_with_stripes_gets_its_fragility(tmp_path):
     extra = (
         "intensity: {measure: pga_g, levels: [0.2, 0.6]}\n"

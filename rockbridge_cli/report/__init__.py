@@ -58,6 +58,7 @@ th, td { padding: 0.2rem 0.5rem; border-bottom: 1px solid #e4e4e4; text-align: r
 dl { display: grid; grid-template-columns: max-content 1fr; gap: 0.2rem 1rem; }
 dt { font-weight: 600; } dd { margin: 0; overflow-wrap: anywhere; }
 .bad { color: #a00; font-weight: 600; } .note { color: #555; font-size: 0.9rem; }
+@page { size: A4; margin: 15mm; }
 @media print { body { max-width: none; font-size: 11pt; } h2 { break-after: avoid; } }
 """
 
