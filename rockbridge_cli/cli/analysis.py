@@ -142,16 +142,22 @@ def _inputs(bridge: Path, record: Path, units, time_step, vertical, fidelity: st
 
 def _set_up(config, motion, fidelity: str) -> float:
     """What an analysis costs once per process, before its solve: loading the compiled kernels
-    and building the bridge's tables, timed by analyzing two samples of rest [s]."""
+    (those of a vertical ground motion too, where the record has one; compiling them, and saying
+    so, where numba's cache does not hold them) and building the bridge's tables, timed by
+    analyzing two samples of rest [s]."""
     import time
 
     import numpy as np
 
     from ..core.analysis import analyze as run_analysis
+    from ..study.kernels import compiling_message
+    from ..warmup import announced
 
+    vertical = motion.vertical is not None
     started = time.perf_counter()
-    with held():
-        run_analysis(config.to_bridge(), np.zeros(2), motion.time_step, fidelity)
+    with held(), announced(lambda: click.echo(compiling_message(vertical), err=True)):
+        run_analysis(config.to_bridge(), np.zeros(2), motion.time_step, fidelity,
+                     vertical=np.zeros(2) if vertical else None)  # fmt: skip
     return time.perf_counter() - started
 
 
