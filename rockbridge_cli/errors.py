@@ -37,14 +37,32 @@ class InputError(Exception):
 
 
 def nearest(word: str, choices: Iterable[str], what: str, shown: int = 3) -> str:
-    """What to say of a mistyped id: the few closest ``choices`` (difflib's ratio), or, where
-    none is close, the first few, with how many there are: ``nearest: AR01, AR10 (of 140
-    records)``. Never the whole list: a file may hold ten thousand ids."""
+    """What to say of a mistyped id: the few closest ``choices`` (difflib's ratio, case left
+    aside: ``ar07`` is ``AR07`` alone), or, where none is close, the first few, with how many
+    there are: ``nearest: AR01, AR10 (of 140 records)``. Never the whole list: a file may hold
+    ten thousand ids."""
     unique = list(dict.fromkeys(choices))
-    close = difflib.get_close_matches(word, unique, n=shown, cutoff=0.6)
+    folded: dict[str, list[str]] = {}
+    for choice in unique:
+        folded.setdefault(choice.casefold(), []).append(choice)
+    keys = [word.casefold()] if word.casefold() in folded else difflib.get_close_matches(
+        word.casefold(), folded, n=shown, cutoff=0.6)  # fmt: skip
+    close = [choice for key in keys for choice in folded[key]][:shown]
     if close:
         return f"nearest: {', '.join(close)} (of {len(unique)} {what})"
     if not unique:
         return f"there are no {what}"
     more = ", …" if len(unique) > shown else ""
     return f"the {len(unique)} {what}: {', '.join(unique[:shown])}{more}"
+
+
+def did_you_mean(path: str | Path) -> str:
+    """For a file not found: `` (did you mean paper-fig9.h5?)`` naming the names in its folder
+    nearest to the one given, "" where none is close (a mistyped name is the likeliest cause)."""
+    path = Path(path)
+    try:
+        names = [p.name for p in path.parent.iterdir()] if path.parent.is_dir() else []
+    except OSError:
+        names = []
+    close = difflib.get_close_matches(path.name, names, n=3, cutoff=0.75)
+    return f" (did you mean {' or '.join(close)}?)" if close else ""

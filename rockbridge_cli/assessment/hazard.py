@@ -167,17 +167,20 @@ def read_hazard_curve(path: str | Path, site: int | None = None) -> HazardCurve:
     InputError
         The file is missing or malformed: the message names the line and the reason.
     """
-    text = read_input_text(path, MAX_BYTES, "a hazard curve")
-    lines = [(number, line) for number, line in enumerate(text.splitlines(), 1) if line.strip()]
-    header = next(((n, line) for n, line in lines if not line.lstrip().startswith("#")), None)
-    if header is None:
-        raise InputError(path, [("", "no header line: nothing but comments")])
-    if any(cell.strip().startswith("poe-") for cell in header[1].split(",")):
-        curve = _openquake(path, lines, header, site)
-    else:
-        if site is not None:
-            raise InputError(path, [("", "a site is chosen only in OpenQuake's files")])
-        curve = _two_columns(path, lines, header)
+    from ..config.kinds import expecting
+
+    with expecting(path, "hazard curve"):  # a study or a results file given for it is named
+        text = read_input_text(path, MAX_BYTES, "a hazard curve")
+        lines = [(n, line) for n, line in enumerate(text.splitlines(), 1) if line.strip()]
+        header = next(((n, line) for n, line in lines if not line.lstrip().startswith("#")), None)
+        if header is None:
+            raise InputError(path, [("", "no header line: nothing but comments")])
+        if any(cell.strip().startswith("poe-") for cell in header[1].split(",")):
+            curve = _openquake(path, lines, header, site)
+        else:
+            if site is not None:
+                raise InputError(path, [("", "a site is chosen only in OpenQuake's files")])
+            curve = _two_columns(path, lines, header)
     return _cleaned(curve)
 
 
