@@ -474,6 +474,7 @@ def interrupted_run(tmp_path, monkeypatch, extra: str, after: int):
     return tmp_path / "results" / "study.h5"
 
 
+@pytest.mark.slow
 def test_every_reader_says_a_file_is_incomplete(tmp_path, monkeypatch):
     """Two bridges × two records × two levels, stopped after two analyses: every command that
     reads the file says "incomplete: 2 of 8 analyses" (and exits 0, having done its work on
