@@ -222,6 +222,8 @@ def _rows(bridge: str, record: str, s: dict) -> list[tuple[str, str]]:
     ]
     for name, unit in PEAK_UNITS.items():
         peak = shown(s[name + "_max"])
+        if math.isnan(peak) and s["status"] == "ok":  # a part the model has not (a block's deck)
+            continue
         rows.append((f"max {name}", f"{peak:.5g} {unit} at {s[name + '_time']:.3f} s"))
     rows += [
         (
