@@ -267,6 +267,17 @@ def test_plot_record_names_each_record_once(tmp_path):
     assert texts.count("AR01") == 1 and texts.count("AR07") == 1
 
 
+@pytest.mark.parametrize("command", ["record", "spectra"])
+def test_a_named_file_beside_another_programs_manifest_is_drawn(tmp_path, command):
+    """Issue 40: a manifest.json that is not a record set's (a web app's) made `plot record` and
+    `plot spectra` refuse the files named beside it; it is no set, and the files plain ones."""
+    shutil.copy(BUNDLED / "AR01.txt", tmp_path / "AR01.txt")
+    (tmp_path / "manifest.json").write_text('{"name": "my-app", "version": "1.0"}')
+    result = run("plot", command, tmp_path / "AR01.txt", "-o", tmp_path / "figure.png")
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / "figure.png").stat().st_size > 10_000
+
+
 def small_set(tmp_path: Path, seed: int, out: Path):
     config = tmp_path / f"small-{seed}.yaml"
     config.write_text(SMALL.replace("seed: 1", f"seed: {seed}"), encoding="utf-8")
