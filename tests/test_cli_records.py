@@ -150,6 +150,7 @@ def test_the_regeneration_check_catches_a_real_change(tmp_path):
     assert "records[4].iterations" in found[1] + found[2]
 
 
+@pytest.mark.slow
 def test_default_folder_and_plot(tmp_path, monkeypatch):
     (tmp_path / "small.yaml").write_text(SMALL)
     monkeypatch.chdir(tmp_path)
@@ -327,6 +328,7 @@ def test_a_folder_of_other_files_is_not_replaced(tmp_path):
     assert [p.name for p in (tmp_path / "mine").iterdir()] == ["notes.txt"]
 
 
+@pytest.mark.slow
 def test_a_killed_generator_never_leaves_a_set_a_study_accepts_mixed(tmp_path):
     """SIGKILL at staggered moments of a generator replacing a set: whatever is left is the old
     set, the new one, or no set, and a study that accepts the folder reads files that all agree

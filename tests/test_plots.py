@@ -118,6 +118,7 @@ def test_directions_follow_the_tall_pier(tmp_path):
 # --- the figure files --------------------------------------------------------------------
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("suffix", [".png", ".pdf", ".svg"])
 def test_parametric_figures(tmp_path, suffix):
     for name in ("onset", "q", "restitution", "spans"):
@@ -182,6 +183,7 @@ def test_peaks_figure_marks_the_means_and_each_bridges_limits(tmp_path):
     assert "= 120 mm" not in figure  # no single gap is claimed for all bridges
 
 
+@pytest.mark.slow
 def test_history_figure_has_the_ground_motion_and_the_events(done, tmp_path):
     """Panel A is the record (in g, from the results file), onsets and poundings are in the
     legend, and the panels follow the five responses of a bridge."""
@@ -209,6 +211,7 @@ def test_history_of_a_single_block_draws_only_what_a_block_has(tmp_path):
     assert "failure" in legend and "pounding on the backwall" not in legend
 
 
+@pytest.mark.slow
 def test_peaks_figure_of_many_bridges_keeps_its_legend_short(tmp_path):
     """A sweep of 13 gaps: one legend entry says how many bridges, and the 13 pairs of limit
     lines (beyond `MAX_LIMITS`) are left out with a note, instead of 26 lines and 39 entries."""
@@ -225,6 +228,7 @@ def test_peaks_figure_of_many_bridges_keeps_its_legend_short(tmp_path):
     assert not any(t.startswith(STUDIED[1]) for t in texts)  # no bridge named one by one
 
 
+@pytest.mark.slow
 def test_a_name_with_tex_math_is_drawn_as_written(tmp_path):
     """A bridge named ``$\\undefinedmacro{x$`` broke `plot peaks`, `plot history` and `report`
     (Matplotlib read it as mathematics): names are drawn literally (issue 32)."""

@@ -135,6 +135,7 @@ def test_the_summary_is_the_files_demand_over_capacity(study, page):
         assert row[2] == f"{100 * mine.max():.1f} %" and row[3] == f"{100 * mine.mean():.1f} %"
 
 
+@pytest.mark.slow
 def test_the_failures_are_listed(study, page, tmp_path):
     """No failure in the studied bridges under the two bursts: the page says so. A slender block
     (0.4 m × 4 m, α = 0.1 rad) overturns under R1 (0.51 g): it is listed with its time."""
@@ -168,6 +169,7 @@ def test_the_page_prints_on_a4(page):
     assert re.search(r"@page \{ size: A4;", page[0].read_text(encoding="utf-8"))
 
 
+@pytest.mark.slow
 def test_a_study_with_stripes_gets_its_fragility(tmp_path):
     extra = (
         "intensity: {measure: pga_g, levels: [0.2, 0.6]}\n"
@@ -192,6 +194,7 @@ def test_a_study_with_stripes_gets_its_fragility(tmp_path):
         assert row[3] == f"{100 * rows['dcr_backfill'].max():.1f} %"
 
 
+@pytest.mark.slow
 def test_a_sweep_is_drawn_against_its_field_and_fig10_is_under_ar07(tmp_path):
     """A sweep's variants get a figure against the swept field instead of Fig. 9, and the history
     figure is under the paper's record, AR07, where the study has it (not the first record)."""
@@ -213,6 +216,7 @@ def test_a_sweep_is_drawn_against_its_field_and_fig10_is_under_ar07(tmp_path):
     assert "Response histories under AR07 (Fig. 10)" in parsed.headings
 
 
+@pytest.mark.slow
 def test_the_command_writes_beside_the_results_and_never_over_them(study):
     runner = CliRunner()
     result = runner.invoke(main, ["report", str(study.output)])
@@ -249,6 +253,7 @@ def test_a_browser_renders_every_figure(page, tmp_path):
     assert shot.read_bytes()[:4] == b"\x89PNG" and shot.stat().st_size > 20_000
 
 
+@pytest.mark.slow
 def test_a_generated_set_brings_its_compliance_and_ground_displacement(tmp_path):
     """A study on the bundled set: the page shows the set's EN 1998-1 check from its manifest,
     with each record's PGD over d_g (0.2031 m, §3.2.2.4) as the manifest gives them."""
