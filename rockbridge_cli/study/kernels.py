@@ -24,10 +24,10 @@ COMPILE_TIME_S = 20
 """About how long compiling an analysis's kernels takes on an idle core [s] (15 s on the 2-core
 x86-64 machine of README's timings, 30 s while another process kept its cores busy)."""
 
-VERTICAL_COMPILE_TIME_S = 120
+VERTICAL_COMPILE_TIME_S = 20
 """The same for the kernels of an analysis with a vertical ground motion, compiled for it of
-their own (`core.schemes.VerticalGround`) [s] (issue 40: 159 s on a loaded 2-core host, against
-13.6 s for the same command with them loaded)."""
+their own (`core.schemes.VerticalGround`) [s]: 404 s against the others' 545 s on a 2-core host
+that five other jobs kept busy (issue 40; 159 s in each of two workers compiling at once)."""
 
 COMPILING = (
     f"compiling the analysis kernels, once for this installation (about {COMPILE_TIME_S} s on an "
@@ -38,7 +38,7 @@ COMPILING = (
 
 COMPILING_VERTICAL = (
     "compiling the analysis kernels for a vertical ground motion, once for this installation "
-    f"(up to {VERTICAL_COMPILE_TIME_S} s on an idle core; later runs load them from numba's "
+    f"(about {VERTICAL_COMPILE_TIME_S} s on an idle core; later runs load them from numba's "
     "cache; 'python -m rockbridge_cli.warmup' compiles them ahead)"
 )
 """What a run with vertical ground motions says when its kernels are being compiled."""
