@@ -273,7 +273,7 @@ def test_the_report_of_an_ida_counts_records_and_points_to_the_capacities(ida_ru
     study, _ = ida_run
     text = write_report(study.output, tmp_path / "r.html").read_text(encoding="utf-8")
     analyses = len(read_peaks(study.output))
-    assert f"{analyses} analyses of 2 bridges under 2 records in an IDA of pga_g" in text
+    assert f"{analyses} analyses of 2 bridges under 2 records in an IDA of PGA" in text
     demand = text.split("<h2>Demand and capacity</h2>")[1].split("<h2>")[0]
     assert "IDA&#x27;s levels differ by record" in demand and "<table>" not in demand
     assert "studied-hbar1.00: overturning: unreachable — the abutment fails first on 2/2" in text

@@ -92,6 +92,9 @@ def test_the_page_states_what_was_run(study, page):
     assert "Provenance" in parsed.headings and "Peak table" in parsed.headings
     source = page[0].read_text(encoding="utf-8")
     assert read_config_hash(study.output) in source and f"rockbridge {version}" in source
+    # issue 40: knobs as a reader reads them (no Python repr), the host by what it is
+    assert "bisection = off" in source and "False" not in source and "None" not in source
+    assert "step = 0.01 s" in source and "<dt>host name</dt>" in source
 
 
 def test_the_input_records_are_listed_as_read(study, page):
@@ -183,9 +186,9 @@ def test_a_study_with_stripes_gets_its_fragility(tmp_path):
     assert len(parsed.images) == 1  # the fragility curves; no Fig. 9 over both levels at once
     fits = next(t for t in parsed.tables if t[0][:2] == ["bridge", "limit state"])
     assert len(fits) - 1 == 2 * 4  # two bridges × the four default limit states
-    assert "8 analyses of 2 bridges under 2 records at 2 levels of pga_g" in text
+    assert "8 analyses of 2 bridges under 2 records at 2 levels of PGA" in text
     summary = next(t for t in parsed.tables if "backfill d/c, largest" in t[0])
-    assert summary[0][:3] == ["bridge", "level [pga_g]", "ran ok"]
+    assert summary[0][:3] == ["bridge", "level, PGA [g]", "ran ok"]
     assert [row[1:3] for row in summary[1:]] == [["0.2", "2/2"], ["0.6", "2/2"]] * 2
     peaks = read_peaks(study.output)
     for row, ((_, level), rows) in zip(summary[1:], peaks.groupby(["bridge", "intensity"]),
@@ -212,8 +215,8 @@ def test_a_sweep_is_drawn_against_its_field_and_fig10_is_under_ar07(tmp_path):
     run_study(study, workers=1)
     parsed = Page(write_report(study.output, tmp_path / "r.html").read_text(encoding="utf-8"))
     assert "Against abutments.gap" in parsed.headings
-    assert "Peaks per record (Fig. 9)" not in parsed.headings
-    assert "Response histories under AR07 (Fig. 10)" in parsed.headings
+    assert "Peaks per record (as the paper's Fig. 9)" not in parsed.headings
+    assert "Response histories under AR07 (as the paper's Fig. 10)" in parsed.headings
 
 
 @pytest.mark.slow

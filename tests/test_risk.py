@@ -23,9 +23,11 @@ from studies import REPO, write_study
 from rockbridge_cli.assessment.fragility import Fragility, fragilities
 from rockbridge_cli.assessment.hazard import HazardCurve, read_hazard_curve
 from rockbridge_cli.assessment.risk import (
+    Risk,
     extrapolation_warning,
     limit_state_rate,
     poisson_probability,
+    risk_table,
     risks,
     risks_of,
 )
@@ -282,3 +284,13 @@ def test_a_frequency_mostly_from_beyond_the_curve_is_announced(ida, tmp_path):
     (item,) = risks_of(found, {"measure": "pga_g", "levels": [0.2]}, misread)
     assert item.beyond == pytest.approx(1.0, abs=1e-6)
     assert extrapolation_warning([item], misread).endswith("every λ: is the curve really in g?")
+
+
+def test_a_probability_short_of_certainty_is_never_printed_as_100():
+    """Issue 40: P = 0.9996 printed "100" (three significant digits). λ = −ln(1 − P)/T."""
+    rate = -math.log(1.0 - 0.9996) / 50.0
+    item = Risk("b", "gap_closure", "pga_g", rate, "", (rate / 2, rate * 2), 0.1, 50.0)
+    _, (row,) = risk_table([item], 50.0)
+    assert row[5] == "> 99.9" and row[6].endswith("–> 99.9")
+    certain = Risk("b", "gap_closure", "pga_g", 1.0, "", None, 0.1, 50.0)
+    assert risk_table([certain], 50.0)[1][0][5] == "100"  # 1 − e^−50 is 1 in floating point

@@ -264,7 +264,7 @@ def risk_table(found: list[Risk], years: float) -> tuple[list[str], list[list[st
         rows.append([
             item.bridge, item.limit_state, _bounded(item.bound, item.rate),
             _interval(item.rate_90), _bounded(_REVERSED[item.bound], item.return_period),
-            _bounded(item.bound, percent), _interval(interval),
+            _bounded(item.bound, percent, _percent), _interval(interval, _percent),
             "-" if item.beyond is None else f"{100 * item.beyond:.1f}",
         ])  # fmt: skip
     return headers, rows
@@ -281,11 +281,17 @@ def _number(value: float) -> str:
     return f"{value:.3g}" if abs(value) < 1e3 else f"{float(f'{value:.3g}'):.0f}"
 
 
-def _bounded(bound: str, value: float | None) -> str:
+def _percent(value: float) -> str:
+    """A probability in percent as `_number` gives it, but never rounded up to a certainty:
+    99.95 % and above (short of 100) is "> 99.9"."""
+    return "> 99.9" if 99.95 <= value < 100.0 else _number(value)
+
+
+def _bounded(bound: str, value: float | None, shown=_number) -> str:
     if value is None:
         return "-"
-    return f"{bound} {_number(value)}" if bound else _number(value)
+    return f"{bound} {shown(value)}" if bound else shown(value)
 
 
-def _interval(pair: tuple[float, ...] | None) -> str:
-    return "-" if not pair else f"{_number(pair[0])}–{_number(pair[1])}"
+def _interval(pair: tuple[float, ...] | None, shown=_number) -> str:
+    return "-" if not pair else f"{shown(pair[0])}–{shown(pair[1])}"

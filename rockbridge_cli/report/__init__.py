@@ -24,6 +24,7 @@ from .. import __version__
 from ..assessment.levels import IDA_POINTER, record_count, summary_groups
 from ..core.quantities import NO_FAILURE, display_unit
 from ..errors import InputError, nearest
+from ..motions.intensity import MEASURES
 from ..paths import MARK, checked_output, replace_atomically
 from ..results.reading import (
     bridge_attributes,
@@ -193,8 +194,14 @@ def _levels(intensity: dict | None, columns: dict[str, np.ndarray]) -> str:
     if not intensity:
         return ""
     if _is_ida(intensity):
-        return f" in an IDA of {intensity['measure']}"
-    return f" at {len(set(columns['intensity'].tolist()))} levels of {intensity['measure']}"
+        return f" in an IDA of {_name(intensity['measure'])}"
+    levels = len(set(columns["intensity"].tolist()))
+    return f" at {levels} levels of {_name(intensity['measure'])}"
+
+
+def _name(measure: str) -> str:
+    """A measure as a reader names it (PGA, Sa(T)), not by its internal name (pga_g)."""
+    return MEASURES[measure].label.split(" [")[0]
 
 
 def _figures(
@@ -211,8 +218,9 @@ def _figures(
     elif not intensity or not _is_ida(intensity) and level in intensity["levels"]:
         from ..plots.peaks import plot_peaks
 
-        at = f" at {intensity['measure']} = {level:g}" if intensity else ""
-        parts.append(_section(f"Peaks per record{at} (Fig. 9)",
+        at = (f" at {_name(intensity['measure'])} = {level:g} "
+              f"{MEASURES[intensity['measure']].unit}") if intensity else ""  # fmt: skip
+        parts.append(_section(f"Peaks per record{at} (as the paper's Fig. 9)",
                               figure(plot_peaks, results, level=level if intensity else None),
                               "One marker per bridge and record; right: the means over the "
                               "records. (A) with the end-joint gap (dotted) and the "
@@ -220,7 +228,7 @@ def _figures(
     if chosen is not None:
         from ..plots.history import plot_history
 
-        parts.append(_section(f"Response histories under {chosen} (Fig. 10)",
+        parts.append(_section(f"Response histories under {chosen} (as the paper's Fig. 10)",
                               figure(plot_history, results, chosen, bridges=under),
                               "Ground motion with each bridge's onset of rocking, then the "
                               "responses; × marks a pounding on the backwall."))  # fmt: skip
@@ -281,17 +289,32 @@ def _section(heading: str, image: str, caption: str) -> str:
     )
 
 
+KNOB_UNITS = {"rest_velocity": "rad/s", "output_step": "s", "tail": "s", "step": "s",
+              "max_step": "s", "event_tol": "s", "atol": "rad, rad/s"}  # fmt: skip
+"""Units of the fidelity knobs as the provenance shows them (`core.fidelity`)."""
+
+
+def _knob(name: str, value: Any) -> str:
+    """A fidelity knob as a reader reads it: on/off, none, a number with its unit."""
+    if isinstance(value, bool):
+        return "on" if value else "off"
+    if value is None:
+        return "none"
+    unit = KNOB_UNITS.get(name)
+    return f"{value:g} {unit}" if unit and isinstance(value, (int, float)) else str(value)
+
+
 def _provenance(attributes: dict[str, Any]) -> str:
     knobs = json.loads(attributes.get("knobs", "{}"))
     items = [
         ("study", attributes.get("study_file", "-")),
         ("config hash", attributes.get("config_hash", "-")),
         ("fidelity", f"{attributes.get('fidelity', '-')}: "
-                     + ", ".join(f"{k} = {v}" for k, v in knobs.items())),
+                     + ", ".join(f"{k} = {_knob(k, v)}" for k, v in knobs.items())),
         ("versions", ", ".join(f"{name} {attributes[f'{name}_version']}" for name in
                                ("rockbridge", "python", "numpy", "scipy", "h5py", "hdf5")
                                if f"{name}_version" in attributes)),
-        ("machine", attributes.get("host", "-")),
+        ("host name", attributes.get("host", "-")),
         ("run", f"{attributes.get('created', '-')} to {attributes.get('finished', '-')}"),
         ("complete", f"{attributes.get('n_complete', '-')} of {attributes.get('n_analyses', '-')} "
                      "analyses"),
@@ -333,7 +356,7 @@ def _summary(
             f"{100 * ratio.mean():.1f} %" if ratio.size else "-",
             ", ".join(f"{n} {m}" for m, n in failed.items()) or "none",
         ])  # fmt: skip
-    level = [] if intensity is None else [f"level [{intensity['measure']}]"]
+    level = [] if intensity is None else [f"level, {MEASURES[intensity['measure']].label}"]
     headers = ["bridge", *level, "ran ok", "backfill d/c, largest", "backfill d/c, mean",
                "failures"]  # fmt: skip
     more = f'<p class="note">{len(groups) - MAX_ROWS} more rows.</p>' if (
@@ -359,16 +382,18 @@ def _intensity_section(
             + ([number(None if item.median is None else item.median / design)] if design else [])
             for item in found]  # fmt: skip
     measure = intensity["measure"]
-    margin = (f"The design level is {design:g} ({measure}); the last column is each median's "
-              "margin over it.") if design else ""  # fmt: skip
+    unit = MEASURES[measure].unit
+    margin = (f"The design level is {design:g} {unit} ({measure}); the last column is each "
+              "median's margin over it.") if design else ""  # fmt: skip
     parts = [
-        _section(f"IDA curves ({measure})", figure(plot_ida, results),
+        _section(f"IDA curves ({MEASURES[measure].label})", figure(plot_ida, results),
                  "Each record's peak against its intensity level; a cross ends a curve where "
                  "the bridge failed.") if _is_ida(intensity) else "",
-        _section(f"Fragility ({measure})", figure(plot_fragility, results, found=found),
+        _section(f"Fragility ({MEASURES[measure].label})",
+                 figure(plot_fragility, results, found=found),
                  "Share of the records reaching each limit state, and the fitted lognormal."),
         f"<p>{margin}</p>" if margin else "",
-        table_html(["bridge", "limit state", "median", "β", "median, 5–95 %"]
+        table_html(["bridge", "limit state", f"median [{unit}]", "β", f"median, 5–95 % [{unit}]"]
                + (["median / design"] if design else []), rows, text_columns=(0, 1)),
         _unreachable(found),
         _efficiency_section(results) if _is_ida(intensity) else "",
