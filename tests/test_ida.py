@@ -277,6 +277,11 @@ def test_the_report_of_an_ida_counts_records_and_points_to_the_capacities(ida_ru
     demand = text.split("<h2>Demand and capacity</h2>")[1].split("<h2>")[0]
     assert "IDA&#x27;s levels differ by record" in demand and "<table>" not in demand
     assert "studied-hbar1.00: overturning: unreachable — the abutment fails first on 2/2" in text
+    # issue 40: the efficiency table gives Arias intensity's β halved, as its sentence compares
+    # it, and names the measure with the smallest β
+    which = text.split("<h2>Which intensity measure</h2>")[1].split("<h2>")[0]
+    assert "its column gives half its β" in which and "Arias intensity (½β)" in which
+    assert "The smallest β: " in which and "pga_tan_alpha" not in which
 
 
 def test_a_capacity_agrees_with_plain_runs_just_below_and_above(ida_run, tmp_path):

@@ -76,8 +76,9 @@ def fragility(
                      f"{reaching}/{len(item.capacities)}"])  # fmt: skip
         if design:
             rows[-1].append(None if item.median is None else item.median / design[1])
+    unit = f" {MEASURES[found[0].measure].unit}" if found else ""
     click.echo(f"measure: {found[0].measure if found else '-'}"
-               + (f"; design level {design[1]:g}" if design else ""))  # fmt: skip
+               + (f"; design level {design[1]:g}{unit}" if design else ""))  # fmt: skip
     click.echo(table_text(headers, rows))
     for item in found:
         if note := unreachable_note(item):

@@ -418,22 +418,35 @@ def _unreachable(found: list) -> str:
 
 def _efficiency_section(results: Path) -> str:
     """β of the IDA's capacities in each intensity measure (`assessment.efficiency`)."""
-    from ..assessment.efficiency import compare
+    from ..assessment.efficiency import SQUARED, best_measures, comparable_beta, compare
 
     rows = compare(results)
     measures = list(dict.fromkeys(row.measure for row in rows))
     beta = {(row.bridge, row.limit_state, row.measure): row.beta for row in rows}
     cases = list(dict.fromkeys((row.bridge, row.limit_state) for row in rows))
-    table = [[*case, *(number(beta[case + (m,)]) for m in measures)] for case in cases]
+
+    def shown(case: tuple[str, str], measure: str) -> str:
+        value = beta[case + (measure,)]
+        return number(None if value is None else comparable_beta(measure, value))
+
+    table = [[*case, *(shown(case, m) for m in measures)] for case in cases]
     table = [row for row in table if any(cell != "-" for cell in row[2:])]
     text = (
         "β of the capacities converted to each measure (Sa at 1 s, AvgSa over 0.2–3 s): the "
         "smaller β, the fewer records fix the median (its standard error is β/√n). Arias "
-        "intensity grows as the square of a record's factor: compare half its β. rockbridge "
-        "fragility RESULTS --compare-measures adds the trends with magnitude and distance."
+        "intensity grows as the square of a record's factor: its column gives half its β. "
+        "rockbridge fragility RESULTS --compare-measures adds the trends with magnitude and "
+        "distance."
     )
+    best = best_measures(rows)
+    if best:
+        first, *others = best.items()
+        text += (f" The smallest β: {_name(first[0])}, in {first[1]} of {sum(best.values())} "
+                 "bridge × limit-state cases" + "".join(f"; {_name(m)} in {n}" for m, n in others)
+                 + ".")  # fmt: skip
+    headers = [_name(m) + (" (½β)" if m in SQUARED else "") for m in measures]
     return f"<h2>Which intensity measure</h2>\n<p>{escaped(text)}</p>\n" + table_html(
-        ["bridge", "limit state", *measures], table, text_columns=(0, 1)
+        ["bridge", "limit state", *headers], table, text_columns=(0, 1)
     )
 
 
