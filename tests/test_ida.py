@@ -22,7 +22,7 @@ from scipy.stats import norm
 from studies import contents, write_study
 
 from rockbridge_cli.assessment import limit_states
-from rockbridge_cli.assessment.fragility import fit_capacities
+from rockbridge_cli.assessment.fragility import fit_capacities, fragilities
 from rockbridge_cli.assessment.ida import Lattice, Outcome, walk
 from rockbridge_cli.cli import main
 from rockbridge_cli.config.study import load_study
@@ -282,6 +282,14 @@ def test_the_report_of_an_ida_counts_records_and_points_to_the_capacities(ida_ru
     which = text.split("<h2>Which intensity measure</h2>")[1].split("<h2>")[0]
     assert "its column gives half its β" in which and "Arias intensity (½β)" in which
     assert "The smallest β: " in which and "pga_tan_alpha" not in which
+    # an IDA's page gives each record's capacities, not a peak row per level run (pages of them)
+    assert "<h2>Peak table</h2>" not in text and "<h2>Capacities</h2>" in text
+    table = text.split("<h2>Capacities</h2>")[1].split("</table>")[0]
+    reached = [(f.limit_state, c) for f in fragilities(study.output)
+               for c in f.capacities.values() if c is not None]  # fmt: skip
+    assert table.count("<tr>") == 1 + 2 * 2  # the header, two bridges × two records
+    state, capacity = reached[0]
+    assert f"{capacity:.3g}" in table and f"{state} [g]" in table
 
 
 def test_a_capacity_agrees_with_plain_runs_just_below_and_above(ida_run, tmp_path):

@@ -135,7 +135,9 @@ def write_report(
         if intensity is not None:
             parts.append(_intensity_section(results, intensity, figure, hazard, years))
     parts += [
-        _peak_table(columns, units),
+        _capacity_table(results, intensity, len(columns["bridge"]))
+        if intensity is not None and _is_ida(intensity)
+        else _peak_table(columns, units),
         _failures(columns),
         record_sets(attributes, sources),
         _warnings(attributes),
@@ -470,6 +472,33 @@ def _risk_section(found: list, intensity: dict, hazard: HazardCurve, years: floa
         + table_html(headers, rows, text_columns=(0, 1))
         + (f'<ul class="note">{notes}</ul>' if notes else "")
     )
+
+
+def _capacity_table(results: Path, intensity: dict, analyses: int) -> str:
+    """An IDA's table: each bridge × record's capacity for each limit state, in place of its
+    peak table (a row per level run of each record, pages of them)."""
+    from ..assessment.fragility import fragilities
+
+    found = fragilities(results)
+    states = list(dict.fromkeys(item.limit_state for item in found))
+    capacities = {(item.bridge, item.limit_state): item.capacities for item in found}
+    unit = MEASURES[intensity["measure"]].unit
+    rows = [
+        [bridge, record, *(number(capacities[bridge, state].get(record)) for state in states)]
+        for bridge in dict.fromkeys(item.bridge for item in found)
+        for record in capacities[bridge, states[0]]
+    ]
+    more = f'<p class="note">{len(rows) - MAX_ROWS} more rows.</p>' if (
+        len(rows) > MAX_ROWS) else ""  # fmt: skip
+    return (
+        f'<h2>Capacities</h2>\n<p class="note">Each record\'s capacity, the lowest '
+        f"{escaped(_name(intensity['measure']))} at which it reaches each limit state ('-': no "
+        f"level run reaches it). The results file holds the peaks of all {analyses} analyses, "
+        "a row per level run (rockbridge peaks RESULTS).</p>\n"
+        + table_html(["bridge", "record", *(f"{state} [{unit}]" for state in states)],
+                     rows[:MAX_ROWS], text_columns=(0, 1))
+        + more
+    )  # fmt: skip
 
 
 def _peak_table(columns: dict[str, np.ndarray], units: dict[str, str]) -> str:
