@@ -30,10 +30,24 @@ class InputError(Exception):
     def __str__(self) -> str:
         if len(self.problems) == 1:
             where, reason = self.problems[0]
-            return f"{self.source}: {where + ': ' if where else ''}{reason}"
+            return f"{self.source}: {where + ': ' if where else ''}{reason}{_entry(where)}"
         lines = [f"{self.source}: {len(self.problems)} problems"]
-        lines += [f"  {where + ': ' if where else ''}{reason}" for where, reason in self.problems]
+        lines += [f"  {where + ': ' if where else ''}{reason}{_entry(where)}"
+                  for where, reason in self.problems]  # fmt: skip
         return "\n".join(lines)
+
+
+def _entry(where: str) -> str:
+    """Which entry of a list a dotted field path names, counted as a reader counts: the paths
+    count from 0 (as a sweep's fields do), so ``records.files.1`` is `` (the 2nd entry of
+    records.files)``; "" for a path without a list."""
+    parts = where.split(".")
+    last = max((k for k, part in enumerate(parts) if part.isdigit() and k > 0), default=None)
+    if last is None:
+        return ""
+    n = int(parts[last]) + 1
+    suffix = "th" if 10 <= n % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(n % 10, "th")
+    return f" (the {n}{suffix} entry of {'.'.join(parts[:last])})"
 
 
 def nearest(word: str, choices: Iterable[str], what: str, shown: int = 3) -> str:

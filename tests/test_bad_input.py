@@ -496,3 +496,15 @@ def test_a_mistyped_file_name_gets_the_nearest(tmp_path, command):
 def test_a_record_id_in_another_case_gets_the_id():
     assert nearest("ar07", ["AR01", "AR07", "AR10"], "records") == "nearest: AR07 (of 3 records)"
     assert nearest("AR7", ["AR01", "AR07"], "records").startswith("nearest: AR07")
+
+
+@pytest.mark.parametrize(
+    ("where", "entry"),
+    [("records.files.1.path", " (the 2nd entry of records.files)"), ("bridges.0", " (the 1st "
+     "entry of bridges)"), ("sweep.fields.piers.heights.11", " (the 12th entry of "
+     "sweep.fields.piers.heights)"), ("line 3", ""), ("output.path", "")],
+)  # fmt: skip
+def test_a_list_entry_is_also_counted_as_a_reader_counts(where, entry):
+    """Issue 40: `records.files.1` is the 2nd entry; the paths count from 0, as a sweep's fields
+    do, and the message says which entry that is."""
+    assert str(InputError("s.yaml", [(where, "why")])) == f"s.yaml: {where}: why{entry}"
