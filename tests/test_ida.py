@@ -441,3 +441,22 @@ def test_the_ida_figure_of_one_bridge_keeps_its_legend_inside(tmp_path, monkeypa
     canvas.draw()
     box = drawn[0].legends[0].get_window_extent(canvas.get_renderer())
     assert 0.0 <= box.x0 and box.x1 <= drawn[0].bbox.width
+
+
+def test_the_ida_figure_names_its_bridges_and_its_axis_as_fig_9_does(ida_run, tmp_path):
+    """Issue 40: panel titles were ids and the x label a column name (`u_deck_max [mm]`)."""
+    import re
+
+    import matplotlib
+
+    from rockbridge_cli.plots.ida import plot_ida
+    from rockbridge_cli.results.reading import bridge_attributes, open_results
+
+    study, _ = ida_run
+    with matplotlib.rc_context({"svg.fonttype": "none"}):
+        svg = plot_ida(study.output, tmp_path / "ida.svg").read_text(encoding="utf-8")
+    texts = re.findall(r"<text[^>]*>([^<]*)</text>", svg)
+    with open_results(study.output) as file:
+        names = [attributes["name"] for attributes in bridge_attributes(file).values()]
+    assert all(name in texts for name in names), texts
+    assert "u_deck_max" not in svg and "peak" in svg  # mathtext: "peak" and u, deck, CG apart
