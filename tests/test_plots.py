@@ -246,3 +246,25 @@ def test_a_name_with_tex_math_is_drawn_as_written(tmp_path):
         onset = parametric.plot_q(hostile, tmp_path / "q.svg")
     for path in (peaks, history, onset):
         assert name in svg_text(path)
+
+
+def test_a_peaks_figure_of_too_many_bridges_points_to_the_sweeps(tmp_path, monkeypatch):
+    """Issue 40: `plot peaks` spent 55 s drawing 1000 bridges; beyond `MAX_BRIDGES` (here 2, of a
+    sweep of 3 gaps) it refuses and names `plot sweep`, which draws them."""
+    from click.testing import CliRunner
+
+    from rockbridge_cli.cli import main
+    from rockbridge_cli.plots import peaks
+
+    monkeypatch.setattr(peaks, "MAX_BRIDGES", 2)
+    path = write_study(tmp_path, bridges=(STUDIED[1],), records=("R1",), extra=(
+        "sweep: {fields: {abutments.gap: {start: 0.06, stop: 0.30, count: 3}}}\n"
+        "fidelity: fast\noutput: {path: out.h5, histories: none}\n"))  # fmt: skip
+    study = load_study(path)
+    run_study(study, workers=1)
+    refused = CliRunner().invoke(main, ["plot", "peaks", str(study.output)])
+    assert refused.exit_code == 2
+    command = f"rockbridge plot sweep {study.output} --field abutments.gap"
+    assert refused.output.strip().endswith(command)
+    drawn = CliRunner().invoke(main, [*command.split()[1:], "-o", str(tmp_path / "sweep.png")])
+    assert drawn.exit_code == 0, drawn.output

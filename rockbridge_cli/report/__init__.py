@@ -222,8 +222,11 @@ def _figures(
 
         at = (f" at {_name(intensity['measure'])} = {level:g} "
               f"{MEASURES[intensity['measure']].unit}") if intensity else ""  # fmt: skip
-        parts.append(_section(f"Peaks per record{at} (as the paper's Fig. 9)",
-                              figure(plot_peaks, results, level=level if intensity else None),
+        try:
+            image = figure(plot_peaks, results, level=level if intensity else None)
+        except InputError as exc:  # too many bridges for one figure: said in its place
+            image = f'<p class="note">{escaped(exc.problems[0][1])}</p>'
+        parts.append(_section(f"Peaks per record{at} (as the paper's Fig. 9)", image,
                               "One marker per bridge and record; right: the means over the "
                               "records. (A) with the end-joint gap (dotted) and the "
                               "abutment–backfill failure (dashed)."))  # fmt: skip
