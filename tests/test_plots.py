@@ -268,3 +268,29 @@ def test_a_peaks_figure_of_too_many_bridges_points_to_the_sweeps(tmp_path, monke
     assert refused.output.strip().endswith(command)
     drawn = CliRunner().invoke(main, [*command.split()[1:], "-o", str(tmp_path / "sweep.png")])
     assert drawn.exit_code == 0, drawn.output
+
+
+def test_a_sweeps_legend_stands_beside_its_curves_and_names_the_bridge_once(tmp_path):
+    """Issue 40: `plot sweep`'s legend (loc="best", over the curves; matplotlib warned on the
+    terminal that "best" is slow with much data) now stands beside the axes, the one bridge
+    named once as its title. A grid of 3 gaps × 3 heights: three curves against the gap."""
+    import warnings
+
+    from rockbridge_cli.plots.sweep import plot_sweep
+
+    path = write_study(tmp_path, bridges=(STUDIED[0],), records=("R1",), extra=(
+        "sweep: {fields: {abutments.gap: {start: 0.06, stop: 0.18, count: 3}, piers.heights.1: "
+        "{start: 13.0, stop: 26.0, count: 3}}, grid: true}\n"
+        "fidelity: fast\noutput: {path: out.h5, histories: none}\n"))  # fmt: skip
+    study = load_study(path)
+    run_study(study, workers=1)
+    with warnings.catch_warnings(), matplotlib.rc_context({"svg.fonttype": "none"}):
+        warnings.simplefilter("error")
+        texts = re.findall(r"<text[^>]*>([^<]*)</text>", svg_text(
+            plot_sweep(study.output, tmp_path / "sweep.svg", "abutments.gap")))  # fmt: skip
+    assert texts.count(STUDIED[0]) == 1
+    assert [t for t in texts if t.startswith("piers.heights.1 = ")] == [
+        "piers.heights.1 = 13",
+        "piers.heights.1 = 19.5",
+        "piers.heights.1 = 26",
+    ]
