@@ -155,6 +155,21 @@ def test_peaks_figure(done, tmp_path):
         assert f"({letter})" in text
 
 
+def test_a_peak_of_zero_is_drawn_whole_above_the_frame(done, tmp_path, monkeypatch):
+    """Issue 40: a marker at zero (the symmetric bridge's deck never turns) was cut in half by
+    the axis; every panel now starts a little below zero."""
+    from rockbridge_cli.plots import peaks
+
+    drawn = []
+    monkeypatch.setattr(peaks, "save", lambda figure, output: drawn.append(figure) or output)
+    plot_peaks(done, tmp_path / "peaks.png")
+    panels = [axes for axes in drawn[0].axes if axes.get_ylabel()]
+    assert len(panels) == 6
+    for axes in panels:
+        low, high = axes.get_ylim()
+        assert -0.05 * high < low < 0.0 < high
+
+
 def test_history_figure(done, tmp_path):
     with matplotlib.rc_context({"svg.fonttype": "none"}):
         path = plot_history(done, "R1", tmp_path / "history.svg", bridges=[STUDIED[1]])

@@ -129,8 +129,9 @@ def plot_peaks(results: str | Path, output: str | Path, level: float | None = No
         panel_label(axes, letter)
     _limits(grid[0, 0], bridges)
     grid[-1, -1].axhline(100.0, **FAILURE_LINE)
-    for axes in grid.flat:  # from zero, with the markers and limit lines clear of the top frame
-        axes.set_ylim(0.0, 1.08 * axes.get_ylim()[1])
+    for axes in grid.flat:  # from just below zero, so that a marker at zero (a symmetric
+        top = 1.08 * axes.get_ylim()[1]  # bridge's deck rotation) is not cut by the frame; the
+        axes.set_ylim(-0.03 * top, top)  # markers and limit lines clear of the top frame
     for axes in grid[-1]:
         axes.set_xlabel("record")
     if len(bridges) > MAX_NAMED:
