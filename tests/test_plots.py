@@ -170,6 +170,27 @@ def test_a_peak_of_zero_is_drawn_whole_above_the_frame(done, tmp_path, monkeypat
         assert -0.05 * high < low < 0.0 < high
 
 
+def test_fig_10_has_the_failure_level_and_times_under_every_panel(done, tmp_path, monkeypatch):
+    """Issue 40: Fig. 10 lacked the abutment's failure level ±(u_jo + u_ab) that Fig. 9A draws
+    (0.12 + 0.10 m = 220 mm for the studied bridges, docs/model.md §2), and only its last panel
+    had time labels."""
+    from rockbridge_cli.plots import history
+
+    drawn = []
+    monkeypatch.setattr(history, "save", lambda figure, output: drawn.append(figure) or output)
+    plot_history(done, "R1", tmp_path / "history.png")
+    panels = [axes for axes in drawn[0].axes if axes.get_ylabel()]
+    deck = next(axes for axes in panels if "u_{deck}" in axes.get_ylabel())
+    levels = sorted(
+        line.get_ydata()[0]
+        for line in deck.get_lines()
+        if line.get_linestyle() == "--" and len(set(line.get_ydata())) == 1
+    )
+    assert levels == pytest.approx([-220.0, 220.0])
+    for axes in panels:
+        assert all(tick.label1.get_visible() for tick in axes.xaxis.get_major_ticks())
+
+
 def test_history_figure(done, tmp_path):
     with matplotlib.rc_context({"svg.fonttype": "none"}):
         path = plot_history(done, "R1", tmp_path / "history.svg", bridges=[STUDIED[1]])
