@@ -23,7 +23,7 @@ WORKDIR /opt/rockbridge
 COPY requirements.lock ./
 RUN pip install --require-hashes -r requirements.lock
 
-COPY pyproject.toml README.md ./
+COPY pyproject.toml README.md .rockbridge ./
 COPY rockbridge_cli ./rockbridge_cli
 COPY configs ./configs
 COPY records ./records

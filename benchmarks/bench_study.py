@@ -55,6 +55,24 @@ REPO = Path(__file__).resolve().parents[1]
 BRIDGES = [REPO / "configs" / "bridges" / f"studied-hbar{h}.yaml" for h in ("1.00", "1.25", "2.00")]
 RECORDS = sorted((REPO / "records" / "ec8-type1-C-ag0.6g").glob("AR*.txt"))
 CLI = "from rockbridge_cli.cli import entry; entry()"
+NAMED = os.pathsep.join(filter(None, (os.environ.get("ROCKBRIDGE_PATHS"), str(REPO))))
+ENV = os.environ | {"ROCKBRIDGE_PATHS": NAMED}
+"""The generated rows' environment: their studies, written in temporary folders, name the
+repository's bridges and records by absolute paths, which a study may reach only where the user
+says so (README, "Paths in configs"). The bundled studies run in the user's environment, as
+README runs them: they reach the records through the repository's .rockbridge marker."""
+
+
+def child(command: list[str], cwd: str | Path | None = None, env: dict | None = ENV) -> str:
+    """Run ``command`` (a row's process) and return its output; where it fails, stop with the
+    command's own last lines of error output, not a traceback of this script."""
+    done = subprocess.run(command, capture_output=True, text=True, cwd=cwd, env=env)
+    if done.returncode != 0:
+        tail = "\n".join(done.stderr.strip().splitlines()[-5:])
+        sys.exit(f"bench_study.py: a row's process failed (exit {done.returncode}) in "
+                 f"{cwd or Path.cwd()}:\n{tail}")  # fmt: skip
+    return done.stdout
+
 
 ROW = """
 import json, resource, sys, time
@@ -118,18 +136,14 @@ def measure(
         study = write_study(Path(folder), analyses, histories, fidelity, bridges)
         if command:
             return measure_command(study, workers)
-        done = subprocess.run(
-            [sys.executable, "-c", ROW, str(study), str(workers), "session" * session],
-            capture_output=True, text=True, check=True,
-        )  # fmt: skip
-    return json.loads(done.stdout)
+        out = child([sys.executable, "-c", ROW, str(study), str(workers), "session" * session])
+    return json.loads(out)
 
 
 def measure_command(study: Path, workers: int) -> dict:
     """``rockbridge run STUDY --workers N`` in a fresh process, timed from outside."""
     started = time.perf_counter()
-    subprocess.run([sys.executable, "-c", CLI, "run", str(study), "--workers", str(workers)],
-                   capture_output=True, check=True)  # fmt: skip
+    child([sys.executable, "-c", CLI, "run", str(study), "--workers", str(workers)])
     nan = float("nan")
     row = dict.fromkeys(("load", "solve", "parent", "worker", "rss_parent", "rss_worker"), nan)
     elapsed = time.perf_counter() - started
@@ -143,16 +157,10 @@ def measure_bundled(name: str, workers: int) -> dict:
     """A bundled study run as README runs it, in a fresh folder: the run, then its fragility."""
     with tempfile.TemporaryDirectory() as folder:
         study = REPO / "configs" / "studies" / f"{name}.yaml"
-        done = subprocess.run(
-            [sys.executable, "-c", ROW, str(study), str(workers), ""],
-            capture_output=True, text=True, check=True, cwd=folder,
-        )  # fmt: skip
-        row = json.loads(done.stdout)
+        run = [sys.executable, "-c", ROW, str(study), str(workers), ""]
+        row = json.loads(child(run, folder, env=None))
         started = time.perf_counter()
-        subprocess.run(
-            [sys.executable, "-c", CLI, "fragility", f"results/{name}.h5"],
-            capture_output=True, check=True, cwd=folder,
-        )  # fmt: skip
+        child([sys.executable, "-c", CLI, "fragility", f"results/{name}.h5"], folder, env=None)
         row["fragility"] = time.perf_counter() - started
     return row
 

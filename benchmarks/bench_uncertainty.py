@@ -38,7 +38,8 @@ uncertainty:
     abutments.stiffness: {{distribution: lognormal, median: 132.0e6, beta: 0.3}}
     abutments.damping: {{distribution: lognormal, median: 48.0e6, beta: 0.3}}
     abutments.ultimate_displacement: {{distribution: lognormal, median: 0.10, beta: 0.3}}
-    rocking_restitution: {{distribution: truncated-normal, mean: 0.94, std: 0.03, low: 0.85, high: 0.99}}
+    rocking_restitution:
+      {{distribution: truncated-normal, mean: 0.94, std: 0.03, low: 0.85, high: 0.99}}
     abutments.pounding.restitution: {{distribution: uniform, low: 0.4, high: 0.8}}
 fidelity: {fidelity}
 output: {{histories: none}}

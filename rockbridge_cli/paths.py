@@ -8,7 +8,7 @@ import stat
 from collections.abc import Callable
 from pathlib import Path
 
-from .errors import InputError
+from .errors import InputError, did_you_mean
 
 
 def writable(path: str | Path, folder: bool = False) -> Path:
@@ -58,7 +58,7 @@ def read_input_text(path: str | Path, limit: int, what: str) -> str:
     try:
         info = path.stat()
     except FileNotFoundError:
-        raise InputError(path, [("", "file not found")]) from None
+        raise InputError(path, [("", f"file not found{did_you_mean(path)}")]) from None
     except OSError as exc:
         raise InputError(path, [("", f"cannot read the file ({exc.strerror})")]) from None
     if stat.S_ISDIR(info.st_mode):

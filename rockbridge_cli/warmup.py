@@ -70,14 +70,21 @@ def analysis_kernels(models: tuple[geometry.Model, ...] | None = None) -> None:
             analyze(Bridge(model), ground, TIME_STEP, preset)
 
 
+def vertical_kernels() -> None:
+    """Call every kernel an analysis with a vertical ground motion uses (compiled for it of their
+    own, `core.schemes.VerticalGround`): the studied bridge under a short pulse at every
+    fidelity preset."""
+    motion = pulse(duration=1.0)
+    for preset in PRESETS:
+        analyze(Bridge(studied_bridge()), motion, TIME_STEP, preset, vertical=0.2 * motion)
+
+
 def compile_kernels() -> None:
     """Call every compiled kernel once (compiling it, or loading it from the disk cache); the
     kernels of an analysis with a vertical ground motion too, compiled for it of their own
     (`core.schemes.VerticalGround`)."""
     analysis_kernels()
-    for preset in PRESETS:
-        motion = pulse(duration=1.0)
-        analyze(Bridge(studied_bridge()), motion, TIME_STEP, preset, vertical=0.2 * motion)
+    vertical_kernels()
     ground = pulse()
     periods = matching.compute_matching_periods((0.1, 1.0), 10, TIME_STEP)
     spectra.compute_psa(ground, TIME_STEP, periods, 0.05)

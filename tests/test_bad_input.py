@@ -11,12 +11,13 @@ import h5py
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from studies import REPO
 
 from rockbridge_cli.cli import main
 from rockbridge_cli.config.bridge import load_bridge
 from rockbridge_cli.config.loading import read_yaml
 from rockbridge_cli.config.plausibility import record_warnings
-from rockbridge_cli.errors import InputError
+from rockbridge_cli.errors import InputError, nearest
 from rockbridge_cli.records.files import read_record
 
 BRIDGE = """\
@@ -466,3 +467,44 @@ def test_a_list_or_mapping_field_names_one_mistake_where_it_is_written(
     refused(result, *expected)
     problems = result.output.count("\n") - (len(expected) > 1)  # a heading line above several
     assert problems == len(expected) and "[" not in result.output.replace("[0.1", "")
+
+
+# Issue 40: a file of another kind is named for what it is; a mistyped name or id gets the nearest
+
+
+def test_a_study_given_for_results_or_a_hazard_curve_is_named(tmp_path):
+    study = REPO / "configs" / "studies" / "quick.yaml"
+    refused(invoke("peaks", study), "this is a study file, not a results file")
+    (tmp_path / "r.h5").write_bytes(b"\x89HDF\r\n\x1a\n" + bytes(100))  # HDF5's signature only
+    refused(
+        invoke("risk", tmp_path / "r.h5", "--hazard", study),
+        "this is a study file, not a hazard curve (a study file is for rockbridge run STUDY)",
+    )
+
+
+@pytest.mark.parametrize("command", ["peaks", "describe"])
+def test_a_mistyped_file_name_gets_the_nearest(tmp_path, command):
+    (tmp_path / "paper-fig9.h5").write_bytes(b"")
+    (tmp_path / "paper-fig9.yaml").write_text(BRIDGE)
+    typed = tmp_path / ("paper-fig9.hdf5" if command == "peaks" else "paper-fig9.yml")
+    wanted = "paper-fig9.h5" if command == "peaks" else "paper-fig9.yaml"
+    refused(invoke(command, typed), "file not found (did you mean ", wanted)
+    refused(invoke(command, tmp_path / "other.h5"))
+    assert "did you mean" not in invoke(command, tmp_path / "other.h5").output
+
+
+def test_a_record_id_in_another_case_gets_the_id():
+    assert nearest("ar07", ["AR01", "AR07", "AR10"], "records") == "nearest: AR07 (of 3 records)"
+    assert nearest("AR7", ["AR01", "AR07"], "records").startswith("nearest: AR07")
+
+
+@pytest.mark.parametrize(
+    ("where", "entry"),
+    [("records.files.1.path", " (the 2nd entry of records.files)"), ("bridges.0", " (the 1st "
+     "entry of bridges)"), ("sweep.fields.piers.heights.11", " (the 12th entry of "
+     "sweep.fields.piers.heights)"), ("line 3", ""), ("output.path", "")],
+)  # fmt: skip
+def test_a_list_entry_is_also_counted_as_a_reader_counts(where, entry):
+    """Issue 40: `records.files.1` is the 2nd entry; the paths count from 0, as a sweep's fields
+    do, and the message says which entry that is."""
+    assert str(InputError("s.yaml", [(where, "why")])) == f"s.yaml: {where}: why{entry}"

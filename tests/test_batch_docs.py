@@ -53,6 +53,7 @@ def same_as_single(merged: Path, expected: dict) -> bool:
     return found == expected
 
 
+@pytest.mark.slow
 def test_the_slurm_scripts(study, tmp_path):
     path, expected = study
     array = (BATCH / "slurm-array.sbatch").read_text()
@@ -73,6 +74,7 @@ def test_the_slurm_scripts(study, tmp_path):
     assert same_as_single(tmp_path / "results" / "study.h5", expected)
 
 
+@pytest.mark.slow
 def test_the_kubernetes_indexed_job(study, tmp_path):
     path, expected = study
     job = yaml.safe_load((BATCH / "kubernetes-indexed-job.yaml").read_text())
@@ -92,6 +94,7 @@ def test_the_kubernetes_indexed_job(study, tmp_path):
     assert same_as_single(tmp_path / "results" / "study.h5", expected)
 
 
+@pytest.mark.slow
 def test_the_aws_batch_job_definition(study, tmp_path):
     path, _ = study
     definition = json.loads((BATCH / "aws-batch-job-definition.json").read_text())

@@ -195,3 +195,20 @@ def test_json_states_units_and_the_solve_without_the_set_up():
     assert data["setup_time_s"] > 0.0 and "set-up" not in data.get("status", "")
     text = invoke("analyze", BRIDGE, RECORD).output
     assert "set-up, once per process" in text and "solve time" in text
+
+
+def test_a_block_prints_no_rows_for_the_parts_it_has_not(tmp_path):
+    """Issue 40: a single block (no deck, no second pier) printed `nan m at nan s` for each of
+    their peaks; the table now has rows for what the model has, whose values are the analysis's."""
+    block = tmp_path / "block.yaml"
+    block.write_text("name: block\npiers: {width: 1.2, heights: [3.0]}\n", encoding="utf-8")
+    result = invoke("analyze", block, RECORD, "--fidelity", "fast")
+    assert result.exit_code == 0, result.output
+    assert "nan" not in result.output
+    rows = [line.split()[1] for line in result.output.splitlines() if line.startswith("max ")]
+    assert rows == ["theta1", "u_pier1"]
+    motion = read_record(RECORD)
+    bridge = load_bridge(block).to_bridge()
+    response = analyze(bridge, motion.acceleration, motion.time_step, "fast")
+    theta1 = next(line for line in result.output.splitlines() if line.startswith("max theta1"))
+    assert f"{response.peak_row()['theta1_max']:.5g} rad" in theta1

@@ -150,6 +150,7 @@ def test_the_regeneration_check_catches_a_real_change(tmp_path):
     assert "records[4].iterations" in found[1] + found[2]
 
 
+@pytest.mark.slow
 def test_default_folder_and_plot(tmp_path, monkeypatch):
     (tmp_path / "small.yaml").write_text(SMALL)
     monkeypatch.chdir(tmp_path)
@@ -267,6 +268,17 @@ def test_plot_record_names_each_record_once(tmp_path):
     assert texts.count("AR01") == 1 and texts.count("AR07") == 1
 
 
+@pytest.mark.parametrize("command", ["record", "spectra"])
+def test_a_named_file_beside_another_programs_manifest_is_drawn(tmp_path, command):
+    """Issue 40: a manifest.json that is not a record set's (a web app's) made `plot record` and
+    `plot spectra` refuse the files named beside it; it is no set, and the files plain ones."""
+    shutil.copy(BUNDLED / "AR01.txt", tmp_path / "AR01.txt")
+    (tmp_path / "manifest.json").write_text('{"name": "my-app", "version": "1.0"}')
+    result = run("plot", command, tmp_path / "AR01.txt", "-o", tmp_path / "figure.png")
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / "figure.png").stat().st_size > 10_000
+
+
 def small_set(tmp_path: Path, seed: int, out: Path):
     config = tmp_path / f"small-{seed}.yaml"
     config.write_text(SMALL.replace("seed: 1", f"seed: {seed}"), encoding="utf-8")
@@ -316,6 +328,7 @@ def test_a_folder_of_other_files_is_not_replaced(tmp_path):
     assert [p.name for p in (tmp_path / "mine").iterdir()] == ["notes.txt"]
 
 
+@pytest.mark.slow
 def test_a_killed_generator_never_leaves_a_set_a_study_accepts_mixed(tmp_path):
     """SIGKILL at staggered moments of a generator replacing a set: whatever is left is the old
     set, the new one, or no set, and a study that accepts the folder reads files that all agree

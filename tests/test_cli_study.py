@@ -11,7 +11,7 @@ import sys
 import pandas as pd
 import pytest
 from click.testing import CliRunner
-from studies import BRIDGES, REPO, STUDIED, write_study
+from studies import BRIDGES, REPO, STUDIED, write_records, write_study
 
 from rockbridge_cli.cli import main
 from rockbridge_cli.cli.progress import ProgressDisplay
@@ -216,6 +216,22 @@ def test_progress_stays_short_for_a_big_study(capsys, terminal):
         assert len(lines) < 200  # redrawn every 0.1 s at most, and at the end
 
 
+def test_a_long_writing_of_the_results_file_says_how_far_it_is(capsys, monkeypatch):
+    """Issue 40: a Ctrl-C with a large journal saved for minutes without a line. The writing
+    says it starts before its first block, then every 10 s how far it is; an interrupted run
+    writes fewer analyses than the study's, so no "done" (the run's next line ends it)."""
+    clock = [0.0]
+    monkeypatch.setattr("rockbridge_cli.cli.progress.time.monotonic", lambda: clock[0] + 1.0)
+    display = ProgressDisplay(terminal=False)
+    for written, now in ((0, 0.0), (100, 4.0), (200, 10.5), (276, 12.0)):
+        clock[0] = now
+        display.assembling(written, 6000)
+    assert capsys.readouterr().err.splitlines() == [
+        "writing the results file (at most 6000 analyses): started",
+        "writing the results file: 200 analyses written",
+    ]
+
+
 def test_outputs_that_cannot_be_written_exit_2_before_any_work(tmp_path):
     """A figure, a CSV export or a record folder under a path that is a file: one message, 2."""
     blocker = tmp_path / "file"
@@ -356,7 +372,7 @@ def test_a_run_that_compiles_says_so_once_before_its_analyses(tmp_path, monkeypa
     monkeypatch.setattr(warmup, "analysis_kernels", compile_a_kernel)
     study = write_study(tmp_path)
     for workers in ("1", "2"):
-        monkeypatch.setattr(kernels, "_ready", False)
+        monkeypatch.setattr(kernels, "_ready", set())
         result = invoke("run", study, "--workers", workers, "--overwrite")
         assert result.exit_code == 0, result.output
         lines = result.output.splitlines()
@@ -364,9 +380,60 @@ def test_a_run_that_compiles_says_so_once_before_its_analyses(tmp_path, monkeypa
         assert lines[1].startswith("compiling the analysis kernels, once for this installation")
         assert f"about {kernels.COMPILE_TIME_S} s" in lines[1]
         assert result.output.count("compiling") == 1
-    monkeypatch.setattr(kernels, "_ready", False)  # a refused run's workers compile nothing
+    monkeypatch.setattr(kernels, "_ready", set())  # a refused run's workers compile nothing
     refused = invoke("run", tmp_path / "missing.yaml", "--workers", "2")
     assert refused.exit_code == 2 and "compiling" not in refused.output
+
+
+def test_a_vertical_run_says_it_compiles_the_vertical_kernels_once(tmp_path, monkeypatch):
+    """Issue 40: the kernels of a vertical ground motion, compiled for it of their own, were
+    compiled silently in each worker at once on their first analysis, and counted as solve
+    time. They are made ready with the others, one process at a time, and the run says so once
+    (the horizontal kernels loaded, as here, only the vertical line)."""
+    import numba
+
+    from rockbridge_cli import warmup
+
+    def compile_a_kernel(models=None):
+        numba.njit(lambda x: x + 2.0)(1.0)
+
+    monkeypatch.setattr(warmup, "vertical_kernels", compile_a_kernel)
+    study = write_study(tmp_path, bridges=STUDIED[:1], records=("R1", "R2"), extra=(
+        "fidelity: fast\noutput: {histories: none}\n"))  # fmt: skip
+    text = study.read_text().replace("- path: R1.txt", "- {path: R1.txt, vertical: R2.txt}")
+    study.write_text(text.replace("    - path: R2.txt\n", "").replace("records:\n",
+                     "records:\n  vertical: true\n"))  # fmt: skip
+    for workers in ("1", "2"):
+        kernels.prepare()  # the horizontal kernels, loaded from the cache
+        monkeypatch.setattr(kernels, "_ready", {False})
+        result = invoke("run", study, "--workers", workers, "--overwrite")
+        assert result.exit_code == 0, result.output
+        assert result.output.count("compiling") == 1, result.output
+        assert result.output.splitlines()[1] == kernels.COMPILING_VERTICAL
+
+
+def test_analyze_says_it_compiles_and_counts_it_as_set_up(tmp_path, monkeypatch):
+    """`analyze --vertical` was 4-7 times slower than `analyze`, unreported: its set-up now
+    loads the vertical kernels too, and says so where numba compiles them."""
+    import numba
+
+    from rockbridge_cli.core import analysis
+
+    real, calls = analysis.analyze, []
+
+    def compiling_first(*args, **kwargs):
+        if not calls:
+            numba.njit(lambda x: x + 3.0)(1.0)
+        calls.append(kwargs.get("vertical") is not None)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(analysis, "analyze", compiling_first)
+    files = write_records(tmp_path, ("R1", "R2"))
+    result = invoke("analyze", BRIDGES / "studied-hbar1.00.yaml", files["R1"], "--vertical",
+                    files["R2"], "--fidelity", "fast")  # fmt: skip
+    assert result.exit_code == 0, result.output
+    assert result.output.count(kernels.COMPILING_VERTICAL) == 1
+    assert calls == [True, True]  # the set-up's analysis has a vertical motion too
 
 
 def test_run_starts_its_workers_before_it_loads_the_study(tmp_path, monkeypatch):
@@ -407,6 +474,7 @@ def interrupted_run(tmp_path, monkeypatch, extra: str, after: int):
     return tmp_path / "results" / "study.h5"
 
 
+@pytest.mark.slow
 def test_every_reader_says_a_file_is_incomplete(tmp_path, monkeypatch):
     """Two bridges × two records × two levels, stopped after two analyses: every command that
     reads the file says "incomplete: 2 of 8 analyses" (and exits 0, having done its work on
@@ -470,3 +538,23 @@ def test_a_closed_output_never_stops_a_run(tmp_path):
     assert list(read_peaks(tmp_path / "results" / "study.h5")["status"]) == [
         "error", "ok", "error", "ok",
     ]  # fmt: skip
+
+
+def test_the_summary_of_many_bridges_shows_the_rows_that_matter(tmp_path):
+    """Issue 40: 1000 bridges printed 1000 rows. A sweep of 24 gaps (no failure) prints the 20
+    with the largest backfill d/c, in the study's order, and says where every analysis is."""
+    extra = ("sweep: {fields: {abutments.gap: {start: 0.01, stop: 0.24, count: 24}}}\n"
+             "fidelity: fast\noutput: {histories: none}\n")  # fmt: skip
+    study = write_study(tmp_path, bridges=STUDIED[:1], records=("R1",), extra=extra)
+    result = invoke("run", study, "--workers", "1", "-o", str(tmp_path / "out.h5"))
+    assert result.exit_code == 0, result.output
+    table = result.output.split("peaks, largest over the records")[1].splitlines()
+    assert table[0].startswith(", the 20 of 24 rows with the most failures")
+    assert table[0].endswith(f"(every analysis: rockbridge peaks {tmp_path / 'out.h5'}):")
+    assert len(table) == 2 + 20
+    peaks = read_peaks(tmp_path / "out.h5")
+    assert (peaks["failure_mode"] == "none").all()
+    largest = peaks.nlargest(20, "dcr_backfill")["bridge"]
+    assert [line.split()[0] for line in table[2:]] == [
+        b for b in peaks["bridge"] if b in set(largest)
+    ]

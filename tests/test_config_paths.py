@@ -1,4 +1,5 @@
-"""Paths in configs reach the config's folder tree, the working folder's tree and the folders
+"""Paths in configs reach the config's project (its folder's tree, or the tree of the nearest
+folder above it marked by a .rockbridge file), the working folder's tree and the folders
 named in ROCKBRIDGE_PATHS, nothing else (issue 32: "paths in configs confined to the config's
 folder tree unless the user says otherwise"); paths on the command line are not confined.
 
@@ -16,7 +17,12 @@ from click.testing import CliRunner
 from studies import BRIDGES, REPO, write_records
 
 from rockbridge_cli.cli import main
-from rockbridge_cli.config.loading import PATHS_VARIABLE, ConfigFolder
+from rockbridge_cli.config.loading import (
+    PATHS_VARIABLE,
+    PROJECT_MARKER,
+    ConfigFolder,
+    project_root,
+)
 from rockbridge_cli.config.study import load_study
 from rockbridge_cli.errors import InputError
 
@@ -55,9 +61,8 @@ def test_a_record_outside_is_refused_naming_the_field_and_the_way_out(places):
     project, _ = places
     where, why = refused(study(project))
     assert where == "records.files.0.path"
-    assert "../elsewhere/R1.txt is outside the config's folder and the working folder" in why
-    assert f"(it leads to {(project.parent / 'elsewhere' / 'R1.txt').resolve()})" in why
-    assert PATHS_VARIABLE in why
+    assert "../elsewhere/R1.txt leads outside the config's project and the working folder" in why
+    assert why.endswith(f", to {(project.parent / 'elsewhere' / 'R1.txt').resolve()}")
 
 
 def test_the_command_line_says_it_in_one_line_with_exit_2(places):
@@ -66,6 +71,61 @@ def test_the_command_line_says_it_in_one_line_with_exit_2(places):
     assert result.exit_code == 2
     assert "records.files.0.path" in result.output and "Traceback" not in result.output
     assert not (project / "out.h5").exists()
+
+
+def test_the_refusal_is_short_and_ends_with_the_command_that_works(places, monkeypatch):
+    """Issue 40: the message was 330 characters and gave no command; now its last line is the
+    same command with the folder the path leads to named, and that command runs."""
+    project, elsewhere = places
+    path = study(project)
+    result = CliRunner().invoke(main, ["run", "study.yaml", "-o", "out.h5", "--fidelity", "fast"])
+    assert result.exit_code == 2
+    first, last = result.output.strip().splitlines()
+    real = str((elsewhere / "R1.txt").resolve())
+    assert first.endswith(f"{real} (the 1st entry of records.files)")
+    assert len(first) - len(real) < 170, first
+    assert last.strip() == (
+        f"to let it through: {PATHS_VARIABLE}={elsewhere.resolve()} "
+        "rockbridge run study.yaml -o out.h5 --fidelity fast"
+    )
+    monkeypatch.setenv(PATHS_VARIABLE, str(elsewhere.resolve()))
+    assert load_study(path).records[0].id == "R1"
+
+
+def test_a_marked_project_is_reached_from_any_folder(places, tmp_path, monkeypatch):
+    """The bundled studies' layout (configs/studies/x.yaml reading ../../records/...), run from
+    a folder that holds neither: the project's root is marked, its whole tree reachable."""
+    project, elsewhere = places
+    (tmp_path / "work").mkdir()
+    monkeypatch.chdir(tmp_path / "work")
+    path = study(project)
+    assert refused(path)[0] == "records.files.0.path"
+    (tmp_path / PROJECT_MARKER).write_text("")
+    assert project_root(path) == tmp_path.resolve()
+    assert load_study(path).records[0].id == "R1"
+
+
+def test_a_marker_opens_its_own_project_only(places, tmp_path, monkeypatch):
+    """A config handed over with its own marked tree still reaches nothing beyond it."""
+    project, elsewhere = places
+    (project / PROJECT_MARKER).write_text("")
+    (tmp_path / "work").mkdir()
+    monkeypatch.chdir(tmp_path / "work")
+    (project / "sub").mkdir()
+    write_records(project / "data")
+    path = study(project / "sub", bridge="../bridge.yaml", record="../data/R1.txt")
+    assert load_study(path).records[0].id == "R1"
+    where, why = refused(study(project / "sub", "../bridge.yaml", "../../elsewhere/R1.txt"))
+    assert where == "records.files.0.path" and "leads outside" in why
+
+
+def test_a_marker_in_the_home_folder_is_passed_over(places, tmp_path, monkeypatch):
+    """It would open every file of the user to any config."""
+    project, _ = places
+    monkeypatch.setenv("HOME", str(tmp_path))
+    (tmp_path / PROJECT_MARKER).write_text("")
+    assert project_root(project / "study.yaml") == project.resolve()
+    assert refused(study(project))[0] == "records.files.0.path"
 
 
 @pytest.mark.parametrize(
@@ -80,7 +140,7 @@ def test_every_path_of_a_study_is_confined(places, bridge, record, extra, field)
     project, _ = places
     write_records(project)
     where, why = refused(study(project, bridge, record, extra))
-    assert where == field and "is outside the config's folder" in why
+    assert where == field and "leads outside the config's project" in why
 
 
 def test_an_output_path_replaced_on_the_command_line_is_not_checked(places):
@@ -99,7 +159,7 @@ def test_a_vertical_companion_outside_is_refused(places):
     path.write_text("bridges: [bridge.yaml]\nrecords: {files: [{path: R1.txt, vertical: "
                     "../elsewhere/R2.txt}], vertical: true}\n")  # fmt: skip
     where, why = refused(path)
-    assert where == "records.files.0.vertical" and "is outside" in why
+    assert where == "records.files.0.vertical" and "leads outside" in why
 
 
 def test_a_record_set_outside_is_refused(places):
@@ -108,7 +168,7 @@ def test_a_record_set_outside_is_refused(places):
     path = project / "study.yaml"
     path.write_text("bridges: [bridge.yaml]\nrecords: {set: ../elsewhere}\n")
     where, why = refused(path)
-    assert where == "records.set" and "is outside" in why
+    assert where == "records.set" and "leads outside" in why
 
 
 def test_a_symbolic_link_out_of_the_tree_is_refused(places):
@@ -135,9 +195,14 @@ def test_rockbridge_paths_reaches_further(places, monkeypatch):
     assert [r.id for r in loaded.records] == ["R1"] and loaded.bridges[0].id == "bridge"
 
 
-def test_the_bundled_studies_load_from_the_repository_root(monkeypatch):
+@pytest.mark.parametrize("where", ["root", "studies", "elsewhere"])
+def test_the_bundled_studies_load_from_any_folder(monkeypatch, tmp_path, where):
+    """Issue 40: from the repository's root, from configs/studies and from a folder outside
+    the repository (the repository's root is marked by its .rockbridge file)."""
     monkeypatch.delenv(PATHS_VARIABLE, raising=False)
-    monkeypatch.chdir(REPO)
+    folders = {"root": REPO, "studies": REPO / "configs" / "studies", "elsewhere": tmp_path}
+    monkeypatch.chdir(folders[where])
+    assert (REPO / PROJECT_MARKER).is_file()
     for path in sorted((REPO / "configs" / "studies").glob("*.yaml")):
         if "fema" not in path.name:  # FEMA sets are read from the package, not from a path
             load_study(path)
@@ -150,7 +215,7 @@ def test_a_record_set_config_confines_its_seeds(places):
                       "seeds: [{path: ../elsewhere/R1.txt}]\n")  # fmt: skip
     result = CliRunner().invoke(main, ["generate-records", str(config), "--out", "set"])
     assert result.exit_code == 2, result.output
-    assert "seeds.0.path" in result.output and "is outside" in result.output
+    assert "seeds.0.path" in result.output and "leads outside" in result.output
     assert not (project / "set").exists()
 
 
@@ -190,7 +255,7 @@ def test_command_line_paths_are_the_users_own(places, tmp_path):
 
 def test_an_unconfined_folder_reaches_anywhere(tmp_path):
     assert ConfigFolder(tmp_path, None).path("/etc/hostname").as_posix() == "/etc/hostname"
-    with pytest.raises(ValueError, match="outside"):
+    with pytest.raises(ValueError, match="leads outside"):
         ConfigFolder(tmp_path, (tmp_path.resolve(),)).path("/etc/hostname")
 
 

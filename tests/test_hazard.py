@@ -55,6 +55,16 @@ def test_a_two_column_curve_is_read_with_its_measure_and_unit(tmp_path):
     assert in_g.rates is curve.rates
 
 
+@pytest.mark.parametrize("name", ["pga", "PGA", "Pga", "pga_g"])
+def test_openquakes_names_are_read_in_any_case_in_the_unit_given(tmp_path, name):
+    """Issue 40: a header `pga [m/s2]` was read as an unknown measure `pga`."""
+    path = write(tmp_path, f"{name} [m/s2], annual_rate [1/year]\n0.981, 0.01\n9.81, 1e-4\n")
+    curve = read_hazard_curve(path)
+    assert (curve.measure, curve.unit, curve.period) == ("pga_g", "m/s2", None)
+    in_g = curve.matched("pga_g", "g")
+    np.testing.assert_allclose(in_g.intensities, [0.981 / 9.80665, 9.81 / 9.80665], rtol=1e-15)
+
+
 def test_openquake_probabilities_become_annual_rates(tmp_path):
     path = write(tmp_path, OPENQUAKE)
     curve = read_hazard_curve(path, site=0)
@@ -92,6 +102,7 @@ def test_between_and_beyond_its_points_the_curve_is_a_power_law():
         ("# only a comment\n", "no header line"),
         ("pga_g, annual_rate\n0.1, 1\n", "'<measure> \\[<unit>\\]'"),
         ("pga_g [furlong], annual_rate\n0.1, 1\n", "unknown unit 'furlong'"),
+        ("acc [g], annual_rate\n0.1, 1\n", "unknown intensity measure 'acc': use one of pga_g"),
         ("pga_g [g], poe [-]\n0.1, 1\n", "second column is 'annual_rate"),
         ("sa_g [g], annual_rate\n0.1, 1\n0.2, 0.1\n", "names its period"),
         ("pga_g [g], annual_rate\n0.1, 1\n0.2, x\n", "line 3: expected 2 finite numbers"),

@@ -22,7 +22,7 @@ from scipy.stats import norm
 from studies import contents, write_study
 
 from rockbridge_cli.assessment import limit_states
-from rockbridge_cli.assessment.fragility import fit_capacities
+from rockbridge_cli.assessment.fragility import fit_capacities, fragilities
 from rockbridge_cli.assessment.ida import Lattice, Outcome, walk
 from rockbridge_cli.cli import main
 from rockbridge_cli.config.study import load_study
@@ -279,10 +279,23 @@ def test_the_report_of_an_ida_counts_records_and_points_to_the_capacities(ida_ru
     study, _ = ida_run
     text = write_report(study.output, tmp_path / "r.html").read_text(encoding="utf-8")
     analyses = len(read_peaks(study.output))
-    assert f"{analyses} analyses of 2 bridges under 2 records in an IDA of pga_g" in text
+    assert f"{analyses} analyses of 2 bridges under 2 records in an IDA of PGA" in text
     demand = text.split("<h2>Demand and capacity</h2>")[1].split("<h2>")[0]
     assert "IDA&#x27;s levels differ by record" in demand and "<table>" not in demand
     assert "studied-hbar1.00: overturning: unreachable — the abutment fails first on 2/2" in text
+    # issue 40: the efficiency table gives Arias intensity's β halved, as its sentence compares
+    # it, and names the measure with the smallest β
+    which = text.split("<h2>Which intensity measure</h2>")[1].split("<h2>")[0]
+    assert "its column gives half its β" in which and "Arias intensity (½β)" in which
+    assert "The smallest β: " in which and "pga_tan_alpha" not in which
+    # an IDA's page gives each record's capacities, not a peak row per level run (pages of them)
+    assert "<h2>Peak table</h2>" not in text and "<h2>Capacities</h2>" in text
+    table = text.split("<h2>Capacities</h2>")[1].split("</table>")[0]
+    reached = [(f.limit_state, c) for f in fragilities(study.output)
+               for c in f.capacities.values() if c is not None]  # fmt: skip
+    assert table.count("<tr>") == 1 + 2 * 2  # the header, two bridges × two records
+    state, capacity = reached[0]
+    assert f"{capacity:.3g}" in table and f"{state} [g]" in table
 
 
 def test_a_capacity_agrees_with_plain_runs_just_below_and_above(ida_run, tmp_path):
@@ -434,3 +447,22 @@ def test_the_ida_figure_of_one_bridge_keeps_its_legend_inside(tmp_path, monkeypa
     canvas.draw()
     box = drawn[0].legends[0].get_window_extent(canvas.get_renderer())
     assert 0.0 <= box.x0 and box.x1 <= drawn[0].bbox.width
+
+
+def test_the_ida_figure_names_its_bridges_and_its_axis_as_fig_9_does(ida_run, tmp_path):
+    """Issue 40: panel titles were ids and the x label a column name (`u_deck_max [mm]`)."""
+    import re
+
+    import matplotlib
+
+    from rockbridge_cli.plots.ida import plot_ida
+    from rockbridge_cli.results.reading import bridge_attributes, open_results
+
+    study, _ = ida_run
+    with matplotlib.rc_context({"svg.fonttype": "none"}):
+        svg = plot_ida(study.output, tmp_path / "ida.svg").read_text(encoding="utf-8")
+    texts = re.findall(r"<text[^>]*>([^<]*)</text>", svg)
+    with open_results(study.output) as file:
+        names = [attributes["name"] for attributes in bridge_attributes(file).values()]
+    assert all(name in texts for name in names), texts
+    assert "u_deck_max" not in svg and "peak" in svg  # mathtext: "peak" and u, deck, CG apart

@@ -9,12 +9,20 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from click.testing import CliRunner
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from studies import REPO as ROOT
 
-from rockbridge_cli.assessment.efficiency import compare
+from rockbridge_cli.assessment.efficiency import (
+    COMPARED,
+    MeasureRow,
+    best_measures,
+    comparable_beta,
+    compare,
+)
 from rockbridge_cli.assessment.fragility import fit_capacities, fragilities
+from rockbridge_cli.cli import main
 from rockbridge_cli.config.study import load_study
 from rockbridge_cli.core.quantities import STANDARD_GRAVITY
 from rockbridge_cli.motions import intensity
@@ -140,9 +148,33 @@ def test_the_measures_table(tmp_path):
         encoding="utf-8",
     )
     run_study(load_study(path, output=tmp_path / "a.h5"), workers=2)
-    rows = compare(tmp_path / "a.h5")
+    rows = compare(tmp_path / "a.h5", COMPARED + ("pga_tan_alpha",))
     measures = {r.measure for r in rows}
     assert len(measures) >= 6
     beta = {(r.limit_state, r.measure): r.beta for r in rows}
     for state in ("gap_closure", "backfill_50"):
         assert beta[state, "pga_tan_alpha"] == pytest.approx(beta[state, "pga_g"], rel=1e-6)
+    # issue 40: the command leaves the duplicate out, halves Arias' β and names the best measure
+    result = CliRunner().invoke(main, ["fragility", str(tmp_path / "a.h5"), "--compare-measures"])
+    assert result.exit_code == 0, result.output
+    lines = result.output.splitlines()
+    assert "pga_tan_alpha" not in result.output and "arias ½β" in lines[1]
+    header = lines[1].split()
+    for state in ("gap_closure", "backfill_50"):
+        row = next(line.split() for line in lines if line.split()[1:2] == [state])
+        arias = row[header.index("arias") - 1]  # "½β" is a word of its header, not a column
+        assert float(arias) == pytest.approx(beta[state, "arias"] / 2, rel=2e-3)
+    best = min(("pga_g", "pgv", "pgd", "sa_g", "avgsa_g", "arias", "cav"),
+               key=lambda m: beta["gap_closure", m] / (2 if m == "arias" else 1))  # fmt: skip
+    assert any(line.startswith("smallest β: ") and best in line for line in lines)
+
+
+def test_the_best_measure_compares_half_the_beta_of_an_energy_measure():
+    """Arias intensity scales as a record's factor squared: a β of 0.4 in it predicts as well as
+    0.2 in PGA (ln I_A = 2 ln a + const)."""
+    rows = [MeasureRow("b", state, measure, beta, 10, None, None, None, None)
+            for state, measure, beta in (("s", "pga_g", 0.3), ("s", "arias", 0.5),
+                                         ("t", "pga_g", 0.2), ("t", "arias", 0.5),
+                                         ("u", "pga_g", None))]  # fmt: skip
+    assert best_measures(rows) == {"arias": 1, "pga_g": 1}
+    assert comparable_beta("arias", 0.5) == 0.25 and comparable_beta("pgv", 0.5) == 0.5

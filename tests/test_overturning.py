@@ -26,6 +26,7 @@ import math
 import h5py
 import numpy as np
 import pytest
+import yaml
 from anchors import (
     PHASES,
     block,
@@ -216,6 +217,26 @@ def test_the_spectrum_command_runs_and_draws(tmp_path):
     assert fitted.exit_code == 2 and "rockbridge plot overturning draws it" in fitted.output
 
 
+def test_the_spectrum_command_takes_a_studys_tolerance_states_phase_and_cycles(tmp_path):
+    """Issue 40: `spectrum overturning` lacked what a study's spectrum section takes; they reach
+    the results file's spectrum as the section would put them."""
+    bridge = tmp_path / "block.yaml"
+    bridge.write_text("name: block\npiers: {width: 0.8, heights: [2.0]}\n", encoding="utf-8")
+    output = tmp_path / "block.h5"
+    result = CliRunner().invoke(main, [
+        "spectrum", "overturning", str(bridge), "--pulse", "mavroeidis-papageorgiou",
+        "--cycles", "2",
+        "--phase", "0.3", "--tolerance", "0.05", "--limit-state", "overturning",
+        "--frequencies", "1:5:2", "--amplitudes", "1:4:2", "-o", str(output), "--workers", "1",
+    ])  # fmt: skip
+    assert result.exit_code == 0, result.output
+    with h5py.File(output, "r") as file:
+        stored = yaml.safe_load(file.attrs["study_yaml"])
+    section = stored["spectrum"]
+    assert section["pulse"] == {"shape": "mavroeidis-papageorgiou", "phase": 0.3, "cycles": 2.0}
+    assert section["tolerance"] == 0.05 and section["limit_states"] == ["overturning"]
+
+
 def test_a_results_file_without_a_spectrum_is_refused(tmp_path):
     study = tmp_path / "pulse.yaml"
     study.write_text("bridges: [{id: block, piers: {width: 0.8, heights: [2.0]}}]\n"
@@ -256,3 +277,16 @@ def test_the_bundled_spectra_load(name):
     study = load_study(REPO / "configs" / "studies" / name)
     assert study.spectrum is not None and study.histories == ()
     assert len(study.records) == study.spectrum["frequencies"]["count"]
+    assert study.warnings == ()  # issue 40: "pulse: time step 0.118362 s is not a ground motion's"
+
+
+def test_run_summarises_a_spectrum_by_its_figure(tmp_path):
+    """Issue 40: `run` of a spectrum pointed to `fragility` and `plot ida` (an IDA's capacities)
+    where the figure of a spectrum is `plot overturning`."""
+    result = CliRunner().invoke(main, ["run", str(spectrum_study(tmp_path)), "--workers", "1"])
+    assert result.exit_code == 0, result.output
+    assert "\nspectrum: each frequency's rounds" in result.output
+    last = result.output.strip().splitlines()[-1]
+    assert last.endswith(f"rockbridge plot overturning {tmp_path / 'spectrum.h5'}"), last
+    assert "fragility" not in result.output and "plot ida" not in result.output
+    assert "warning" not in result.output

@@ -118,6 +118,7 @@ def test_directions_follow_the_tall_pier(tmp_path):
 # --- the figure files --------------------------------------------------------------------
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("suffix", [".png", ".pdf", ".svg"])
 def test_parametric_figures(tmp_path, suffix):
     for name in ("onset", "q", "restitution", "spans"):
@@ -154,6 +155,42 @@ def test_peaks_figure(done, tmp_path):
         assert f"({letter})" in text
 
 
+def test_a_peak_of_zero_is_drawn_whole_above_the_frame(done, tmp_path, monkeypatch):
+    """Issue 40: a marker at zero (the symmetric bridge's deck never turns) was cut in half by
+    the axis; every panel now starts a little below zero."""
+    from rockbridge_cli.plots import peaks
+
+    drawn = []
+    monkeypatch.setattr(peaks, "save", lambda figure, output: drawn.append(figure) or output)
+    plot_peaks(done, tmp_path / "peaks.png")
+    panels = [axes for axes in drawn[0].axes if axes.get_ylabel()]
+    assert len(panels) == 6
+    for axes in panels:
+        low, high = axes.get_ylim()
+        assert -0.05 * high < low < 0.0 < high
+
+
+def test_fig_10_has_the_failure_level_and_times_under_every_panel(done, tmp_path, monkeypatch):
+    """Issue 40: Fig. 10 lacked the abutment's failure level ±(u_jo + u_ab) that Fig. 9A draws
+    (0.12 + 0.10 m = 220 mm for the studied bridges, docs/model.md §2), and only its last panel
+    had time labels."""
+    from rockbridge_cli.plots import history
+
+    drawn = []
+    monkeypatch.setattr(history, "save", lambda figure, output: drawn.append(figure) or output)
+    plot_history(done, "R1", tmp_path / "history.png")
+    panels = [axes for axes in drawn[0].axes if axes.get_ylabel()]
+    deck = next(axes for axes in panels if "u_{deck}" in axes.get_ylabel())
+    levels = sorted(
+        line.get_ydata()[0]
+        for line in deck.get_lines()
+        if line.get_linestyle() == "--" and len(set(line.get_ydata())) == 1
+    )
+    assert levels == pytest.approx([-220.0, 220.0])
+    for axes in panels:
+        assert all(tick.label1.get_visible() for tick in axes.xaxis.get_major_ticks())
+
+
 def test_history_figure(done, tmp_path):
     with matplotlib.rc_context({"svg.fonttype": "none"}):
         path = plot_history(done, "R1", tmp_path / "history.svg", bridges=[STUDIED[1]])
@@ -182,6 +219,7 @@ def test_peaks_figure_marks_the_means_and_each_bridges_limits(tmp_path):
     assert "= 120 mm" not in figure  # no single gap is claimed for all bridges
 
 
+@pytest.mark.slow
 def test_history_figure_has_the_ground_motion_and_the_events(done, tmp_path):
     """Panel A is the record (in g, from the results file), onsets and poundings are in the
     legend, and the panels follow the five responses of a bridge."""
@@ -209,6 +247,7 @@ def test_history_of_a_single_block_draws_only_what_a_block_has(tmp_path):
     assert "failure" in legend and "pounding on the backwall" not in legend
 
 
+@pytest.mark.slow
 def test_peaks_figure_of_many_bridges_keeps_its_legend_short(tmp_path):
     """A sweep of 13 gaps: one legend entry says how many bridges, and the 13 pairs of limit
     lines (beyond `MAX_LIMITS`) are left out with a note, instead of 26 lines and 39 entries."""
@@ -225,6 +264,7 @@ def test_peaks_figure_of_many_bridges_keeps_its_legend_short(tmp_path):
     assert not any(t.startswith(STUDIED[1]) for t in texts)  # no bridge named one by one
 
 
+@pytest.mark.slow
 def test_a_name_with_tex_math_is_drawn_as_written(tmp_path):
     """A bridge named ``$\\undefinedmacro{x$`` broke `plot peaks`, `plot history` and `report`
     (Matplotlib read it as mathematics): names are drawn literally (issue 32)."""
@@ -242,3 +282,51 @@ def test_a_name_with_tex_math_is_drawn_as_written(tmp_path):
         onset = parametric.plot_q(hostile, tmp_path / "q.svg")
     for path in (peaks, history, onset):
         assert name in svg_text(path)
+
+
+def test_a_peaks_figure_of_too_many_bridges_points_to_the_sweeps(tmp_path, monkeypatch):
+    """Issue 40: `plot peaks` spent 55 s drawing 1000 bridges; beyond `MAX_BRIDGES` (here 2, of a
+    sweep of 3 gaps) it refuses and names `plot sweep`, which draws them."""
+    from click.testing import CliRunner
+
+    from rockbridge_cli.cli import main
+    from rockbridge_cli.plots import peaks
+
+    monkeypatch.setattr(peaks, "MAX_BRIDGES", 2)
+    path = write_study(tmp_path, bridges=(STUDIED[1],), records=("R1",), extra=(
+        "sweep: {fields: {abutments.gap: {start: 0.06, stop: 0.30, count: 3}}}\n"
+        "fidelity: fast\noutput: {path: out.h5, histories: none}\n"))  # fmt: skip
+    study = load_study(path)
+    run_study(study, workers=1)
+    refused = CliRunner().invoke(main, ["plot", "peaks", str(study.output)])
+    assert refused.exit_code == 2
+    command = f"rockbridge plot sweep {study.output} --field abutments.gap"
+    assert refused.output.strip().endswith(command)
+    drawn = CliRunner().invoke(main, [*command.split()[1:], "-o", str(tmp_path / "sweep.png")])
+    assert drawn.exit_code == 0, drawn.output
+
+
+def test_a_sweeps_legend_stands_beside_its_curves_and_names_the_bridge_once(tmp_path):
+    """Issue 40: `plot sweep`'s legend (loc="best", over the curves; matplotlib warned on the
+    terminal that "best" is slow with much data) now stands beside the axes, the one bridge
+    named once as its title. A grid of 3 gaps × 3 heights: three curves against the gap."""
+    import warnings
+
+    from rockbridge_cli.plots.sweep import plot_sweep
+
+    path = write_study(tmp_path, bridges=(STUDIED[0],), records=("R1",), extra=(
+        "sweep: {fields: {abutments.gap: {start: 0.06, stop: 0.18, count: 3}, piers.heights.1: "
+        "{start: 13.0, stop: 26.0, count: 3}}, grid: true}\n"
+        "fidelity: fast\noutput: {path: out.h5, histories: none}\n"))  # fmt: skip
+    study = load_study(path)
+    run_study(study, workers=1)
+    with warnings.catch_warnings(), matplotlib.rc_context({"svg.fonttype": "none"}):
+        warnings.simplefilter("error")
+        texts = re.findall(r"<text[^>]*>([^<]*)</text>", svg_text(
+            plot_sweep(study.output, tmp_path / "sweep.svg", "abutments.gap")))  # fmt: skip
+    assert texts.count(STUDIED[0]) == 1
+    assert [t for t in texts if t.startswith("piers.heights.1 = ")] == [
+        "piers.heights.1 = 13",
+        "piers.heights.1 = 19.5",
+        "piers.heights.1 = 26",
+    ]

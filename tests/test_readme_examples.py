@@ -66,6 +66,7 @@ def blocks(tmp_path_factory):
     return examples().blocks(tmp_path_factory.mktemp("readme"))
 
 
+@pytest.mark.slow
 def test_readme_quotes_what_the_code_gives(blocks):
     readme = (REPO / "README.md").read_text(encoding="utf-8")
     assert set(blocks) == {"one analysis", "a study", "fragility study", "fragility table",

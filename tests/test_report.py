@@ -92,6 +92,9 @@ def test_the_page_states_what_was_run(study, page):
     assert "Provenance" in parsed.headings and "Peak table" in parsed.headings
     source = page[0].read_text(encoding="utf-8")
     assert read_config_hash(study.output) in source and f"rockbridge {version}" in source
+    # issue 40: knobs as a reader reads them (no Python repr), the host by what it is
+    assert "bisection = off" in source and "False" not in source and "None" not in source
+    assert "step = 0.01 s" in source and "<dt>host name</dt>" in source
 
 
 def test_the_input_records_are_listed_as_read(study, page):
@@ -135,6 +138,7 @@ def test_the_summary_is_the_files_demand_over_capacity(study, page):
         assert row[2] == f"{100 * mine.max():.1f} %" and row[3] == f"{100 * mine.mean():.1f} %"
 
 
+@pytest.mark.slow
 def test_the_failures_are_listed(study, page, tmp_path):
     """No failure in the studied bridges under the two bursts: the page says so. A slender block
     (0.4 m × 4 m, α = 0.1 rad) overturns under R1 (0.51 g): it is listed with its time."""
@@ -162,6 +166,13 @@ def test_the_page_stands_alone(page):
         assert base64.b64decode(source.split(",", 1)[1])[:4] == b"\x89PNG"
 
 
+def test_the_page_prints_on_a4(page):
+    """Issue 40: README says A4, a browser printed on its default, US Letter, without a page
+    size in the page's CSS (CSS Paged Media: `@page { size: A4 }`, 210 × 297 mm)."""
+    assert re.search(r"@page \{ size: A4;", page[0].read_text(encoding="utf-8"))
+
+
+@pytest.mark.slow
 def test_a_study_with_stripes_gets_its_fragility(tmp_path):
     extra = (
         "intensity: {measure: pga_g, levels: [0.2, 0.6]}\n"
@@ -175,9 +186,9 @@ def test_a_study_with_stripes_gets_its_fragility(tmp_path):
     assert len(parsed.images) == 1  # the fragility curves; no Fig. 9 over both levels at once
     fits = next(t for t in parsed.tables if t[0][:2] == ["bridge", "limit state"])
     assert len(fits) - 1 == 2 * 4  # two bridges × the four default limit states
-    assert "8 analyses of 2 bridges under 2 records at 2 levels of pga_g" in text
+    assert "8 analyses of 2 bridges under 2 records at 2 levels of PGA" in text
     summary = next(t for t in parsed.tables if "backfill d/c, largest" in t[0])
-    assert summary[0][:3] == ["bridge", "level [pga_g]", "ran ok"]
+    assert summary[0][:3] == ["bridge", "level, PGA [g]", "ran ok"]
     assert [row[1:3] for row in summary[1:]] == [["0.2", "2/2"], ["0.6", "2/2"]] * 2
     peaks = read_peaks(study.output)
     for row, ((_, level), rows) in zip(summary[1:], peaks.groupby(["bridge", "intensity"]),
@@ -186,6 +197,7 @@ def test_a_study_with_stripes_gets_its_fragility(tmp_path):
         assert row[3] == f"{100 * rows['dcr_backfill'].max():.1f} %"
 
 
+@pytest.mark.slow
 def test_a_sweep_is_drawn_against_its_field_and_fig10_is_under_ar07(tmp_path):
     """A sweep's variants get a figure against the swept field instead of Fig. 9, and the history
     figure is under the paper's record, AR07, where the study has it (not the first record)."""
@@ -203,10 +215,11 @@ def test_a_sweep_is_drawn_against_its_field_and_fig10_is_under_ar07(tmp_path):
     run_study(study, workers=1)
     parsed = Page(write_report(study.output, tmp_path / "r.html").read_text(encoding="utf-8"))
     assert "Against abutments.gap" in parsed.headings
-    assert "Peaks per record (Fig. 9)" not in parsed.headings
-    assert "Response histories under AR07 (Fig. 10)" in parsed.headings
+    assert "Peaks per record (as the paper's Fig. 9)" not in parsed.headings
+    assert "Response histories under AR07 (as the paper's Fig. 10)" in parsed.headings
 
 
+@pytest.mark.slow
 def test_the_command_writes_beside_the_results_and_never_over_them(study):
     runner = CliRunner()
     result = runner.invoke(main, ["report", str(study.output)])
@@ -243,6 +256,7 @@ def test_a_browser_renders_every_figure(page, tmp_path):
     assert shot.read_bytes()[:4] == b"\x89PNG" and shot.stat().st_size > 20_000
 
 
+@pytest.mark.slow
 def test_a_generated_set_brings_its_compliance_and_ground_displacement(tmp_path):
     """A study on the bundled set: the page shows the set's EN 1998-1 check from its manifest,
     with each record's PGD over d_g (0.2031 m, §3.2.2.4) as the manifest gives them."""

@@ -22,7 +22,15 @@ from studies import REPO, write_study
 
 from rockbridge_cli.assessment.fragility import Fragility, fragilities
 from rockbridge_cli.assessment.hazard import HazardCurve, read_hazard_curve
-from rockbridge_cli.assessment.risk import limit_state_rate, poisson_probability, risks, risks_of
+from rockbridge_cli.assessment.risk import (
+    Risk,
+    extrapolation_warning,
+    limit_state_rate,
+    poisson_probability,
+    risk_table,
+    risks,
+    risks_of,
+)
 from rockbridge_cli.cli import main
 from rockbridge_cli.config.study import load_study
 from rockbridge_cli.errors import InputError
@@ -267,3 +275,34 @@ def test_a_spectral_acceleration_matches_only_at_its_period(tmp_path):
     with pytest.raises(InputError, match=r"the curve is of sa_g\(1 s\), the fragilities of "
                        r"sa_g\(0.5 s\)"):  # fmt: skip
         risks_of(found, IntensitySection.of({**at_one, "period": 0.5}), read_hazard_curve(curve))
+
+
+def test_a_frequency_mostly_from_beyond_the_curve_is_announced(ida, tmp_path):
+    """Issue 40: only a column said that λ came from the extrapolation. The example's power law
+    (λ = K0·pga^−3) ends at 0.2 g here, below every median (0.3–2 g): most of each λ comes from
+    beyond it. In cm/s² numbers under a header of g, all of it does."""
+    curve = tmp_path / "short.csv"
+    x = np.geomspace(0.05, 0.2, 4)
+    curve.write_text("pga_g [g], annual_rate [1/year]\n" + "".join(
+        f"{a:.6g}, {K0 * a**-K:.6g}\n" for a in x))  # fmt: skip
+    result = invoke("risk", ida, "--hazard", curve)
+    assert result.exit_code == 0, result.output
+    warning = result.output.strip().splitlines()[-1]
+    assert warning.startswith("warning: ") and "from beyond the hazard curve's points" in warning
+    assert "(0.05–0.2 g)" in warning and "really in g" not in warning
+    assert "warning" not in invoke("risk", ida, "--hazard", EXAMPLE).output
+    found = [Fragility("b", "gap_closure", "pga_g", 0.3, 0.2, None, [], [], {"R1": 0.3})]
+    misread = HazardCurve("pga_g", "g", None, 981 * x, K0 * x**-K, "cm/s2 as g")
+    (item,) = risks_of(found, IntensitySection.of({"measure": "pga_g", "levels": [0.2]}), misread)
+    assert item.beyond == pytest.approx(1.0, abs=1e-6)
+    assert extrapolation_warning([item], misread).endswith("every λ: is the curve really in g?")
+
+
+def test_a_probability_short_of_certainty_is_never_printed_as_100():
+    """Issue 40: P = 0.9996 printed "100" (three significant digits). λ = −ln(1 − P)/T."""
+    rate = -math.log(1.0 - 0.9996) / 50.0
+    item = Risk("b", "gap_closure", "pga_g", rate, "", (rate / 2, rate * 2), 0.1, 50.0)
+    _, (row,) = risk_table([item], 50.0)
+    assert row[5] == "> 99.9" and row[6].endswith("–> 99.9")
+    certain = Risk("b", "gap_closure", "pga_g", 1.0, "", None, 0.1, 50.0)
+    assert risk_table([certain], 50.0)[1][0][5] == "100"  # 1 − e^−50 is 1 in floating point

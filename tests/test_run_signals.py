@@ -200,6 +200,7 @@ def test_the_workers_end_with_the_run(tmp_path, study, how):
     wait_for(lambda: not any(alive(pid) for pid in workers), timeout=10)
 
 
+@pytest.mark.slow
 def test_the_batches_of_a_killed_worker_run_again(tmp_path, study):
     """SIGKILL of one local worker (as the out-of-memory killer sends) used to abort the run
     (BrokenProcessPool, exit 1, issue 32); a new pool now runs the batches in flight again, as
@@ -213,6 +214,7 @@ def test_the_batches_of_a_killed_worker_run_again(tmp_path, study):
     assert contents(tmp_path / "out.h5") == expected
 
 
+@pytest.mark.slow
 def test_a_second_run_on_the_same_output_is_refused(tmp_path, study):
     path, _ = study
     child, started = start_run(tmp_path, path, workers=1)

@@ -167,6 +167,7 @@ def _killed(study, when: str) -> None:
     assert done.returncode == -signal.SIGKILL, done.stderr.decode()
 
 
+@pytest.mark.slow
 def test_sigkill_loses_only_what_was_in_flight(tmp_path):
     study, expected = _reference(tmp_path)
     _killed(study, "analyses")
@@ -182,6 +183,7 @@ def test_sigkill_loses_only_what_was_in_flight(tmp_path):
     assert not journal_path(study.output).exists()
 
 
+@pytest.mark.slow
 def test_sigkill_while_writing_leaves_the_previous_file(tmp_path):
     study, expected = _reference(tmp_path)
     run_study(study, workers=1)

@@ -162,6 +162,7 @@ def test_three_shards_merged_equal_a_single_run(paper, tmp_path):
     assert [p["shard_index"] for p in provenance] == [0, 1, 2]
 
 
+@pytest.mark.slow
 def test_shards_from_the_scheduler_s_variables(paper, tmp_path, monkeypatch):
     """The same, as the tasks of a SLURM array (--array=1-3) run it: `--shard auto`."""
     _, expected = paper
@@ -248,6 +249,7 @@ def cluster():
         yield cluster
 
 
+@pytest.mark.slow
 def test_a_dask_cluster_gives_the_same_file(paper, cluster, tmp_path):
     study, expected = paper
     output = tmp_path / "dask.h5"
@@ -257,6 +259,7 @@ def test_a_dask_cluster_gives_the_same_file(paper, cluster, tmp_path):
     assert without(contents(output), "host") == without(expected, "host")
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(os.name != "posix", reason="kills a worker process")
 def test_a_dask_worker_killed_mid_run(paper, cluster, tmp_path):
     """Dask runs the batches of a killed worker again elsewhere; the file is the same."""
@@ -279,6 +282,7 @@ def test_a_dask_worker_killed_mid_run(paper, cluster, tmp_path):
     assert without(contents(output), "host") == without(expected, "host")
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(os.name != "posix", reason="kills the worker processes")
 def test_a_dask_run_sends_the_grid_again_when_every_worker_holding_it_dies(
     paper, cluster, tmp_path
@@ -323,6 +327,7 @@ def test_without_dask_the_option_says_how_to_install_it(tmp_path, monkeypatch):
     assert result.exit_code == 2 and 'pip install "rockbridge[dask]"' in result.output
 
 
+@pytest.mark.slow
 def test_an_unreachable_scheduler_is_a_clear_error(tmp_path):
     pytest.importorskip("distributed")
     study = write_study(tmp_path)

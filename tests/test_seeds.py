@@ -299,6 +299,7 @@ fema = pytest.mark.skipif(
 )
 
 
+@pytest.mark.slow
 @fema
 def test_recorded_far_field_seeds_keep_their_ground_and_duration(tmp_path):
     """Issue 27's criteria on three FEMA P695 far-field records (component a): Kobe 1995, Manjil
@@ -371,6 +372,7 @@ def test_scaled_seeds_keep_their_shape_and_state_their_factors(seeds, tmp_path):
     assert report.compliance.mean_zero_period >= 0.6 * 9.81 * 1.15
 
 
+@pytest.mark.slow
 def test_the_bundled_seed_example_runs_as_readme_says(tmp_path):
     """configs/records/seeds-ec8-type1-B-ag0.4g.yaml, the offline example: ten seeds (the bundled
     records, re-matched to type 1, ground B, 0.4 g) give ten records and a compliant set, the

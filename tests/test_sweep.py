@@ -93,6 +93,7 @@ def test_bad_sweeps(tmp_path, fields, message):
     assert "sweep.fields" in str(error.value)
 
 
+@pytest.mark.slow
 def test_a_swept_run_equals_the_edited_bridge_file(tmp_path):
     """The variant with gap 0.24 m gives the peaks of a bridge file edited to gap 0.24 m."""
     study = load_study(write_study(tmp_path, bridges=("studied-hbar1.25",), extra=SWEEP))
@@ -125,6 +126,7 @@ def test_units_of_swept_fields():
     assert field_unit("piers.heights.1") == "m"
 
 
+@pytest.mark.slow
 def test_a_peak_per_swept_value_is_taken_at_one_intensity_level(tmp_path):
     """A median over the records at 0.2 g and 0.8 g at once mixes two stripes: the figure asks
     for one (--level), and an IDA, whose levels differ by record, points to its capacities."""

@@ -182,6 +182,7 @@ seed: 3
 """
 
 
+@pytest.mark.slow
 def test_generated_vertical_components_meet_the_vertical_spectrum(tmp_path):
     """`generate-records` with ``vertical: true`` writes one vertical component per record that
     peaks at a_vg = 0.90·a_g (EN 1998-1 Table 3.4, Type 1) and whose 5%-damped spectrum stays

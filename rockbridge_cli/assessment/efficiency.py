@@ -17,8 +17,33 @@ import numpy as np
 
 from .fragility import fragilities
 
-COMPARED = ("pga_g", "pga_tan_alpha", "pgv", "pgd", "sa_g", "avgsa_g", "arias", "cav")
-"""The measures `compare` tabulates by default."""
+COMPARED = ("pga_g", "pgv", "pgd", "sa_g", "avgsa_g", "arias", "cav")
+"""The measures `compare` tabulates by default. Not ``pga_tan_alpha``: within one bridge it is
+PGA times a constant, so its β and trends are ``pga_g``'s (a test holds it)."""
+
+SQUARED = ("arias",)
+"""Measures that scale as the square of a record's factor: their β is twice that of a measure
+proportional to it with the same predictive power, so `comparable_beta` halves it."""
+
+
+def comparable_beta(measure: str, beta: float) -> float:
+    """β as it compares across measures: half an energy measure's (`SQUARED`) [-]."""
+    return beta / 2.0 if measure in SQUARED else beta
+
+
+def best_measures(rows: list[MeasureRow]) -> dict[str, int]:
+    """How many bridge × limit-state cases each measure has the smallest comparable β in, most
+    first (a case without any fit counts for none)."""
+    smallest: dict[tuple[str, str], tuple[float, str]] = {}
+    for row in rows:
+        if row.beta is not None:
+            key, value = (row.bridge, row.limit_state), (comparable_beta(row.measure, row.beta),
+                                                          row.measure)  # fmt: skip
+            smallest[key] = min(smallest.get(key, value), value)
+    counts: dict[str, int] = {}
+    for _, measure in smallest.values():
+        counts[measure] = counts.get(measure, 0) + 1
+    return dict(sorted(counts.items(), key=lambda item: -item[1]))
 
 
 @dataclass(frozen=True)

@@ -11,8 +11,9 @@ Two formats are read:
       0.1, 0.69
       0.2, 0.086
 
-  The measure is rockbridge's name (``pga_g``, ``sa_g``, …) or OpenQuake's (``PGA``,
-  ``SA(1.0)``, ``PGV``); a spectral acceleration names its period, ``sa_g(1.0)`` or ``SA(1.0)``.
+  The measure is rockbridge's name (``pga_g``, ``sa_g``, …) or OpenQuake's, in any case
+  (``PGA``, ``pga``, ``SA(1.0)``, ``PGV``), in the unit the brackets give; a spectral
+  acceleration names its period, ``sa_g(1.0)`` or ``SA(1.0)``.
 - **OpenQuake's hazard-curve CSV** (``hazard_curve-mean-PGA.csv``, engine 3.x): a first comment
   line holding ``investigation_time=T`` and ``imt='PGA'``, a header ``lon,lat[,depth],poe-<iml>…``
   and one row per site of probabilities of exceedance in T years; the annual rate is
@@ -40,6 +41,7 @@ import numpy as np
 
 from ..core.quantities import STANDARD_GRAVITY
 from ..errors import InputError
+from ..motions.intensity import MEASURES
 from ..paths import read_input_text
 
 MAX_BYTES = 16 * 2**20
@@ -57,6 +59,9 @@ OPENQUAKE_MEASURES = {
     "PGA": ("pga_g", "g"), "SA": ("sa_g", "g"), "PGV": ("pgv", "cm/s"), "PGD": ("pgd", "cm"),
 }  # fmt: skip
 """OpenQuake's intensity measure types: rockbridge's name and the engine's unit."""
+
+_OPENQUAKE_ANY_CASE = {name.lower(): known for name, known in OPENQUAKE_MEASURES.items()}
+"""A two-column file's header may write OpenQuake's names in any case (``pga [m/s2]``)."""
 
 _MEASURE = re.compile(r"^\s*([A-Za-z][A-Za-z0-9_]*)\s*(?:\(\s*([^)]*?)\s*(?:s\s*)?\))?\s*$")
 _NAMED = re.compile(r"^(.*?)\[([^\]]*)\]\s*$")
@@ -162,17 +167,20 @@ def read_hazard_curve(path: str | Path, site: int | None = None) -> HazardCurve:
     InputError
         The file is missing or malformed: the message names the line and the reason.
     """
-    text = read_input_text(path, MAX_BYTES, "a hazard curve")
-    lines = [(number, line) for number, line in enumerate(text.splitlines(), 1) if line.strip()]
-    header = next(((n, line) for n, line in lines if not line.lstrip().startswith("#")), None)
-    if header is None:
-        raise InputError(path, [("", "no header line: nothing but comments")])
-    if any(cell.strip().startswith("poe-") for cell in header[1].split(",")):
-        curve = _openquake(path, lines, header, site)
-    else:
-        if site is not None:
-            raise InputError(path, [("", "a site is chosen only in OpenQuake's files")])
-        curve = _two_columns(path, lines, header)
+    from ..config.kinds import expecting
+
+    with expecting(path, "hazard curve"):  # a study or a results file given for it is named
+        text = read_input_text(path, MAX_BYTES, "a hazard curve")
+        lines = [(n, line) for n, line in enumerate(text.splitlines(), 1) if line.strip()]
+        header = next(((n, line) for n, line in lines if not line.lstrip().startswith("#")), None)
+        if header is None:
+            raise InputError(path, [("", "no header line: nothing but comments")])
+        if any(cell.strip().startswith("poe-") for cell in header[1].split(",")):
+            curve = _openquake(path, lines, header, site)
+        else:
+            if site is not None:
+                raise InputError(path, [("", "a site is chosen only in OpenQuake's files")])
+            curve = _two_columns(path, lines, header)
     return _cleaned(curve)
 
 
@@ -253,7 +261,13 @@ def _measure(path, number: int, cell: str) -> tuple[str, str, float | None]:
     if unit not in UNITS:
         reason = f"unknown unit {unit!r}: use one of {', '.join(UNITS)}"
         raise InputError(path, [(f"line {number}", reason)])
-    name = OPENQUAKE_MEASURES.get(match.group(1), (match.group(1),))[0]
+    given = match.group(1)
+    name = _OPENQUAKE_ANY_CASE.get(given.lower(), (given,))[0]  # `pga [m/s2]` is PGA in m/s2
+    if name not in MEASURES or name == "scale":
+        known = ", ".join(m for m in MEASURES if m != "scale")
+        reason = (f"unknown intensity measure {given!r}: use one of {known} (or OpenQuake's "
+                  "PGA, SA(T), PGV, PGD), its unit in brackets, e.g. 'pga_g [g]'")  # fmt: skip
+        raise InputError(path, [(f"line {number}", reason)])
     return name, unit, _period(path, f"line {number}", name, match.group(2))
 
 

@@ -236,6 +236,29 @@ def levels_range(intensity: IntensitySection) -> tuple[float, float]:
     return min(intensity.levels), max(intensity.levels)
 
 
+MOSTLY_BEYOND = 0.5
+"""Share of λ from beyond the hazard curve's range above which `extrapolation_warning` warns."""
+
+
+def extrapolation_warning(found: list[Risk], curve: HazardCurve) -> str:
+    """A warning where more than `MOSTLY_BEYOND` of a frequency comes from the curve's
+    extensions beyond its points ("" where none does): that λ rests on an extrapolated power law,
+    and where all of every λ does, the curve is likely in another unit than its header says."""
+    shares = [item.beyond for item in found if item.beyond is not None]
+    heavy = [share for share in shares if share > MOSTLY_BEYOND]
+    if not heavy:
+        return ""
+    text = (
+        f"{len(heavy)} of {len(shares)} frequencies take more than half of λ (up to "
+        f"{100 * max(heavy):.0f} %) from beyond the hazard curve's points "
+        f"({curve.intensities[0]:.3g}–{curve.intensities[-1]:.3g} {curve.unit}), where its end "
+        "segments' power laws are extrapolated: extend the curve over the fragilities' medians"
+    )
+    if len(heavy) == len(shares) and min(heavy) > 0.99:  # no median within reach of the curve
+        text += f"; all of every λ: is the curve really in {curve.unit}?"
+    return text
+
+
 def risk_table(found: list[Risk], years: float) -> tuple[list[str], list[list[str]]]:
     """Headers and rows of the risk table, as text: λ, its interval, the return period, the
     probability in ``years`` [%] and its interval, the share from beyond the curve [%]."""
@@ -248,7 +271,7 @@ def risk_table(found: list[Risk], years: float) -> tuple[list[str], list[list[st
         rows.append([
             item.bridge, item.limit_state, _bounded(item.bound, item.rate),
             _interval(item.rate_90), _bounded(_REVERSED[item.bound], item.return_period),
-            _bounded(item.bound, percent), _interval(interval),
+            _bounded(item.bound, percent, _percent), _interval(interval, _percent),
             "-" if item.beyond is None else f"{100 * item.beyond:.1f}",
         ])  # fmt: skip
     return headers, rows
@@ -265,11 +288,17 @@ def _number(value: float) -> str:
     return f"{value:.3g}" if abs(value) < 1e3 else f"{float(f'{value:.3g}'):.0f}"
 
 
-def _bounded(bound: str, value: float | None) -> str:
+def _percent(value: float) -> str:
+    """A probability in percent as `_number` gives it, but never rounded up to a certainty:
+    99.95 % and above (short of 100) is "> 99.9"."""
+    return "> 99.9" if 99.95 <= value < 100.0 else _number(value)
+
+
+def _bounded(bound: str, value: float | None, shown=_number) -> str:
     if value is None:
         return "-"
-    return f"{bound} {_number(value)}" if bound else _number(value)
+    return f"{bound} {shown(value)}" if bound else shown(value)
 
 
-def _interval(pair: tuple[float, ...] | None) -> str:
-    return "-" if not pair else f"{_number(pair[0])}–{_number(pair[1])}"
+def _interval(pair: tuple[float, ...] | None, shown=_number) -> str:
+    return "-" if not pair else f"{shown(pair[0])}–{shown(pair[1])}"

@@ -15,6 +15,7 @@ runtime failures exit with status 1; ``--debug`` shows the traceback instead.
 from __future__ import annotations
 
 import os
+import shlex
 import signal
 import sys
 import threading
@@ -36,6 +37,10 @@ from ..interrupts import exit_status, stoppable, stopped_by
 class _Group(click.Group):
     """A click group that turns library exceptions into readable messages and exit codes."""
 
+    def parse_args(self, ctx: click.Context, args: list[str]) -> list[str]:
+        ctx.meta["rockbridge.argv"] = list(args)  # for the command a refusal suggests
+        return super().parse_args(ctx, args)
+
     def invoke(self, ctx: click.Context):
         try:
             with stoppable():  # SIGTERM and SIGHUP stop a command as Ctrl-C does
@@ -43,7 +48,7 @@ class _Group(click.Group):
         except InputError as exc:
             if ctx.obj and ctx.obj.get("debug"):
                 raise
-            click.echo(f"error: {exc}", err=True)
+            click.echo(f"error: {exc}{_way_out(exc, ctx)}", err=True)
             ctx.exit(2)
         except (click.exceptions.Exit, click.exceptions.Abort, click.ClickException):
             raise
@@ -65,6 +70,17 @@ class _Group(click.Group):
                 f"error: {type(exc).__name__}: {exc} (rerun with --debug for details)", err=True
             )
             ctx.exit(1)
+
+
+def _way_out(error: InputError, ctx: click.Context) -> str:
+    """For a config's path refused by the confinement (`config.loading.ConfigFolder`), the one
+    command that runs: the same, with the folders it leads to named in ``ROCKBRIDGE_PATHS``."""
+    if not error.reach:
+        return ""
+    named = [f for f in os.environ.get("ROCKBRIDGE_PATHS", "").split(os.pathsep) if f]
+    paths = os.pathsep.join(dict.fromkeys((*named, *error.reach)))
+    command = shlex.join(["rockbridge", *ctx.meta.get("rockbridge.argv", [])])
+    return f"\n  to let it through: ROCKBRIDGE_PATHS={shlex.quote(paths)} {command}"
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})

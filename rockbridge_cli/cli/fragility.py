@@ -104,8 +104,9 @@ def fragility(
                      f"{reaching}/{len(item.capacities)}"])  # fmt: skip
         if design:
             rows[-1].append(None if item.median is None else item.median / design[1])
+    unit = f" {MEASURES[found[0].measure].unit}" if found else ""
     click.echo(f"measure: {found[0].measure if found else '-'}"
-               + (f"; design level {design[1]:g}" if design else ""))  # fmt: skip
+               + (f"; design level {design[1]:g}{unit}" if design else ""))  # fmt: skip
     click.echo(table_text(headers, rows))
     for item in found:
         if note := unreachable_note(item):
@@ -214,7 +215,7 @@ def _compare(
 
     import numpy as np
 
-    from ..assessment.efficiency import compare
+    from ..assessment.efficiency import SQUARED, best_measures, comparable_beta, compare
 
     rows = compare(results, period=period, period_range=period_range)
     data = [dataclasses.asdict(row) for row in rows]
@@ -230,28 +231,37 @@ def _compare(
         f"β of the capacities in each measure (Sa at {period:g} s, AvgSa over "
         f"{period_range[0]:g}–{period_range[1]:g} s): a smaller β fixes the median with fewer "
         "records (its standard error is β/√n); Arias intensity scales as the square of a record's "
-        "factor, so compare half its β"
+        "factor, so its column gives half its β"
     )
     measures = list(dict.fromkeys(r["measure"] for r in data))
     cases = list(dict.fromkeys((r["bridge"], r["limit_state"]) for r in data))
     beta = {(r["bridge"], r["limit_state"], r["measure"]): r["beta"] for r in data}
-    table = [[*case, *(beta[case + (m,)] for m in measures)] for case in cases]
+    table = [[*case, *(None if beta[case + (m,)] is None else comparable_beta(m, beta[case + (m,)])
+                       for m in measures)] for case in cases]  # fmt: skip
     click.echo(table_text(
-        ["bridge", "limit state", *measures],
+        ["bridge", "limit state", *(f"{m} ½β" if m in SQUARED else m for m in measures)],
         [row for row in table if any(value is not None for value in row[2:])],
     ))  # fmt: skip
+    best = best_measures(rows)
+    if best:
+        first, *others = best.items()
+        click.echo(f"smallest β: {first[0]}, in {first[1]} of {sum(best.values())} bridge × "
+                   "limit-state cases" + "".join(f"; {m} in {n}" for m, n in others))  # fmt: skip
     trends = [r for r in data if r["magnitude_slope"] is not None]
     if trends:
+        biased = [r for r in trends if min(r["magnitude_p"], r["distance_p"] or 1.0) < 0.05]
         click.echo(
-            "Sufficiency: slope of the log-capacity residuals against magnitude and against "
-            "ln R_rup [km], with p-values (p < 0.05: the measure is not sufficient)"
+            f"Sufficiency: {len(trends) - len(biased)} of {len(trends)} bridge × limit state × "
+            "measure fits leave no trend of the log-capacity residuals against magnitude or "
+            "ln R_rup at p < 0.05" + (", the others:" if biased else "") + " (--csv for all)"
         )
         keys = ["bridge", "limit_state", "measure", "magnitude_slope", "magnitude_p",
                 "distance_slope", "distance_p"]  # fmt: skip
-        click.echo(table_text(
-            ["bridge", "limit state", "measure", "M slope", "p", "ln R slope", "p"],
-            [[r[k] for k in keys] for r in trends],
-        ))  # fmt: skip
+        if biased:
+            click.echo(table_text(
+                ["bridge", "limit state", "measure", "M slope", "p", "ln R slope", "p"],
+                [[r[k] for k in keys] for r in biased],
+            ))  # fmt: skip
 
 
 def _columns(found: list) -> dict:

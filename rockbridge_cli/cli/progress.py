@@ -31,6 +31,8 @@ class ProgressDisplay:
 
     WIDTH = 30
     REDRAW = 0.1
+    WRITING_LINE = 10.0
+    """Seconds between the plain lines of a long writing of the results file."""
     """Seconds between two redraws of the bar (a study of 10 000 short analyses would otherwise
     redraw it 10 000 times)."""
     SHOWN_PROBLEMS = 10
@@ -47,6 +49,7 @@ class ProgressDisplay:
         self.bar_open = False  # a bar drawn without its final newline (terminal)
         self.drawn = -math.inf  # when the bar was last drawn
         self.first: tuple[float, int] | None = None  # when the first batch came back, its count
+        self.writing = 0.0  # when the writing of the results file was last reported (plain lines)
 
     def notice(self, text: str) -> None:
         """Show a line of the run's (after the heading, before the bar)."""
@@ -91,8 +94,10 @@ class ProgressDisplay:
             )
 
     def assembling(self, done: int, total: int) -> None:
-        """Report the writing of the results file: a bar on a terminal, its start and end
-        otherwise."""
+        """Report the writing of the results file: a bar on a terminal; otherwise its start
+        (``done`` 0, or the first block), a line every `WRITING_LINE` seconds, and its end (an
+        interrupted run writes fewer analyses than ``total`` and has no end line: the run's
+        next line says where they are)."""
         if self.terminal:
             now = time.monotonic()
             if done < total and now - self.drawn < self.REDRAW:
@@ -101,9 +106,14 @@ class ProgressDisplay:
             self.bar_open = done < total
             say(f"\rwriting the results file: {done}/{total}", err=True,
                        nl=not self.bar_open)  # fmt: skip
-        elif done in (1, total):
-            state = "done" if done == total else "started"
-            say(f"writing the results file ({total} analyses): {state}", err=True)
+        elif done == total:
+            say(f"writing the results file ({total} analyses): done", err=True)
+        elif not self.writing:
+            self.writing = time.monotonic()
+            say(f"writing the results file (at most {total} analyses): started", err=True)
+        elif (now := time.monotonic()) - self.writing >= self.WRITING_LINE:
+            self.writing = now
+            say(f"writing the results file: {done} analyses written", err=True)
 
     def close(self) -> None:
         """End a bar that an interruption left unfinished."""

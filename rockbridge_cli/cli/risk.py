@@ -40,7 +40,7 @@ def risk(
     an upper bound (no record reaches the state up to the highest level run, or up to where a
     failure ended its curve)."""
     from ..assessment.hazard import read_hazard_curve
-    from ..assessment.risk import risk_table, risks
+    from ..assessment.risk import extrapolation_warning, risk_table, risks
 
     curve = read_hazard_curve(hazard, site)
     found = risks(results, curve, years)
@@ -55,6 +55,9 @@ def risk(
     for item in found:
         if item.note:
             click.echo(f"{item.bridge}  {item.note}")
+    warning = extrapolation_warning(found, curve)
+    if warning:
+        click.echo(f"warning: {warning}", err=True)
 
 
 def _columns(found: list) -> dict:

@@ -4,6 +4,7 @@ pulse, run as a spectrum study; and ``rockbridge plot overturning RESULTS``, its
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import click
 import yaml
@@ -37,6 +38,20 @@ def spectrum() -> None:
               help="a_p over the reference acceleration, evenly spaced [-].")  # fmt: skip
 @click.option("--reference", type=click.Choice(["g_tan_alpha", "onset"]), default="g_tan_alpha",
               show_default=True, help="a_ref: g·tan α1, or the onset (Eq. 8).")  # fmt: skip
+@click.option("--phase", type=float, default=None,
+              help="φ, where the shape has a free phase [rad].")  # fmt: skip
+@click.option("--cycles", type=float, default=None,
+              help="N, n or γ of the shape (motions.pulses) [-].")  # fmt: skip
+@click.option(
+    "--tolerance",
+    type=float,
+    default=None,
+    help="Bisect each boundary to this width, relative [-] [default: 0.002].",
+)
+@click.option("--limit-state", "limit_states", multiple=True, metavar="NAME",
+              help="A boundary to find (repeat for more): overturning, and for a bridge "
+              "gap_closure, abutment_failure, backfill_<p> [default: overturning, and "
+              "gap_closure and abutment_failure with abutments].")  # fmt: skip
 @click.option("--fidelity", type=click.Choice(list(PRESETS)), default="default", show_default=True)
 @click.option("--workers", type=click.IntRange(min=1), default=None,
               help="Worker processes [default: the CPUs this process may use].")  # fmt: skip
@@ -46,13 +61,15 @@ def spectrum() -> None:
               help="Figure file [default: <output stem>.png beside the output].")  # fmt: skip
 @click.option("--overwrite", is_flag=True, help="Replace an output that holds other results.")
 def overturning(
-    bridge: Path, pulse: str, frequencies: str, amplitudes: str, reference: str, fidelity: str,
-    workers: int | None, output: Path | None, figure: Path | None, overwrite: bool,
+    bridge: Path, pulse: str, frequencies: str, amplitudes: str, reference: str,
+    phase: float | None, cycles: float | None, tolerance: float | None,
+    limit_states: tuple[str, ...], fidelity: str, workers: int | None, output: Path | None,
+    figure: Path | None, overwrite: bool,
 ) -> None:  # fmt: skip
     """Overturning spectrum of BRIDGE (a YAML file) under a pulse: every ω_p/p × a_p/a_ref of
     the grid, then each limit state's lowest amplitude per frequency by bisection; stored in an
-    HDF5 results file and drawn. A study with a spectrum section does the same with every
-    option of a study (rockbridge run).
+    HDF5 results file and drawn. The options are those of a study's spectrum section (its
+    samples per period and rest too, and every option of a study, with rockbridge run).
     """
     from ..config.study import study_from_data
     from ..plots.overturning import plot_overturning
@@ -60,13 +77,21 @@ def overturning(
     from .progress import ProgressDisplay
 
     output = output or Path("results") / f"{bridge.stem}-{pulse}.h5"
+    shape: dict = {"shape": pulse}
+    shape.update((k, v) for k, v in (("phase", phase), ("cycles", cycles)) if v is not None)
+    section: dict[str, Any] = {"pulse": shape if len(shape) > 1 else pulse,
+                               "frequencies": _grid(frequencies),
+                               "amplitudes": _grid(amplitudes), "reference": reference}  # fmt: skip
+    if tolerance is not None:
+        section["tolerance"] = tolerance
+    if limit_states:
+        section["limit_states"] = list(limit_states)
     data = {
         "description": f"rockbridge spectrum overturning {bridge} --pulse {pulse}",
         "bridges": [str(bridge.resolve())],
-        "spectrum": {"pulse": pulse, "frequencies": _grid(frequencies),
-                     "amplitudes": _grid(amplitudes), "reference": reference},
+        "spectrum": section,
         "fidelity": fidelity,
-    }  # fmt: skip
+    }
     source = output.with_suffix(".study.yaml")
     study = study_from_data(
         data, source, yaml.safe_dump(data, sort_keys=False), None, output, confined=False

@@ -244,7 +244,10 @@ def _heading(study, workers: int, scheduler: str | None, chosen: bool, part) -> 
         heading = f"workers: {workers} (the CPUs this process may use; --workers to change)"
     if part is not None:
         heading += f"; shard {shard_label(part)}"
-    if (intensity := study.intensity_section) is not None and intensity.ida is not None:
+    if study.spectrum is not None:
+        heading += ("\nspectrum: each frequency's rounds run the amplitudes the verdicts so far "
+                    "call for; the total grows")  # fmt: skip
+    elif (intensity := study.intensity_section) is not None and intensity.ida is not None:
         heading += "\nIDA: each round runs the levels the verdicts so far call for; the total grows"
     return heading
 
@@ -311,7 +314,12 @@ def _bridge_table(results: Path) -> str:
         columns = peak_columns(file)
         intensity = read_intensity(file)
         recheck = bool(json.loads(file.attrs.get("knobs", "{}")).get("recheck", False))
+        spectrum = "spectrum" in file
     rechecked = _rechecks(columns, recheck)
+    if spectrum:  # run as an IDA of its pulse, read as a map
+        return ("spectrum: the lowest overturning amplitude at each frequency and the map of "
+                "what each analysis ended in: rockbridge plot overturning "
+                f"{results}{rechecked}")  # fmt: skip
     try:
         groups = summary_groups(columns, intensity)
     except ValueError as exc:
@@ -329,7 +337,22 @@ def _bridge_table(results: Path) -> str:
         rows.append([group.bridge, *([] if group.level is None else [group.level]), ok, *largest,
                      _largest(columns["dcr_backfill"][mine]), int(np.sum(failed))])  # fmt: skip
     heading = "peaks, largest over the records" + (" at each level" if level else "")
+    if len(rows) > SUMMARY_ROWS:  # a sweep of 1000 bridges: the rows that matter, not 1000
+        worst = sorted(range(len(rows)), key=lambda i: (-rows[i][-1], -_finite(rows[i][-2])))
+        rows = [rows[i] for i in sorted(worst[:SUMMARY_ROWS])]
+        heading += (f", the {SUMMARY_ROWS} of {len(groups)} rows with the most failures, then "
+                    "the largest backfill d/c (every analysis: rockbridge peaks "
+                    f"{results})")  # fmt: skip
     return f"{heading}:\n{table_text(headers, rows)}{rechecked}"
+
+
+SUMMARY_ROWS = 20
+"""Rows of `run`'s summary table at most."""
+
+
+def _finite(value: float) -> float:
+    """``value``, with NaN (no analysis ran) below every number."""
+    return -float("inf") if value != value else value
 
 
 def _rechecks(columns: dict, recheck: bool) -> str:

@@ -22,6 +22,7 @@ KINDS = {
     "record set": ("a record-set config", "rockbridge generate-records CONFIG"),
     "record": ("a record file", "rockbridge analyze BRIDGE RECORD, a study's records"),
     "results": ("a results file", "rockbridge peaks, fragility, plot, report RESULTS"),
+    "hazard curve": ("a hazard curve", "rockbridge risk RESULTS --hazard CURVE"),
 }  # fmt: skip
 """Each kind: how a message names it, and what takes it."""
 

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Hashable
+from collections.abc import Hashable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TypeVar
@@ -161,7 +162,9 @@ def load(model: type[ModelT], path: str | Path, **context: Any) -> ModelT:
     """Read and validate a YAML config file; the paths inside it resolve against its folder and
     must lie where a config may reach (`ConfigFolder.of`)."""
     path = Path(path)
-    return validate(model, read_yaml(path), path, folder=ConfigFolder.of(path), **context)
+    folder = ConfigFolder.of(path)
+    with reaching(folder):
+        return validate(model, read_yaml(path), path, folder=folder, **context)
 
 
 KIND_TAGS = ("=list", "=mapping")
@@ -184,6 +187,8 @@ def _describe(error: ErrorDetails) -> tuple[str, str]:
     reason = error["msg"].removeprefix("Value error, ")
     if error["type"] == "extra_forbidden":
         reason = "unknown key"
+    elif isinstance(error.get("ctx", {}).get("error"), OutOfReach):
+        pass  # the message names the path already
     elif error["type"] != "missing" and type(error.get("input")) in (str, int, float):
         reason = f"{reason} (got {_short(error['input'])})"
     return where, reason
@@ -202,6 +207,32 @@ PATHS_VARIABLE = "ROCKBRIDGE_PATHS"
 """Environment variable naming more folders (separated by ``os.pathsep``) whose files the paths
 in a config may reach."""
 
+PROJECT_MARKER = ".rockbridge"
+"""The file that marks a project's root (`project_root`): the repository has one, so that its
+bundled studies reach ``../../records`` from any working folder; ``touch .rockbridge`` marks a
+user's own project."""
+
+
+def project_root(config: Path) -> Path:
+    """The root of the project the config file ``config`` lies in: the nearest folder, from the
+    config's own (links followed) upwards, holding a `PROJECT_MARKER` file; the config's folder
+    where there is none.
+
+    A marker in the home folder or the file system's root is passed over: it would open every
+    file of the user to any config handed over, which is what the confinement prevents.
+    """
+    folder = config.parent.resolve()
+    try:
+        too_wide = {Path(folder.anchor), Path.home().resolve()}
+    except RuntimeError:  # no home folder
+        too_wide = {Path(folder.anchor)}
+    for candidate in (folder, *folder.parents):
+        if candidate in too_wide:
+            break
+        if (candidate / PROJECT_MARKER).is_file():
+            return candidate
+    return folder
+
 
 @dataclass(frozen=True)
 class ConfigFolder:
@@ -209,10 +240,11 @@ class ConfigFolder:
 
     A config names files (bridge files, records, record sets, seeds, its results file) by paths
     that resolve against its own folder. So that a config from elsewhere cannot make rockbridge
-    read or write files far from it, those paths must lie in the config's folder tree, in the
-    working folder's tree, or in a folder named in `PATHS_VARIABLE`, once every ``..`` and
-    symbolic link is followed (a link in the tree to a file outside it is refused too). Paths
-    given on the command line are the user's own word and are not confined.
+    read or write files far from it, those paths must lie in the config's project (the tree of
+    the nearest folder above it marked by a `PROJECT_MARKER` file, else its own folder's tree),
+    in the working folder's tree, or in a folder named in `PATHS_VARIABLE`, once every ``..``
+    and symbolic link is followed (a link in the tree to a file outside it is refused too).
+    Paths given on the command line are the user's own word and are not confined.
 
     Attributes
     ----------
@@ -220,18 +252,23 @@ class ConfigFolder:
         The config's folder.
     reach
         The folders the config's paths may lie in (absolute, links followed); None: anywhere.
+    refused
+        The folders that would have let the refused paths through, for the message's way out
+        (`reaching`).
     """
 
     base: Path
     reach: tuple[Path, ...] | None
     _reached: set[str] = field(default_factory=set, compare=False, repr=False)
     """The names already checked (a study may list a file thousands of times)."""
+    refused: dict[Path, None] = field(default_factory=dict, compare=False, repr=False)
 
     @classmethod
     def of(cls, config: Path) -> ConfigFolder:
         """The folder of the config file ``config``, its paths confined as the class says."""
         named = [Path(f).expanduser() for f in os.environ.get(PATHS_VARIABLE, "").split(os.pathsep)]
-        folders = (config.parent, Path.cwd(), *(f for f in named if str(f) != "."))
+        folders = (config.parent, project_root(config), Path.cwd(),
+                   *(f for f in named if str(f) != "."))  # fmt: skip
         return cls(config.parent, tuple(dict.fromkeys(f.resolve() for f in folders)))
 
     def path(self, name: str | Path) -> Path:
@@ -252,12 +289,25 @@ class ConfigFolder:
         if real is not None and any(real.is_relative_to(folder) for folder in self.reach):
             self._reached.add(str(name))
             return path
-        leads = f" (it leads to {real})" if real is not None and str(real) != str(name) else ""
-        raise ValueError(
-            f"{name} is outside the config's folder and the working folder{leads}: run "
-            f"rockbridge from a folder that holds both, or add the file's folder to "
-            f"{PATHS_VARIABLE}"
-        )
+        if real is not None:
+            self.refused[real if real.is_dir() else real.parent] = None
+        leads = f", to {real}" if real is not None and str(real) != str(name) else ""
+        raise OutOfReach(f"{name} leads outside the config's project and the working folder{leads}")
+
+
+class OutOfReach(ValueError):
+    """A path in a config that lies outside the folders the config may reach."""
+
+
+@contextmanager
+def reaching(folder: ConfigFolder) -> Iterator[None]:
+    """Hand the folders that ``folder`` refused to the `InputError` raised inside, as its
+    ``reach`` (the command line names them in the command that would work)."""
+    try:
+        yield
+    except InputError as exc:
+        exc.reach = tuple(dict.fromkeys((*exc.reach, *map(str, folder.refused))))
+        raise
 
 
 def resolve_path(path: Path, info: ValidationInfo) -> Path:

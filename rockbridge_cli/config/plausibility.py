@@ -108,7 +108,8 @@ def _outside_ranges(config: BridgeConfig) -> list[str]:
 
 def record_warnings(record: Record) -> list[str]:
     """Implausible features of a ground motion: its peak for its stated unit, a time column that
-    does not start at zero, a vertical component that can lift the bridge off the ground."""
+    does not start at zero or a time step out of range (a record file's, not an analytic
+    pulse's), a vertical component that can lift the bridge off the ground."""
     found = list(record.metadata.get("notices", ()))
     pga = record.peak_acceleration / STANDARD_GRAVITY
     low, high = RECORD_PGA_G
@@ -121,7 +122,8 @@ def record_warnings(record: Record) -> list[str]:
                      f"the file's numbers are in g, it peaks at {record.peak_acceleration:.3g} g "
                      "(say units: g, --units g)")  # fmt: skip
     low, high = TIME_STEP_S
-    if not low <= record.time_step <= high:
+    analytic = "pulse_shape" in record.metadata  # its step is chosen for it, from its period
+    if not analytic and not low <= record.time_step <= high:
         found.append(f"time step {record.time_step:g} s is not a ground motion's ({low:g}–"
                      f"{high:g} s): is the time column in seconds?")  # fmt: skip
     from ..records.vertical import peak_vertical  # numpy: loaded on use

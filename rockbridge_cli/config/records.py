@@ -25,7 +25,7 @@ from pydantic import (
 )
 
 from ..core.quantities import STANDARD_GRAVITY
-from ..errors import InputError
+from ..errors import InputError, did_you_mean
 from ..motions.pulses import SHAPES, Pulse
 from ..records.files import Record
 from ..records.pulses import pulse_record
@@ -56,7 +56,8 @@ class RecordFile(StrictModel):
     @classmethod
     def _exists(cls, path: Path | None, info: ValidationInfo) -> Path | None:
         if path is not None and not resolve_path(path, info).is_file():
-            raise ValueError(f"record file not found: {path}")
+            hint = did_you_mean(resolve_path(path, info))
+            raise ValueError(f"record file not found: {path}{hint}")
         return path
 
 

@@ -396,6 +396,13 @@ def study_from_data(
         fidelity = data.get("fidelity")
         data["fidelity"] = {**(fidelity if isinstance(fidelity, dict) else {}), "preset": preset}
     folder = ConfigFolder.of(path) if confined else ConfigFolder(path.parent, None)
+    with loading.reaching(folder):
+        return _study(data, path, text, output, folder)
+
+
+def _study(
+    data: dict[str, Any], path: Path, text: str, output: str | Path | None, folder: ConfigFolder
+) -> Study:
     config = loading.validate(StudyConfig, data, path, folder=folder)
     bridges = _resolve_bridges(config.bridges, path, folder)
     if config.sweep is not None:

@@ -79,6 +79,7 @@ def plot_history(
     _ground_panel(axes_list[0], time_step, ground, events)
     _grid(axes_list[0], next(letters))
     gaps = sorted({table[b]["model_u_jo"] for b in chosen} - {math.inf})
+    limits = sorted({table[b]["model_u_jo"] + table[b]["model_u_ab"] for b in chosen} - {math.inf})
     for (name, scale, label), axes in zip(panels, axes_list[1:], strict=True):
         for index, (bridge, arrays) in enumerate(histories.items()):
             look = {k: v for k, v in style(index).items() if "marker" not in k}
@@ -93,14 +94,20 @@ def plot_history(
         for gap in gaps if name == "u_deck" else ():
             for sign in (1.0, -1.0):
                 axes.axhline(sign * gap * SHOWN["u_deck"].factor, **GAP_LINE)
+        for limit in limits if name == "u_deck" else ():  # abutment failure, as Fig. 9A
+            for sign in (1.0, -1.0):
+                axes.axhline(sign * limit * SHOWN["u_deck"].factor, **FAILURE_LINE)
     failures = [t for t in map(_failure_time, events.values()) if t is not None]
     for when in failures:
         for axes in axes_list:
             axes.axvline(when, **FAILURE_LINE)
     handles, names = axes_list[min(1, len(panels))].get_legend_handles_labels()
-    keys = _legend_keys(any(name == "u_deck" for name, _, _ in panels), bool(failures))
+    keys = _legend_keys(any(name == "u_deck" for name, _, _ in panels) and bool(gaps),
+                        bool(failures))  # fmt: skip
     figure.legend(handles + [key for key, _ in keys], names + [name for _, name in keys],
                   loc="outside upper center", ncols=2, frameon=False)  # fmt: skip
+    for axes in axes_list:  # times under every panel, not under the last only
+        axes.tick_params(labelbottom=True)
     axes_list[0].set_title(f"record {record}")
     axes_list[-1].set_xlabel("time t [s]")
     return save(figure, output)
@@ -128,8 +135,10 @@ def _legend_keys(deck: bool, failed: bool) -> list[tuple[Line2D, str]]:
         keys += [(Line2D([], [], linestyle="none", marker="x", color="0.35"),
                   "pounding on the backwall"),
                  (Line2D([], [], **GAP_LINE), r"end-joint gap $\pm u_{jo}$")]  # fmt: skip
-    if failed:
-        keys.append((Line2D([], [], **FAILURE_LINE), "failure"))
+    if deck or failed:  # one style for a failure: its level (Fig. 9A's) and its time
+        level = r": abutment at $\pm(u_{jo} + u_{ab})$" if deck else ""
+        keys.append((Line2D([], [], **FAILURE_LINE),
+                     f"failure{level}{', its time' * (failed and deck)}"))  # fmt: skip
     return keys
 
 

@@ -10,11 +10,17 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from ..assessment.fragility import fragilities_of
-from ..core.quantities import NO_FAILURE, display_unit
+from ..core.quantities import NO_FAILURE, SHOWN, display_unit
 from ..errors import InputError
 from ..motions.intensity import MEASURES
-from ..results.reading import open_results, peak_columns, peak_units, read_intensity
-from .common import check_format, panel_label, save, style
+from ..results.reading import (
+    bridge_attributes,
+    open_results,
+    peak_columns,
+    peak_units,
+    read_intensity,
+)
+from .common import check_format, panel_label, save, series_labels, style
 
 """Units drawn in thousandths."""
 
@@ -45,6 +51,7 @@ def plot_ida(results: str | Path, output: str | Path, quantity: str = "u_deck_ma
     with open_results(results) as file:
         intensity = read_intensity(file)
         columns, units = peak_columns(file), peak_units(file)
+        names = series_labels(bridge_attributes(file))
     if intensity is None:
         raise InputError(results, [("", "the study has no intensity section: no IDA curves")])
     if quantity not in columns or columns[quantity].dtype.kind != "f" or quantity in (
@@ -82,8 +89,9 @@ def plot_ida(results: str | Path, output: str | Path, quantity: str = "u_deck_ma
                           color=look["color"], markerfacecolor=look["markerfacecolor"],
                           markeredgecolor=look["markeredgecolor"],
                           label=state.replace("_", " "))  # fmt: skip
-        axes.set_title(bridge)
-        axes.set_xlabel(f"{quantity} [{unit}]")
+        axes.set_title(names.get(bridge, bridge))  # as Fig. 9 names them
+        shown = SHOWN.get(quantity.removesuffix("_max"))
+        axes.set_xlabel(f"peak {shown.tex} [{unit}]" if shown else f"{quantity} [{unit}]")
         axes.grid(True, color="0.9", linewidth=0.5)
         panel_label(axes, letter)
     panels[0].set_ylabel(MEASURES[intensity.measure].label)

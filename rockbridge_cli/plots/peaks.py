@@ -19,7 +19,13 @@ from ..assessment.levels import rows_at_level
 from ..core.quantities import SHOWN
 from ..errors import InputError
 from ..motions.intensity import MEASURES
-from ..results.reading import bridge_attributes, open_results, peak_columns, read_intensity
+from ..results.reading import (
+    bridge_attributes,
+    open_results,
+    peak_columns,
+    read_intensity,
+    swept_values,
+)
 from .common import (
     FAILURE_LINE,
     GAP_LINE,
@@ -42,6 +48,9 @@ PANELS = (
 
 MAX_TICKS = 24
 """Records labelled on the x axis at most (every k-th beyond)."""
+
+MAX_BRIDGES = 100
+"""Bridges a figure of peaks draws at most (issue 40: 1000 took 55 s, a marker each)."""
 
 MAX_NAMED = 12
 """Bridges named one by one in the legend at most; beyond, one entry says how many (a sweep's
@@ -73,18 +82,26 @@ def plot_peaks(results: str | Path, output: str | Path, level: float | None = No
     ------
     InputError
         A study with stripes without one of its levels, or an IDA (whose levels differ by
-        record: ``rockbridge plot ida``).
+        record: ``rockbridge plot ida``), or more than `MAX_BRIDGES` bridges (``rockbridge plot
+        sweep``).
     """
     output = check_format(output)
     with open_results(results) as file:
         peaks, bridges = peak_columns(file), bridge_attributes(file)
         intensity = read_intensity(file)
+        fields = list(dict.fromkeys(f for values in swept_values(file).values() for f in values))
     if intensity is not None:
         try:
             rows, _ = rows_at_level(peaks, intensity, level, MEASURES[intensity.measure].unit)
         except ValueError as exc:
             raise InputError(results, [("level", f"Fig. 9: {exc}")]) from None
         peaks = {name: values[rows] for name, values in peaks.items()}
+    if len(bridges) > MAX_BRIDGES:  # 1000 bridges took 55 s to draw, one marker each, unreadable
+        sweep = (f": their peaks against the swept field: rockbridge plot sweep {results} "
+                 f"--field {fields[0]}") if fields else ""  # fmt: skip
+        reason = (f"{len(bridges)} bridges are more than one figure of a marker per bridge and "
+                  f"record draws readably ({MAX_BRIDGES} at most){sweep}")  # fmt: skip
+        raise InputError(results, [("", reason)])
     records = list(dict.fromkeys(peaks["record"]))
     figure = Figure(figsize=(10.0, 9.6), layout="constrained")
     grid = figure.subplots(3, 2, sharex=True)
@@ -117,8 +134,9 @@ def plot_peaks(results: str | Path, output: str | Path, level: float | None = No
         panel_label(axes, letter)
     _limits(grid[0, 0], bridges)
     grid[-1, -1].axhline(100.0, **FAILURE_LINE)
-    for axes in grid.flat:  # from zero, with the markers and limit lines clear of the top frame
-        axes.set_ylim(0.0, 1.08 * axes.get_ylim()[1])
+    for axes in grid.flat:  # from just below zero, so that a marker at zero (a symmetric
+        top = 1.08 * axes.get_ylim()[1]  # bridge's deck rotation) is not cut by the frame; the
+        axes.set_ylim(-0.03 * top, top)  # markers and limit lines clear of the top frame
     for axes in grid[-1]:
         axes.set_xlabel("record")
     if len(bridges) > MAX_NAMED:

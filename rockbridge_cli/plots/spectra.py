@@ -15,6 +15,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import NullFormatter
 
 from ..core.quantities import STANDARD_GRAVITY
+from ..errors import InputError
 from ..motions.spectra import compute_psa
 from ..records.files import Record, read_record, read_stated_units
 from ..records.set_files import MANIFEST, read_manifest, read_record_set
@@ -129,7 +130,13 @@ def load_records(
 
 
 def _is_set_member(path: Path) -> bool:
+    """Whether the record file ``path``, named on its own, is listed by a record set's manifest
+    beside it; a manifest.json that is not a record set's (another program's) is no set."""
     manifest = path.parent / MANIFEST
     if not manifest.is_file():
         return False
-    return any(entry["file"] == path.name for entry in read_manifest(path.parent)["records"])
+    try:
+        listed = read_manifest(path.parent)["records"]
+    except InputError:
+        return False
+    return any(entry["file"] == path.name for entry in listed)

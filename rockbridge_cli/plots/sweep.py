@@ -83,12 +83,15 @@ def plot_sweep(
     factor, unit = (1.0, unit_of(intensity) if intensity is not None else "-")
     if not capacity:
         unit, factor = display_unit(units[quantity])
-    figure = Figure(figsize=(6.5, 4.5), layout="constrained")
+    sources = {source for source, _ in lines}
+    one = len(sources) == 1  # the bridge named once, as the legend's title, not on each line
+    figure = Figure(figsize=(6.5 + 3.0 * (len(lines) > 1), 4.5), layout="constrained")
     axes = figure.subplots()
     for index, ((source, others), points) in enumerate(lines.items()):
         x, middles, lows, highs = (np.array(v) for v in zip(*sorted(points), strict=True))
         look = style(index)
-        label = source + "".join(f", {p} = {v:.4g}" for p, v in others)
+        label = ", ".join([*([] if one and others else [source]),
+                           *(f"{p} = {v:.4g}" for p, v in others)])  # fmt: skip
         axes.plot(x, middles * factor, label=label, **look)
         axes.fill_between(x, lows * factor, highs * factor, color=look["color"], alpha=0.12,
                           linewidth=0)  # fmt: skip
@@ -100,7 +103,11 @@ def plot_sweep(
     axes.set_xlabel(f"{field} [{units.get(field, '-')}]")
     axes.set_ylabel(f"{what} [{unit}]")
     axes.grid(True, color="0.9", linewidth=0.5)
-    axes.legend(frameon=False, fontsize="small")
+    # beside the axes, not over the curves; and not loc="best", which matplotlib warns is slow
+    # with many points (the warning reached the terminal on large sweeps)
+    figure.legend(loc="outside right upper", frameon=False, fontsize="small",
+                  title=next(iter(sources)) if one and len(lines) > 1 else None,
+                  title_fontsize="small")  # fmt: skip
     return save(figure, output)
 
 

@@ -26,6 +26,7 @@ from .. import __version__
 from ..assessment.levels import IDA_POINTER, record_count, summary_groups
 from ..core.quantities import NO_FAILURE, display_unit
 from ..errors import InputError, nearest
+from ..motions.intensity import MEASURES
 from ..paths import MARK, checked_output, replace_atomically
 from ..results.reading import (
     bridge_attributes,
@@ -63,6 +64,7 @@ th, td { padding: 0.2rem 0.5rem; border-bottom: 1px solid #e4e4e4; text-align: r
 dl { display: grid; grid-template-columns: max-content 1fr; gap: 0.2rem 1rem; }
 dt { font-weight: 600; } dd { margin: 0; overflow-wrap: anywhere; }
 .bad { color: #a00; font-weight: 600; } .note { color: #555; font-size: 0.9rem; }
+@page { size: A4; margin: 15mm; }
 @media print { body { max-width: none; font-size: 11pt; } h2 { break-after: avoid; } }
 """
 
@@ -143,7 +145,9 @@ def write_report(
         if intensity is not None and drawn:
             parts.append(_intensity_section(results, intensity, figure, hazard, years))
     parts += [
-        _peak_table(columns, units),
+        _capacity_table(results, intensity, len(columns["bridge"]))
+        if intensity is not None and _is_ida(intensity)
+        else _peak_table(columns, units),
         _failures(columns),
         record_sets(attributes, sources),
         _warnings(attributes),
@@ -206,8 +210,14 @@ def _levels(intensity: IntensitySection | None, columns: dict[str, np.ndarray]) 
     if intensity is None:
         return ""
     if intensity.ida is not None:
-        return f" in an IDA of {intensity.measure}"
-    return f" at {len(set(columns['intensity'].tolist()))} levels of {intensity.measure}"
+        return f" in an IDA of {_name(intensity.measure)}"
+    levels = len(set(columns["intensity"].tolist()))
+    return f" at {levels} levels of {_name(intensity.measure)}"
+
+
+def _name(measure: str) -> str:
+    """A measure as a reader names it (PGA, Sa(T)), not by its internal name (pga_g)."""
+    return MEASURES[measure].label.split(" [")[0]
 
 
 def _figures(
@@ -226,17 +236,20 @@ def _figures(
     elif intensity is None or intensity.ida is None and level in (intensity.levels or ()):
         from ..plots.peaks import plot_peaks
 
-        at = f" at {intensity.measure} = {level:g}" if intensity is not None else ""
-        parts.append(_section(f"Peaks per record{at} (Fig. 9)",
-                              figure(plot_peaks, results,
-                                     level=level if intensity is not None else None),
+        at = (f" at {_name(intensity.measure)} = {level:g} "
+              f"{MEASURES[intensity.measure].unit}") if intensity is not None else ""  # fmt: skip
+        try:
+            image = figure(plot_peaks, results, level=level if intensity is not None else None)
+        except InputError as exc:  # too many bridges for one figure: said in its place
+            image = f'<p class="note">{escaped(exc.problems[0][1])}</p>'
+        parts.append(_section(f"Peaks per record{at} (as the paper's Fig. 9)", image,
                               "One marker per bridge and record; right: the means over the "
                               "records. (A) with the end-joint gap (dotted) and the "
                               "abutment–backfill failure (dashed)."))  # fmt: skip
     if chosen is not None:
         from ..plots.history import plot_history
 
-        parts.append(_section(f"Response histories under {chosen} (Fig. 10)",
+        parts.append(_section(f"Response histories under {chosen} (as the paper's Fig. 10)",
                               figure(plot_history, results, chosen, bridges=under),
                               "Ground motion with each bridge's onset of rocking, then the "
                               "responses; × marks a pounding on the backwall."))  # fmt: skip
@@ -297,17 +310,32 @@ def _section(heading: str, image: str, caption: str) -> str:
     )
 
 
+KNOB_UNITS = {"rest_velocity": "rad/s", "output_step": "s", "tail": "s", "step": "s",
+              "max_step": "s", "event_tol": "s", "atol": "rad, rad/s"}  # fmt: skip
+"""Units of the fidelity knobs as the provenance shows them (`core.fidelity`)."""
+
+
+def _knob(name: str, value: Any) -> str:
+    """A fidelity knob as a reader reads it: on/off, none, a number with its unit."""
+    if isinstance(value, bool):
+        return "on" if value else "off"
+    if value is None:
+        return "none"
+    unit = KNOB_UNITS.get(name)
+    return f"{value:g} {unit}" if unit and isinstance(value, (int, float)) else str(value)
+
+
 def _provenance(attributes: dict[str, Any]) -> str:
     knobs = json.loads(attributes.get("knobs", "{}"))
     items = [
         ("study", attributes.get("study_file", "-")),
         ("config hash", attributes.get("config_hash", "-")),
         ("fidelity", f"{attributes.get('fidelity', '-')}: "
-                     + ", ".join(f"{k} = {v}" for k, v in knobs.items())),
+                     + ", ".join(f"{k} = {_knob(k, v)}" for k, v in knobs.items())),
         ("versions", ", ".join(f"{name} {attributes[f'{name}_version']}" for name in
                                ("rockbridge", "python", "numpy", "scipy", "h5py", "hdf5")
                                if f"{name}_version" in attributes)),
-        ("machine", attributes.get("host", "-")),
+        ("host name", attributes.get("host", "-")),
         ("run", f"{attributes.get('created', '-')} to {attributes.get('finished', '-')}"),
         ("complete", f"{attributes.get('n_complete', '-')} of {attributes.get('n_analyses', '-')} "
                      "analyses"),
@@ -349,7 +377,7 @@ def _summary(
             f"{100 * ratio.mean():.1f} %" if ratio.size else "-",
             ", ".join(f"{n} {m}" for m, n in failed.items()) or "none",
         ])  # fmt: skip
-    level = [] if intensity is None else [f"level [{intensity.measure}]"]
+    level = [] if intensity is None else [f"level, {MEASURES[intensity.measure].label}"]
     headers = ["bridge", *level, "ran ok", "backfill d/c, largest", "backfill d/c, mean",
                "failures"]  # fmt: skip
     more = f'<p class="note">{len(groups) - MAX_ROWS} more rows.</p>' if (
@@ -376,18 +404,21 @@ def _intensity_section(
             + ([number(None if item.median is None else item.median / design)] if design else [])
             for item in found]  # fmt: skip
     measure = intensity.measure
-    margin = (f"The design level is {design:g} ({measure}); the last column is each median's "
-              "margin over it.") if design else ""  # fmt: skip
+    unit = MEASURES[measure].unit
+    margin = (f"The design level is {design:g} {unit} ({measure}); the last column is each "
+              "median's margin over it.") if design else ""  # fmt: skip
     parts = [
-        _section(f"IDA curves ({measure})", figure(plot_ida, results),
+        _section(f"IDA curves ({MEASURES[measure].label})", figure(plot_ida, results),
                  "Each record's peak against its intensity level; a cross ends a curve where "
                  "the bridge failed.") if _is_ida(intensity) else "",
-        _section(f"Fragility ({measure})", figure(plot_fragility, results, found=found),
+        _section(f"Fragility ({MEASURES[measure].label})",
+                 figure(plot_fragility, results, found=found),
                  "Share of the records reaching each limit state, and the fitted lognormal; "
                  "grey, the 90 % band of the curves the bootstrap over the records fits."),
         f"<p>{margin}</p>" if margin else "",
         f'<p class="note">{escaped(INTERVALS)}</p>',
-        table_html(["bridge", "limit state", "median", "β", "median, 5–95 %", "β, 5–95 %"]
+        table_html(["bridge", "limit state", f"median [{unit}]", "β", f"median, 5–95 % [{unit}]",
+                    "β, 5–95 %"]
                + (["median / design"] if design else []), rows, text_columns=(0, 1)),
         _unreachable(found),
         _efficiency_section(results) if _is_ida(intensity) else "",
@@ -426,22 +457,35 @@ def _unreachable(found: list) -> str:
 
 def _efficiency_section(results: Path) -> str:
     """β of the IDA's capacities in each intensity measure (`assessment.efficiency`)."""
-    from ..assessment.efficiency import compare
+    from ..assessment.efficiency import SQUARED, best_measures, comparable_beta, compare
 
     rows = compare(results)
     measures = list(dict.fromkeys(row.measure for row in rows))
     beta = {(row.bridge, row.limit_state, row.measure): row.beta for row in rows}
     cases = list(dict.fromkeys((row.bridge, row.limit_state) for row in rows))
-    table = [[*case, *(number(beta[case + (m,)]) for m in measures)] for case in cases]
+
+    def shown(case: tuple[str, str], measure: str) -> str:
+        value = beta[case + (measure,)]
+        return number(None if value is None else comparable_beta(measure, value))
+
+    table = [[*case, *(shown(case, m) for m in measures)] for case in cases]
     table = [row for row in table if any(cell != "-" for cell in row[2:])]
     text = (
         "β of the capacities converted to each measure (Sa at 1 s, AvgSa over 0.2–3 s): the "
         "smaller β, the fewer records fix the median (its standard error is β/√n). Arias "
-        "intensity grows as the square of a record's factor: compare half its β. rockbridge "
-        "fragility RESULTS --compare-measures adds the trends with magnitude and distance."
+        "intensity grows as the square of a record's factor: its column gives half its β. "
+        "rockbridge fragility RESULTS --compare-measures adds the trends with magnitude and "
+        "distance."
     )
+    best = best_measures(rows)
+    if best:
+        first, *others = best.items()
+        text += (f" The smallest β: {_name(first[0])}, in {first[1]} of {sum(best.values())} "
+                 "bridge × limit-state cases" + "".join(f"; {_name(m)} in {n}" for m, n in others)
+                 + ".")  # fmt: skip
+    headers = [_name(m) + (" (½β)" if m in SQUARED else "") for m in measures]
     return f"<h2>Which intensity measure</h2>\n<p>{escaped(text)}</p>\n" + table_html(
-        ["bridge", "limit state", *measures], table, text_columns=(0, 1)
+        ["bridge", "limit state", *headers], table, text_columns=(0, 1)
     )
 
 
@@ -467,6 +511,33 @@ def _risk_section(
         + table_html(headers, rows, text_columns=(0, 1))
         + (f'<ul class="note">{notes}</ul>' if notes else "")
     )
+
+
+def _capacity_table(results: Path, intensity: IntensitySection, analyses: int) -> str:
+    """An IDA's table: each bridge × record's capacity for each limit state, in place of its
+    peak table (a row per level run of each record, pages of them)."""
+    from ..assessment.fragility import fragilities
+
+    found = fragilities(results)
+    states = list(dict.fromkeys(item.limit_state for item in found))
+    capacities = {(item.bridge, item.limit_state): item.capacities for item in found}
+    unit = MEASURES[intensity.measure].unit
+    rows = [
+        [bridge, record, *(number(capacities[bridge, state].get(record)) for state in states)]
+        for bridge in dict.fromkeys(item.bridge for item in found)
+        for record in capacities[bridge, states[0]]
+    ]
+    more = f'<p class="note">{len(rows) - MAX_ROWS} more rows.</p>' if (
+        len(rows) > MAX_ROWS) else ""  # fmt: skip
+    return (
+        f'<h2>Capacities</h2>\n<p class="note">Each record\'s capacity, the lowest '
+        f"{escaped(_name(intensity.measure))} at which it reaches each limit state ('-': no "
+        f"level run reaches it). The results file holds the peaks of all {analyses} analyses, "
+        "a row per level run (rockbridge peaks RESULTS).</p>\n"
+        + table_html(["bridge", "record", *(f"{state} [{unit}]" for state in states)],
+                     rows[:MAX_ROWS], text_columns=(0, 1))
+        + more
+    )  # fmt: skip
 
 
 def _peak_table(columns: dict[str, np.ndarray], units: dict[str, str]) -> str:

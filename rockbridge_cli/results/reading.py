@@ -17,7 +17,7 @@ import h5py
 import numpy as np
 
 from ..core.quantities import HISTORY_UNITS
-from ..errors import InputError, nearest
+from ..errors import InputError, did_you_mean, nearest
 from ..paths import journal_path
 from .layout import COUNT_COLUMNS, EVENT_COLUMNS, FORMAT, FORMAT_VERSION, READABLE_VERSIONS
 from .packing import AnalysisResult
@@ -44,11 +44,15 @@ def open_results(path: str | Path) -> Iterator[h5py.File]:
                       f"it is beside it ({journal_path(path).name}): run the study again to "
                       "resume and write the file")  # fmt: skip
             raise InputError(path, [("", reason)])
-        raise InputError(path, [("", "file not found")])
+        raise InputError(path, [("", f"file not found{did_you_mean(path)}")])
     try:
         file = h5py.File(path, "r")
     except OSError as exc:
-        raise InputError(path, [("", f"not a readable HDF5 file, or damaged ({exc})")]) from None
+        from ..config.kinds import expecting
+
+        with expecting(path, "results"):  # a study or a bridge given for its results is named
+            reason = f"not a readable HDF5 file, or damaged ({exc})"
+            raise InputError(path, [("", reason)]) from None
     with file:
         if file.attrs.get("format") != FORMAT:
             raise InputError(path, [("", "not a rockbridge results file (no 'format' attribute)")])

@@ -180,7 +180,7 @@ class LocalPool:
         self._said: Any = context.SimpleQueue()  # what the workers say: that one compiles
         self._setups: Any = context.SimpleQueue()  # a study for each worker, None for none
         self._served = self._closed = False
-        self.compiling = False  # whether a worker has said it compiles the kernels
+        self.compiling: set[bool] = set()  # which kernels a worker has said it compiles (vertical)
         self.executor = ProcessPoolExecutor(
             size, mp_context=context, initializer=_start_worker,
             initargs=(self._setups, self._said, os.getpid()),
@@ -200,12 +200,16 @@ class LocalPool:
                 self._setups.put((grid, journal.output, journal.config_hash))
             self._served = True
 
-    def listen(self) -> bool:
-        """Read what the workers have said; whether one has just said that it compiles."""
-        compiling = self.compiling
+    def listen(self) -> str:
+        """Read what the workers have said; what to show if one has just said that it compiles
+        (`kernels.compiling_message`), else ""."""
+        said = ""
         while not self._said.empty():
-            self.compiling |= self._said.get() == "compiling"
-        return self.compiling and not compiling
+            vertical = self._said.get() == "compiling vertical"
+            if vertical not in self.compiling:
+                self.compiling.add(vertical)
+                said = kernels.compiling_message(vertical)
+        return said
 
     def close(self) -> None:
         """Let the workers end once their batches are done (those not served: at once, or once
@@ -291,8 +295,8 @@ class _LocalWorkers:
                 if not in_flight:
                     return
                 done, _ = wait(in_flight, timeout=LISTEN_S, return_when=FIRST_COMPLETED)
-                if self.pool.listen() and self.notice is not None:
-                    self.notice(kernels.COMPILING)
+                if (said := self.pool.listen()) and self.notice is not None:
+                    self.notice(said)
                 for future in done:
                     sent = in_flight.pop(future)
                     if isinstance(future.exception(), BrokenProcessPool):
@@ -341,7 +345,7 @@ def _in_this_process(
     hears if they are compiled); a stopping signal stops the run once the batch is journalled
     (`interrupts.held`), as it stops a pool once the batches in flight are."""
     with held():  # compiled kernels, in this process
-        _kernels(notice=notice)
+        _kernels(notice=notice, vertical=grid.vertical)
     for batch in _batches(cells, 1, pace):
         with held():
             outcomes = _journalled(journal, run_cells(grid, batch))
@@ -399,28 +403,29 @@ def _start_worker(setups: Any, said: Any, parent: int) -> None:
 
 def _run_batch(cells: list[Cell]) -> list[Finished]:
     assert _grid is not None and _journal is not None, "a worker runs cells after _start_worker"
-    _kernels()
+    _kernels(vertical=_grid.vertical)
     return _journalled(_journal, run_cells(_grid, cells))
 
 
-def _kernels(compiling: bool = True, notice: Notice | None = None) -> None:
+def _kernels(compiling: bool = True, notice: Notice | None = None, vertical: bool = False) -> None:
     """`kernels.prepare` in a worker, which tells its parent (a local pool's, or ``notice`` in
     this process) that it compiles them; a failure is left to each analysis to meet and record
-    with its message."""
+    with its message. ``vertical``: those of an analysis with a vertical ground motion too."""
 
     def announce() -> None:
         if notice is not None:
-            notice(kernels.COMPILING)
+            notice(kernels.compiling_message(vertical))
         elif _said is not None:
-            _said.put("compiling")
+            _said.put("compiling vertical" if vertical else "compiling")
 
     with contextlib.suppress(Exception):
-        kernels.prepare(announce, compiling)
+        kernels.prepare(announce, compiling, vertical)
 
 
 def _prepared(function: Callable, *args: Any) -> Any:
-    """``function(*args)`` on a worker, its kernels made ready first (`kernels.prepare`)."""
-    _kernels()
+    """``function(*args)`` on a worker, its kernels made ready first (`kernels.prepare`; those
+    of a vertical ground motion where a grid among ``args`` has one)."""
+    _kernels(vertical=any(isinstance(arg, Grid) and arg.vertical for arg in args))
     return function(*args)
 
 

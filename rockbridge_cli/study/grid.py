@@ -111,6 +111,11 @@ class Grid:
         )  # fmt: skip
 
     @property
+    def vertical(self) -> bool:
+        """Whether a record has a vertical component (its analyses need kernels of their own)."""
+        return any(record.vertical is not None for record in self.records)
+
+    @property
     def cells(self) -> list[Cell]:
         """Every analysis in the order of the results: those listed, or bridge by bridge,
         record by record."""

@@ -24,6 +24,11 @@ COMPILE_TIME_S = 20
 """About how long compiling an analysis's kernels takes on an idle core [s] (15 s on the 2-core
 x86-64 machine of README's timings, 30 s while another process kept its cores busy)."""
 
+VERTICAL_COMPILE_TIME_S = 20
+"""The same for the kernels of an analysis with a vertical ground motion, compiled for it of
+their own (`core.schemes.VerticalGround`) [s]: 404 s against the others' 545 s on a 2-core host
+that five other jobs kept busy (issue 40; 159 s in each of two workers compiling at once)."""
+
 COMPILING = (
     f"compiling the analysis kernels, once for this installation (about {COMPILE_TIME_S} s on an "
     "idle core; later runs load them from numba's cache; 'python -m rockbridge_cli.warmup' "
@@ -31,13 +36,28 @@ COMPILING = (
 )
 """What a run says when its kernels are being compiled."""
 
-_ready = False
-"""Whether this process has its kernels."""
+COMPILING_VERTICAL = (
+    "compiling the analysis kernels for a vertical ground motion, once for this installation "
+    f"(about {VERTICAL_COMPILE_TIME_S} s on an idle core; later runs load them from numba's "
+    "cache; 'python -m rockbridge_cli.warmup' compiles them ahead)"
+)
+"""What a run with vertical ground motions says when its kernels are being compiled."""
+
+_ready: set[bool] = set()
+"""The kernels this process has: False for those of a horizontal motion, True for a vertical."""
 
 
-def prepare(announce: Callable[[], None] | None = None, compiling: bool = True) -> bool:
-    """Load the kernels of an analysis into this process (`warmup.analysis_kernels`), compiling
-    those numba's cache does not hold, one process of this installation at a time.
+def compiling_message(vertical: bool) -> str:
+    """`COMPILING_VERTICAL` or `COMPILING`."""
+    return COMPILING_VERTICAL if vertical else COMPILING
+
+
+def prepare(
+    announce: Callable[[], None] | None = None, compiling: bool = True, vertical: bool = False
+) -> bool:
+    """Load the kernels of an analysis into this process (`warmup.analysis_kernels`, and with
+    ``vertical`` `warmup.vertical_kernels` too), compiling those numba's cache does not hold, one
+    process of this installation at a time.
 
     Parameters
     ----------
@@ -46,18 +66,25 @@ def prepare(announce: Callable[[], None] | None = None, compiling: bool = True) 
     compiling
         False: load them only if none needs compiling (a worker that does not know yet whether
         it will run anything), else leave them for a later call.
+    vertical
+        Also the kernels of an analysis with a vertical ground motion.
 
     Returns
     -------
     Whether this process has its kernels.
     """
-    global _ready
-    if _ready:
+    wanted = {False, vertical}
+    if wanted <= _ready:
         return True
     from .. import warmup  # the compiled kernels: a worker's, not the parent's
 
     def load() -> None:
-        warmup.analysis_kernels((warmup.studied_bridge(),))
+        if False not in _ready:
+            warmup.analysis_kernels((warmup.studied_bridge(),))
+            _ready.add(False)
+        if vertical:
+            warmup.vertical_kernels()
+            _ready.add(True)
 
     try:
         with _kernel_lock(exclusive=False), warmup.announced(_refuse):
@@ -67,7 +94,6 @@ def prepare(announce: Callable[[], None] | None = None, compiling: bool = True) 
             return False
         with _kernel_lock(exclusive=True), warmup.announced(announce):
             load()
-    _ready = True
     return True
 
 

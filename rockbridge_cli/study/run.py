@@ -313,6 +313,8 @@ def _write(
             cells = grid.cells
             writer = ResultsWriter(file, len(cells))
             merged = _merged(journal, earlier, {cell.index for cell in cells})
+            if assembly is not None and len(journal):  # before the first block: a large
+                assembly(0, len(cells))  # journal takes a while
             writer.add(merged, None if assembly is None else lambda n: assembly(n, len(cells)))
             writer.close(_timestamp())
             if not finished:
