@@ -141,7 +141,7 @@ def test_the_package_imports_in_one_direction():
 
 LAYERS = (
     ("core", "errors", "cpus", "interrupts"),
-    ("motions", "paths"),
+    ("motions", "paths", "kinds"),
     ("records", "warmup"),
     ("results",),
     ("config",),
@@ -226,4 +226,4 @@ def test_the_results_writer_only_writes():
     stores of a study is computed by `study.describe` (issue 38)."""
     for path in (PACKAGE / "results").glob("*.py"):
         rooms = {room(m) for m in imports(path) & SOURCES.keys() if m != "rockbridge_cli"}
-        assert rooms <= {"results", "core", "errors", "paths"}, (path.name, rooms)
+        assert rooms <= {"results", "core", "errors", "paths", "kinds"}, (path.name, rooms)

@@ -167,7 +167,7 @@ def read_hazard_curve(path: str | Path, site: int | None = None) -> HazardCurve:
     InputError
         The file is missing or malformed: the message names the line and the reason.
     """
-    from ..config.kinds import expecting
+    from ..kinds import expecting
 
     with expecting(path, "hazard curve"):  # a study or a results file given for it is named
         text = read_input_text(path, MAX_BYTES, "a hazard curve")

@@ -121,8 +121,8 @@ def _inputs(bridge: Path, record: Path, units, time_step, vertical, fidelity: st
     given), checked, with their plausibility warnings printed; a record and a bridge given the
     other way round are named so."""
     from ..config.bridge import load_bridge  # pydantic: loaded on use
-    from ..config.kinds import expecting, file_kind
     from ..config.plausibility import bridge_warnings, record_warnings
+    from ..kinds import expecting, file_kind
     from ..records.files import read_record
     from ..records.vertical import with_vertical
 

@@ -33,9 +33,9 @@ def generate_records(config: Path, out: Path | None, with_plot: bool) -> None:
     Writes one text file per record and manifest.json, then prints the EN 1998-1 §3.2.3.1.2
     compliance report.
     """
-    from ..config.kinds import expecting
     from ..config.loading import load
     from ..config.records import RecordSetConfig
+    from ..kinds import expecting
     from ..records.sets import generate_record_set
 
     with expecting(config, "record set"):

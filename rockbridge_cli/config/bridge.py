@@ -16,8 +16,8 @@ from pydantic import Field, PositiveFloat, ValidationInfo, field_validator, mode
 from ..core import geometry
 from ..core.bridge import Bridge
 from ..core.geometry import Model
+from ..kinds import expecting
 from . import loading
-from .kinds import expecting
 from .loading import StrictModel
 
 MAX_DASHPOT_RATE = 1e5

@@ -35,11 +35,11 @@ from pydantic import (
 from ..core.fidelity import PRESETS, Fidelity, check_work, resolve
 from ..core.quantities import HISTORY_UNITS
 from ..errors import InputError
+from ..kinds import expecting
 from ..results.sections import IntensitySection
 from . import loading
 from .bridge import BridgeConfig, load_bridge
 from .intensity import Intensity
-from .kinds import expecting
 from .loading import ID_PATTERN, ConfigFolder, StrictModel
 from .plausibility import bridge_warnings, record_warnings, scale_warning
 from .records import Records

@@ -48,7 +48,7 @@ def open_results(path: str | Path) -> Iterator[h5py.File]:
     try:
         file = h5py.File(path, "r")
     except OSError as exc:
-        from ..config.kinds import expecting
+        from ..kinds import expecting
 
         with expecting(path, "results"):  # a study or a bridge given for its results is named
             reason = f"not a readable HDF5 file, or damaged ({exc})"

@@ -13,7 +13,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
-from ..errors import InputError
+from .errors import InputError
 
 KINDS = {
     "bridge": ("a bridge file", "rockbridge describe BRIDGE, analyze BRIDGE RECORD, a study's "
