@@ -466,3 +466,41 @@ def test_a_list_or_mapping_field_names_one_mistake_where_it_is_written(
     refused(result, *expected)
     problems = result.output.count("\n") - (len(expected) > 1)  # a heading line above several
     assert problems == len(expected) and "[" not in result.output.replace("[0.1", "")
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs")
+def test_a_fifo_named_on_the_command_line_is_refused_without_waiting(tmp_path):
+    """A FIFO given as a command's file hung ``describe``, ``analyze``, ``run``,
+    ``generate-records`` and ``plot onset`` (the kind of the refused file was sniffed by opening
+    it, which waits for a writer), and ``peaks``, ``report``, ``fragility`` called it "file not
+    found". A watchdog opens the FIFO's writing end whenever a reader waits on it: it counts the
+    hang and lets the reader go on (to end of file), so a regression fails instead of hanging."""
+    import threading
+
+    fifo = tmp_path / "fifo"
+    os.mkfifo(fifo)
+    bridge = tmp_path / "b.yaml"
+    bridge.write_text(BRIDGE)
+    hangs, done = [], threading.Event()
+
+    def watchdog() -> None:
+        while not done.wait(0.05):
+            try:  # succeeds only where a reader has the FIFO open (or waits to)
+                os.close(os.open(fifo, os.O_WRONLY | os.O_NONBLOCK))
+                hangs.append(1)
+            except OSError:
+                pass
+
+    thread = threading.Thread(target=watchdog, daemon=True)
+    thread.start()
+    try:
+        for args in (("describe", fifo), ("analyze", fifo, fifo), ("analyze", bridge, fifo),
+                     ("run", fifo, "--workers", 1), ("generate-records", fifo),
+                     ("plot", "onset", fifo)):  # fmt: skip
+            refused(invoke(*args), "fifo: is not a regular file")
+        for args in (("peaks", fifo), ("report", fifo), ("fragility", fifo)):
+            refused(invoke(*args), "fifo: is not a regular file", "not a results file")
+    finally:
+        done.set()
+        thread.join()
+    assert not hangs

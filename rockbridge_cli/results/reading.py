@@ -36,6 +36,9 @@ def open_results(path: str | Path) -> Iterator[h5py.File]:
         needs is missing or cannot be read.
     """
     path = Path(path)
+    if path.exists() and not path.is_file():  # a folder, a FIFO (opening one waits), a device
+        kind = "a folder" if path.is_dir() else "not a regular file (a device or a pipe?)"
+        raise InputError(path, [("", f"is {kind}, not a results file")])
     if not path.is_file():
         if journal_path(path).is_file():  # a run stopped before it wrote the file
             reason = (f"file not found, but the journal of a run that was stopped before writing "
