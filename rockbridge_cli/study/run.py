@@ -31,7 +31,7 @@ from ..assessment.limit_states import Verdict, stored_verdicts
 from ..config.changes import what_differs
 from ..core.quantities import NO_FAILURE
 from ..core.summary import summarize_all
-from ..cpus import usable_cpus
+from ..cpus import excess_workers, usable_cpus
 from ..errors import InputError
 from ..interrupts import stoppable
 from ..paths import checked_output, replace_atomically
@@ -123,7 +123,8 @@ def run_study(
         The resolved study (`config.study.load_study`); its ``output`` is the results file.
     workers
         Worker processes; default: the CPUs this process may use (`cpus.usable_cpus`: its
-        affinity and cgroup quota). 1 runs in this process. The results do not depend on it.
+        affinity and cgroup quota), at most `cpus.WORKERS_PER_CPU` per CPU. 1 runs in this
+        process. The results do not depend on it.
     resume
         Skip the analyses already complete in the results file or its journal (those that could
         not run, status ``error``, are tried again). False recomputes everything.
@@ -154,11 +155,12 @@ def run_study(
         holds results of another study (without ``overwrite``).
     TypeError, ValueError
         ``study`` is not a `config.study.Study` (a path: `load_study` it), or ``workers`` or
-        ``shard`` is not a count, or not a shard.
+        ``shard`` is not a count, or not a shard, or ``workers`` are more than the CPUs can
+        share (`cpus.excess_workers`).
     KeyboardInterrupt
         Once the analyses finished are written (`interrupts.Terminated`: SIGTERM, SIGHUP).
     """
-    _check_arguments(study, workers, shard)
+    _check_arguments(study, workers, shard, local=scheduler is None)
     started, created = time.perf_counter(), _timestamp()
     workers = workers or usable_cpus()
     output = checked_output(study.output, ours=is_results_file, what="a rockbridge results file")
@@ -263,8 +265,11 @@ class _Rounds:
         self.ended = True
 
 
-def _check_arguments(study: Study, workers: int | None, shard: tuple[int, int] | None) -> None:
-    """Raise TypeError or ValueError for arguments `run_study` cannot take."""
+def _check_arguments(
+    study: Study, workers: int | None, shard: tuple[int, int] | None, local: bool = True
+) -> None:
+    """Raise TypeError or ValueError for arguments `run_study` cannot take (``local``: the
+    workers are this machine's, bounded by its CPUs)."""
     from ..config.study import Study
 
     if not isinstance(study, Study):
@@ -273,6 +278,8 @@ def _check_arguments(study: Study, workers: int | None, shard: tuple[int, int] |
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)
                                 or workers < 1):  # fmt: skip
         raise ValueError(f"workers is a count of processes, at least 1, not {workers!r}")
+    if local and workers is not None and (excess := excess_workers(workers)) is not None:
+        raise ValueError(excess)
     if shard is not None and not (
         isinstance(shard, tuple) and len(shard) == 2 and all(type(n) is int for n in shard)
         and 0 <= shard[0] < shard[1]
