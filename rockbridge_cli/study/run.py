@@ -42,6 +42,7 @@ from ..results.reading import (
     peak_columns,
     stored_results,
     stored_shard_of,
+    verify,
 )
 from ..results.writing import ResultsWriter, describe_study
 from .executors import LocalPool, Notice, executor
@@ -380,6 +381,8 @@ def _earlier_verdicts(
         with open_results(output) as file:
             same = file.attrs.get("config_hash") == study.config_hash
             stored_shard = stored_shard_of(file)
+            if same and stored_shard == shard:  # its analyses are called done: read them all
+                verify(file)
             stored = stored_verdicts(file) if same and stored_shard == shard else {}
             config = json.loads(file.attrs.get("config", "{}")) if not same else {}
     except InputError as exc:  # unreadable or not a results file
