@@ -4,6 +4,7 @@ restitution|spans``."""
 from __future__ import annotations
 
 import dataclasses
+import json
 from contextlib import nullcontext
 from pathlib import Path
 
@@ -442,7 +443,13 @@ def plot_sweep(
 @figure_option("<results stem>-history-<record>.png beside RESULTS")
 def plot_history(results: Path, record: str, bridges: tuple[str, ...], output: Path | None) -> None:
     """Histories of u_deck, v_deck, θ_deck, θ1 and θ2 under one record (Figure 10)."""
+    from ..plots.history import left_out
     from ..plots.history import plot_history as draw
+    from ..results.reading import open_results
 
     default = results.with_name(f"{results.stem}-history-{record}.png")
     click.echo(f"Figure: {draw(results, record, output or default, bridges)}")
+    with open_results(results) as file:
+        absent = left_out(json.loads(file.attrs.get("histories", "[]")))
+    if absent:
+        click.echo(f"left out: {', '.join(absent)} (not kept by the study: output.histories)")
