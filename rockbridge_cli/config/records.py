@@ -24,6 +24,7 @@ from pydantic import (
     model_validator,
 )
 
+from ..core.fidelity import MAX_GROUND_SAMPLES
 from ..core.quantities import STANDARD_GRAVITY
 from ..errors import InputError
 from ..motions.pulses import SHAPES, Pulse
@@ -99,7 +100,8 @@ class PulseEntry(StrictModel):
     def _valid_pulse(self) -> PulseEntry:
         if (self.period is None) == (self.frequency is None):
             raise ValueError("give exactly one of period [s] and frequency [Hz]")
-        self.pulse()  # its own checks: a phase or cycles the shape does not have
+        pulse = self.pulse()  # its own checks: a phase or cycles the shape does not have
+        pulse.check_samples(self.time_step or pulse.time_step(PULSE_SAMPLES), self.rest)
         return self
 
     def pulse(self) -> Pulse:
@@ -412,6 +414,12 @@ class RecordSetConfig(StrictModel):
         assert self.duration is not None and self.time_step is not None
         assert self.envelope is not None
         steps = self.duration / self.time_step
+        if not steps + 1 <= MAX_GROUND_SAMPLES:  # refused before a sample is drawn
+            raise ValueError(
+                f"a record of {self.duration:g} s at {self.time_step:g} s would hold "
+                f"{steps + 1:.3g} samples, more than an analysis reads ({MAX_GROUND_SAMPLES:.3g}):"
+                " give a longer time step or a shorter duration"
+            )
         if abs(steps - round(steps)) > 1e-6 * steps:
             raise ValueError(
                 f"duration {self.duration:g} s is not a whole number of time steps "

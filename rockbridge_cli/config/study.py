@@ -371,7 +371,11 @@ def study_from_data(
     intensity = None if config.intensity is None else _intensity_section(config.intensity)
     spectrum = None
     if config.spectrum is not None:
-        records, intensity, spectrum = _spectrum(config.spectrum, bridges[0].config)
+        _check_map(len(bridges), config.spectrum, path)
+        try:
+            records, intensity, spectrum = _spectrum(config.spectrum, bridges[0].config)
+        except ValueError as exc:  # a pulse too finely sampled
+            raise InputError(path, [("spectrum.frequencies", str(exc))]) from None
     else:
         assert config.records is not None
         records = resolve_records(config.records, path)
@@ -423,7 +427,7 @@ def _spectrum(
     """A spectrum's records (its pulse at each frequency), the IDA it runs as, and what the
     results keep of it (`config.spectrum`)."""
     model = bridge.to_bridge().model
-    records = spectrum.records(model)
+    records = spectrum.records(model)  # each refused before it is sampled (`Pulse.check_samples`)
     studied = [study_record(record, record.source, record.name) for record in records]
     return studied, spectrum.ida(model), spectrum.described(model, records)
 
@@ -434,6 +438,16 @@ def _intensity_section(intensity: Intensity) -> dict[str, Any]:
     unused = {"ida"} if intensity.ida is None else set()
     unused |= {key for key in ("period_range", "design") if getattr(intensity, key) is None}
     return intensity.model_dump(exclude=unused)
+
+
+def _check_map(bridges: int, spectrum: Spectrum, study: Path) -> None:
+    """Refuse a spectrum whose map, its first round (frequencies × amplitudes), is more than
+    `MAX_ANALYSES` analyses."""
+    frequencies, amplitudes = spectrum.frequencies.count, spectrum.amplitudes.count
+    if bridges * frequencies * amplitudes > MAX_ANALYSES:
+        reason = (f"{frequencies} frequencies × {amplitudes} amplitudes are more than "
+                  f"{MAX_ANALYSES:,} analyses in the map: use fewer")  # fmt: skip
+        raise InputError(study, [("spectrum", reason)])
 
 
 def _check_size(bridges: int, records: int, intensity: Intensity | None, study: Path) -> None:
