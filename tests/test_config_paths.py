@@ -177,6 +177,20 @@ def test_a_set_file_linked_out_of_the_set_is_refused(places):
         load_study(path)
 
 
+def test_a_sets_manifest_linked_out_of_the_set_is_refused(places):
+    """Issue 39: a set's manifest.json that links out of the set was followed (its files were
+    then read from the set's folder, as the manifest elsewhere listed them)."""
+    project, elsewhere = places
+    (project / "set").mkdir()
+    shutil.copy(elsewhere / "R1.txt", project / "set" / "R1.txt")
+    (elsewhere / "manifest.json").write_text(json.dumps({"records": [{"file": "R1.txt"}]}))
+    (project / "set" / "manifest.json").symlink_to(elsewhere / "manifest.json")
+    path = project / "study.yaml"
+    path.write_text("bridges: [bridge.yaml]\nrecords: {set: set}\n")
+    with pytest.raises(InputError, match="manifest.json: is a link out of the set's folder"):
+        load_study(path)
+
+
 def test_command_line_paths_are_the_users_own(places, tmp_path):
     """`analyze BRIDGE RECORD` reads files anywhere: the user named them."""
     project, elsewhere = places
