@@ -45,3 +45,13 @@ def nearest(word: str, choices: Iterable[str], what: str, shown: int = 3) -> str
         return f"there are no {what}"
     more = ", …" if len(unique) > shown else ""
     return f"the {len(unique)} {what}: {', '.join(unique[:shown])}{more}"
+
+
+def check_path_argument(value: object, function: str, what: str) -> None:
+    """Raise a TypeError that names ``function`` and what it takes where ``value`` is not a path
+    (a ``str`` or an ``os.PathLike``): ``load_study(42)`` said "expected str, bytes or
+    os.PathLike object, not int", the internals of ``open``."""
+    import os
+
+    if not isinstance(value, (str, os.PathLike)):
+        raise TypeError(f"{function} takes the path of {what}, not {type(value).__name__}")

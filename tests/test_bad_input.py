@@ -382,6 +382,23 @@ def test_the_python_api_checks_its_arguments(tmp_path):
     assert not (tmp_path / "out.h5").exists()
 
 
+def test_the_python_api_names_what_it_takes_instead_of_a_path(tmp_path):
+    """Issue 39: ``load_study(42)``, ``load_bridge({...})`` and ``read_record(None)`` raised
+    ``open``'s "expected str, bytes or os.PathLike object", ``risks(path, "curve.csv")`` an
+    AttributeError deep inside: each now names the function and what it takes."""
+    from rockbridge_cli.assessment.risk import risks
+    from rockbridge_cli.config.study import load_study
+
+    with pytest.raises(TypeError, match="load_study takes the path of a study YAML file, not int"):
+        load_study(42)  # type: ignore[arg-type]
+    with pytest.raises(TypeError, match="load_bridge takes the path of a bridge YAML file"):
+        load_bridge({"piers": {"width": 2.6}})  # type: ignore[arg-type]
+    with pytest.raises(TypeError, match="read_record takes the path of a record file, not None"):
+        read_record(None)  # type: ignore[arg-type]
+    with pytest.raises(TypeError, match="risks takes a HazardCurve .*, not str"):
+        risks(tmp_path / "r.h5", "curve.csv")  # type: ignore[arg-type]
+
+
 def test_a_file_of_another_kind_is_named_for_what_it_is(tmp_path):
     """Swapped arguments, a bridge given to run, a study given to describe, a results file given
     to run: each is told what the file is and what takes it, not read as a malformed one."""

@@ -160,7 +160,12 @@ def risks(results: str | Path, curve: HazardCurve, years: float = YEARS) -> list
     InputError
         The study has no intensity section, or the curve is of another intensity measure than
         the fragilities.
+    TypeError
+        ``curve`` is not a `hazard.HazardCurve` (a file's path: `read_hazard_curve` it).
     """
+    if not isinstance(curve, HazardCurve):
+        raise TypeError(f"risks takes a HazardCurve (hazard.read_hazard_curve(path)), not "
+                        f"{type(curve).__name__}")  # fmt: skip
     with open_results(results) as file:
         intensity = json.loads(file.attrs.get("intensity", "null"))
     return risks_of(fragilities(results), intensity, curve, years)

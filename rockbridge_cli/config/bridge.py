@@ -16,6 +16,7 @@ from pydantic import Field, PositiveFloat, ValidationInfo, field_validator, mode
 from ..core import geometry
 from ..core.bridge import Bridge
 from ..core.geometry import Model
+from ..errors import check_path_argument
 from . import loading
 from .kinds import expecting
 from .loading import StrictModel
@@ -222,6 +223,10 @@ def load_bridge(path: str | Path) -> BridgeConfig:
     InputError
         Naming the file, the field path, the value and the reason for every problem; or naming
         the kind of file it is, where it is another (`kinds`).
+    TypeError
+        ``path`` is not a path (a mapping: `BridgeConfig.model_validate` it).
     """
+    check_path_argument(path, "load_bridge", "a bridge YAML file (a mapping: "
+                        "BridgeConfig.model_validate)")  # fmt: skip
     with expecting(path, "bridge"):
         return loading.load(BridgeConfig, path)

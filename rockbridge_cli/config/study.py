@@ -34,7 +34,7 @@ from pydantic import (
 
 from ..core.fidelity import PRESETS, Fidelity, check_work, resolve
 from ..core.quantities import HISTORY_UNITS
-from ..errors import InputError
+from ..errors import InputError, check_path_argument
 from . import loading
 from .bridge import BridgeConfig, load_bridge
 from .intensity import Intensity
@@ -300,7 +300,10 @@ def load_study(
         or a path in it lies outside the folders it may reach (`loading.ConfigFolder`: its own
         folder's tree, the working folder's, those in ``ROCKBRIDGE_PATHS``); the message names
         the file and the dotted field path.
+    TypeError
+        ``path`` is not a path.
     """
+    check_path_argument(path, "load_study", "a study YAML file")
     path = Path(path)
     with expecting(path, "study"):
         data = loading.read_yaml(path)
