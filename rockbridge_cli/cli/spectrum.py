@@ -55,11 +55,13 @@ def overturning(
     option of a study (rockbridge run).
     """
     from ..config.study import study_from_data
+    from ..plots.common import check_format
     from ..plots.overturning import plot_overturning
     from ..study.run import run_study
     from .progress import ProgressDisplay
 
     output = output or Path("results") / f"{bridge.stem}-{pulse}.h5"
+    figure = check_format(figure or output.with_suffix(".png"))  # before the spectrum runs
     data = {
         "description": f"rockbridge spectrum overturning {bridge} --pulse {pulse}",
         "bridges": [str(bridge.resolve())],
@@ -77,7 +79,7 @@ def overturning(
     display.close()
     click.echo(f"results: {report.output} ({report.total} analyses, "
                f"{report.wall_time_s:.1f} s on {report.workers} worker(s))")  # fmt: skip
-    drawn = plot_overturning(report.output, figure or report.output.with_suffix(".png"))
+    drawn = plot_overturning(report.output, figure)
     click.echo(f"Figure: {drawn}")
 
 
