@@ -27,6 +27,13 @@ shrink as its inverse while the end gap is closed (about c / (3 m_deck) steps pe
 contact: 1e15 N·s/m took minutes), and backfills have about 25 (48 MN·s/m on 2000 t)."""
 
 
+MAX_SLENDERNESS = 1e6
+"""Most a pier's height 2H may be over its width 2B [-]: built rocking piers lie between 1.5 and
+40 (a warning says so beyond); near 1e15 the slope tan α = B/H reaches the floating-point
+resolution and the geometry cannot be solved (``heights: [1e308, 13]`` ended in a raw
+ValueError)."""
+
+
 class Piers(StrictModel):
     """The rocking piers: square sections of one width, one or two heights."""
 
@@ -46,6 +53,11 @@ class Piers(StrictModel):
                 raise ValueError(
                     f"every height must exceed the width ({width} m), got {height} m: "
                     "a pier with B ≥ H does not rock on its corners in this model"
+                )
+            if width is not None and not height / width <= MAX_SLENDERNESS:
+                raise ValueError(
+                    f"a height of {height:g} m is more than {MAX_SLENDERNESS:g} times the width "
+                    f"({width:g} m): its angle α (tan α = B/H) is lost in floating point"
                 )
         return heights
 
