@@ -191,6 +191,17 @@ def test_a_sets_manifest_linked_out_of_the_set_is_refused(places):
         load_study(path)
 
 
+def test_a_nul_in_a_manifests_file_name_is_refused(places):
+    """A NUL in a manifest's file name ended in a raw "embedded null byte" (issue 39)."""
+    project, elsewhere = places
+    (project / "set").mkdir()
+    (project / "set" / "manifest.json").write_text('{"records": [{"file": "R1\\u0000.txt"}]}')
+    path = project / "study.yaml"
+    path.write_text("bridges: [bridge.yaml]\nrecords: {set: set}\n")
+    with pytest.raises(InputError, match=r"records\[0\]\.file: holds a NUL character"):
+        load_study(path)
+
+
 def test_command_line_paths_are_the_users_own(places, tmp_path):
     """`analyze BRIDGE RECORD` reads files anywhere: the user named them."""
     project, elsewhere = places

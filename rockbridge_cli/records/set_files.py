@@ -49,6 +49,8 @@ def read_manifest(folder: str | Path) -> dict[str, Any]:
     for index, entry in enumerate(manifest["records"]):
         if not isinstance(entry, dict) or not isinstance(entry.get("file"), str):
             raise InputError(path, [(f"records[{index}].file", "missing or not a file name")])
+        if "\0" in entry["file"]:  # no file name holds one (the OS refuses it, raw)
+            raise InputError(path, [(f"records[{index}].file", "holds a NUL character")])
     return manifest
 
 
