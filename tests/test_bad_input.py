@@ -521,3 +521,31 @@ def test_a_fifo_named_on_the_command_line_is_refused_without_waiting(tmp_path):
         done.set()
         thread.join()
     assert not hangs
+
+
+def test_values_accepted_silently_before_are_refused(tmp_path):
+    """Issue 39's silent accepts: ``risk --years inf`` (every probability 1), a spectrum whose
+    frequencies fall (``10:1:40``), ``normalize: "yes"`` read as true, ``-o x.h5.journal.db``
+    (a results file named as a journal), ``identify_pulse`` on NaN (came back "no pulse")."""
+    from rockbridge_cli.assessment.risk import risks_of
+    from rockbridge_cli.config.records import FemaSet
+    from rockbridge_cli.config.spectrum import Spectrum
+    from rockbridge_cli.motions.pulse_identification import identify_pulse
+
+    with pytest.raises(InputError, match=r"positive number of years \(finite\), not inf"):
+        risks_of([], {"measure": "pga_g"}, None, years=float("inf"))  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="frequency ratios must rise"):
+        Spectrum.model_validate({"pulse": "one-sine-a", "amplitudes": {"start": 1, "stop": 5,
+                                 "count": 5}, "frequencies": {"start": 10, "stop": 1,
+                                 "count": 40}})  # fmt: skip
+    with pytest.raises(ValueError, match="normalize"):
+        FemaSet.model_validate({"set": "far-field", "normalize": "yes"})
+    with pytest.raises(ValueError, match="must be finite numbers"):
+        identify_pulse(np.array([0.0, np.nan, 1.0, 0.0] * 100), 0.01)
+    (tmp_path / "b.yaml").write_text(BRIDGE)
+    np.savetxt(tmp_path / "R1.txt", np.column_stack([np.arange(50) * 0.01, np.full(50, 0.1)]))
+    (tmp_path / "s.yaml").write_text("bridges: [b.yaml]\nrecords: {files: [{path: R1.txt, "
+                                     "units: g}]}\n")  # fmt: skip
+    result = invoke("run", tmp_path / "s.yaml", "-o", tmp_path / "x.h5.journal.db")
+    refused(result, "x.h5.journal.db: is named as a results file's journal")
+    assert not (tmp_path / "x.h5.journal.db").exists()

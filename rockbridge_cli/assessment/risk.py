@@ -175,8 +175,9 @@ def risks_of(
     found: list[Fragility], intensity: dict, curve: HazardCurve, years: float = YEARS
 ) -> list[Risk]:
     """`risks` of fragilities already fitted, with the study's intensity section."""
-    if not years > 0.0:
-        raise InputError("years", [("", f"must be a positive number of years, not {years}")])
+    if not 0.0 < years < math.inf:  # inf made every probability 1 without a word
+        reason = f"must be a positive number of years (finite), not {years}"
+        raise InputError("years", [("", reason)])
     matched: dict[str, HazardCurve] = {}
     result = []
     for item in found:

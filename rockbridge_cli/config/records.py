@@ -134,7 +134,9 @@ class FemaSet(StrictModel):
         ["a", "b"], min_length=1, max_length=2, description="Horizontal components to use"
     )
     normalize: bool = Field(
-        False, description="Multiply each record by FEMA P695's normalisation factor (§A.8)"
+        False,
+        strict=True,  # "yes" or 1 read as true silently
+        description="Multiply each record by FEMA P695's normalisation factor (§A.8)",
     )
     records: list[PositiveInt] | None = Field(
         None, min_length=1, description="FEMA P695 record ids to keep; default all of the set"

@@ -109,6 +109,8 @@ class Spectrum(StrictModel):
     def _positive(cls, frequencies: Range) -> Range:
         if min(frequencies.start, frequencies.stop) <= 0.0:
             raise ValueError("frequency ratios must be positive")
+        if not frequencies.start < frequencies.stop:  # 10:1:40 ran, its axis reversed
+            raise ValueError("frequency ratios must rise, from start up to stop")
         return frequencies
 
     @model_validator(mode="after")

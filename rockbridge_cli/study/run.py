@@ -164,6 +164,9 @@ def run_study(
     _check_arguments(study, workers, shard, local=scheduler is None)
     started, created = time.perf_counter(), _timestamp()
     workers = workers or usable_cpus()
+    if study.output.name.endswith((".journal.db", ".journal.db-wal", ".journal.db-shm")):
+        reason = "is named as a results file's journal (SQLite): choose another output"
+        raise InputError(study.output, [("", reason)])
     output = checked_output(study.output, ours=is_results_file, what="a rockbridge results file")
     grid = Grid.of(study)
     plan = plan_of(study, grid, grid.cells if shard is None else grid.shard(*shard))
