@@ -198,3 +198,26 @@ def test_generated_records_beyond_the_work_limit_are_refused_before_sampling(tmp
     (tmp_path / "fine.yaml").write_text(config.replace("time_step: 0.01", "time_step: 1.0e-9"))
     refused(invoke("generate-records", tmp_path / "fine.yaml", "--out", tmp_path / "set"),
             "fine.yaml: ", "a record of 20 s at 1e-09 s would hold 2e+10 samples")  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("section", "where"),
+    [
+        ("spectrum: {pulse: one-sine-a, frequencies: {start: 1, stop: 5, count: 3}, "
+         "amplitudes: {start: 1, stop: 5, count: 5}, limit_states: [gap_closure]}\n",
+         "spectrum.limit_states"),
+        ("records: {pulses: [{shape: one-sine-a, amplitude_g: 0.5, period: 1, rest: 1}]}\n"
+         "intensity: {measure: pga_g, ida: {start: 0.1, step: 0.1, max: 1.0, "
+         "limit_states: [gap_closure, overturning]}}\n", "intensity.ida.limit_states"),
+        ("records: {pulses: [{shape: one-sine-a, amplitude_g: 0.5, period: 1, phase: 1.0e+300, "
+         "rest: 1}]}\n", "records.pulses.0"),
+    ],
+)  # fmt: skip
+def test_what_a_block_cannot_reach_or_a_phase_beyond_a_turn_is_refused(tmp_path, section, where):
+    """Issue 39: ``limit_states: [gap_closure]`` for a block (no abutments: its boundary or IDA
+    ran to the top of the scan) and a pulse ``phase: 1e300`` were accepted without a word."""
+    study = tmp_path / "s.yaml"
+    study.write_text(BLOCK_STUDY + section, encoding="utf-8")
+    result = invoke("run", study)
+    refused(result, f"s.yaml: {where}: ")
+    assert "need abutments" in result.output or "within ±2π rad" in result.output

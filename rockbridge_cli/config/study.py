@@ -375,6 +375,7 @@ def study_from_data(
     spectrum = None
     if config.spectrum is not None:
         _check_map(len(bridges), config.spectrum, path)
+        _check_states(bridges, config.spectrum.limit_states, "spectrum.limit_states", path)
         try:
             records, intensity, spectrum = _spectrum(config.spectrum, bridges[0].config)
         except ValueError as exc:  # a pulse too finely sampled
@@ -388,6 +389,10 @@ def study_from_data(
         overrides["output_step"] = config.output.output_step
     settled = _settled(config.fidelity.preset, overrides, records, path)
     _check_size(len(bridges), len(records), config.intensity, path)
+    ida = config.intensity.ida if config.intensity is not None else None
+    if ida is not None and "limit_states" in ida.model_fields_set:  # the default: all there are
+        where = "intensity.ida.limit_states"
+        _check_states(bridges, ida.limit_states, where, path)
     if config.intensity is not None:
         records = [scalable(item, config.intensity) for item in records]
     if config.intensity is not None and config.intensity.levels is not None:
@@ -441,6 +446,20 @@ def _intensity_section(intensity: Intensity) -> dict[str, Any]:
     unused = {"ida"} if intensity.ida is None else set()
     unused |= {key for key in ("period_range", "design") if getattr(intensity, key) is None}
     return intensity.model_dump(exclude=unused)
+
+
+def _check_states(bridges: Sequence[Any], states: Sequence[str] | None, where: str,
+                  study: Path) -> None:  # fmt: skip
+    """Refuse a limit state of the abutments (gap closure, their failure, the backfill's) asked
+    of a bridge without abutments (a block, a frame): its IDA or boundary could never end
+    there, and ran to the top of its scan without a word."""
+    needs = [s for s in states or () if s != "overturning"]
+    without = [b.id for b in bridges if not b.config.to_bridge().model.has_abutments]
+    if needs and without:
+        reason = f"{', '.join(needs)} need abutments, which {without[0]} has not" + (
+            f" (nor {len(without) - 1} other bridges)" if len(without) > 1 else ""
+        )
+        raise InputError(study, [(where, reason)])
 
 
 def _check_map(bridges: int, spectrum: Spectrum, study: Path) -> None:

@@ -87,8 +87,8 @@ class Pulse:
     ------
     ValueError
         An unknown shape, a non-positive amplitude or period, a phase or a number of cycles the
-        shape does not have, or a number of cycles it cannot take (n a whole number ≥ 1 for type
-        C_n, γ > 1 for Mavroeidis & Papageorgiou).
+        shape does not have, a phase beyond ±2π, or a number of cycles it cannot take (n a
+        whole number ≥ 1 for type C_n, γ > 1 for Mavroeidis & Papageorgiou).
     """
 
     shape: str
@@ -106,8 +106,8 @@ class Pulse:
             raise ValueError(f"the period must be positive, got {self.period!r}")
         if self.phase and self.shape not in HAS_PHASE:
             raise ValueError(f"a {self.shape} pulse has no free phase")
-        if not math.isfinite(self.phase):
-            raise ValueError(f"the phase must be finite, got {self.phase!r}")
+        if not abs(self.phase) <= 2.0 * math.pi:  # 1e300 ran, its sine all round-off
+            raise ValueError(f"the phase must be within ±2π rad (a turn), got {self.phase!r}")
         if self.cycles is None:
             object.__setattr__(self, "cycles", DEFAULT_CYCLES.get(self.shape))
         elif self.shape not in DEFAULT_CYCLES:
