@@ -101,7 +101,8 @@ class PulseEntry(StrictModel):
         if (self.period is None) == (self.frequency is None):
             raise ValueError("give exactly one of period [s] and frequency [Hz]")
         pulse = self.pulse()  # its own checks: a phase or cycles the shape does not have
-        pulse.check_samples(self.time_step or pulse.time_step(PULSE_SAMPLES), self.rest)
+        step = self.time_step or pulse.time_step(PULSE_SAMPLES)
+        pulse.check_samples(step, self.rest, MAX_GROUND_SAMPLES)
         return self
 
     def pulse(self) -> Pulse:

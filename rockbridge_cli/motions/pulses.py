@@ -45,8 +45,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.fidelity import MAX_GROUND_SAMPLES
-
 SHAPES = (
     "one-sine-a", "one-sine-b", "cycloidal-a", "cycloidal-b", "cycloidal-c",
     "ricker-symmetric", "ricker-antisymmetric", "mavroeidis-papageorgiou",
@@ -149,10 +147,10 @@ class Pulse:
         steps = max(1, round(self.duration * per_period / self.period - 0.5))
         return self.duration / (steps + 0.5)
 
-    def check_samples(self, time_step: float, rest: float = 0.0) -> None:
-        """Refuse, before any is computed, a sampling of more than `MAX_GROUND_SAMPLES` (the
-        work limit of an analysis): a period of 1e-9 s, 1e9 cycles or a time step of 1e-9 s
-        would otherwise take the memory first.
+    def check_samples(self, time_step: float, rest: float, most: float) -> None:
+        """Refuse, before any is computed, a sampling of more than ``most`` samples (the work
+        limit of an analysis, `core.fidelity.MAX_GROUND_SAMPLES`): a period of 1e-9 s, 1e9
+        cycles or a time step of 1e-9 s would otherwise take the memory first.
 
         Raises
         ------
@@ -160,11 +158,11 @@ class Pulse:
             How many samples it would need, and what to change.
         """
         samples = (self.duration + rest) / time_step + 1.0
-        if not samples <= MAX_GROUND_SAMPLES:
+        if not samples <= most:
             raise ValueError(
                 f"the pulse would need {samples:.3g} samples ({self.duration:.6g} s of pulse and "
                 f"{rest:.6g} s of rest at a {time_step:.3g} s time step), more than "
-                f"{MAX_GROUND_SAMPLES:.3g}: give a longer period or time step, fewer cycles or "
+                f"{most:.3g}: give a longer period or time step, fewer cycles or "
                 "less rest"
             )
 
@@ -183,7 +181,6 @@ class Pulse:
             raise ValueError(f"the time step must be positive, got {time_step!r}")
         if not (rest >= 0.0 and math.isfinite(rest)):
             raise ValueError(f"the rest must be a finite time ≥ 0 s, got {rest!r}")
-        self.check_samples(time_step, rest)
         count = math.floor(self.duration / time_step * (1.0 + 1e-12)) + 1
         moving = self.acceleration(np.arange(count) * time_step)
         return np.concatenate([moving, np.zeros(round(rest / time_step))])
