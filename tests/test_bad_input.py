@@ -328,7 +328,9 @@ def test_a_full_disk_while_writing_the_results_names_the_file(tmp_path, monkeypa
     monkeypatch.chdir(tmp_path)
     result = invoke("run", write_study(tmp_path), "--workers", "1")
     assert result.exit_code == 1 and "Traceback" not in result.output
-    assert "results/study.h5: cannot write the results file (Can't write data" in result.output
+    assert "results/study.h5: cannot write the results file (no space left on the device)" in (
+        result.output
+    )  # not HDF5's "Can't write data (file write failed: errno = 28, …)" (issue 39)
     assert "the finished analyses stay in the journal: rerun to resume" in result.output
 
 

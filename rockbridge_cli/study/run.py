@@ -12,6 +12,7 @@ write an output (a lock), and the workers end with the parent however it ends.
 from __future__ import annotations
 
 import dataclasses
+import errno
 import heapq
 import json
 import math
@@ -321,6 +322,8 @@ def _write(
         replace_atomically(temporary, output)
     except (OSError, RuntimeError) as exc:  # a full disk (h5py: RuntimeError), a removed folder
         reason = getattr(exc, "strerror", None) or str(exc)
+        if getattr(exc, "errno", None) == errno.ENOSPC or f"errno = {errno.ENOSPC}," in str(exc):
+            reason = "no space left on the device"  # not HDF5's own words (issue 39)
         raise OSError(f"{output}: cannot write the results file ({reason}); the finished "
                       "analyses stay in the journal: rerun to resume") from None  # fmt: skip
     finally:
