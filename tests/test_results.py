@@ -424,6 +424,18 @@ def test_run_verifies_a_file_before_it_calls_its_analyses_done(done, tmp_path):
         assert damaged.read_bytes() == before, where
 
 
+def test_a_file_of_no_analyses_is_verified_and_resumed(done, tmp_path):
+    """A run refused by its scheduler leaves a file of no analyses (empty, extendable columns),
+    whose verification met chunks outside the empty datasets: a raw ValueError from h5py."""
+    import dataclasses
+
+    study = dataclasses.replace(done[0], output=tmp_path / "empty.h5")
+    with pytest.raises(InputError, match="Dask"):  # unreachable, or Dask not installed
+        run_study(study, scheduler="foo")
+    assert read_peaks(study.output).shape[0] == 0
+    assert run_study(study, workers=1).ran == 4
+
+
 def test_overwrite_replaces_a_results_file_cut_short(done, tmp_path):
     """Issue 39: a results file cut short (a copy interrupted) could not be replaced even with
     ``--overwrite`` (not readable, so not recognised as a results file). It is replaced where it
