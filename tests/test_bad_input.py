@@ -310,8 +310,9 @@ def test_a_malformed_scheduler_address_is_refused(tmp_path, monkeypatch, address
     from studies import write_study
 
     monkeypatch.chdir(tmp_path)
-    refused(invoke("run", write_study(tmp_path), "--scheduler", address),
-            f"{address}: cannot reach the Dask scheduler")  # fmt: skip
+    result = invoke("run", write_study(tmp_path), "--scheduler", address)
+    refused(result, f"{address}: cannot reach the Dask scheduler: not an address like tcp://")
+    assert "int()" not in result.output and "missing port" not in result.output  # (issue 39)
 
 
 def test_a_full_disk_while_writing_the_results_names_the_file(tmp_path, monkeypatch):

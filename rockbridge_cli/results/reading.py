@@ -126,8 +126,11 @@ def verify(file: h5py.File) -> None:
 
     def read(name: str, node: Any) -> None:
         if isinstance(node, h5py.Dataset) and node.shape and node.size:  # (no chunk in 0 rows)
-            for chunk in node.iter_chunks() if node.chunks else (Ellipsis,):
-                node[chunk]  # HDF5 checks each chunk's checksum as it reads it
+            try:
+                for chunk in node.iter_chunks() if node.chunks else (Ellipsis,):
+                    node[chunk]  # HDF5 checks each chunk's checksum as it reads it
+            except (ValueError, RuntimeError) as exc:  # h5py's words for a damaged structure
+                raise OSError(f"/{name}: {exc}") from None
 
     file.visititems(read)
     stored = json.loads(file["peaks"].attrs.get(TEXT_DIGEST, "{}"))

@@ -484,8 +484,12 @@ def dask_workers(
         raise InputError(scheduler, [("", reason)]) from None
     try:
         client = Client(scheduler, timeout="10s")
-    except (OSError, TimeoutError, ValueError, TypeError) as exc:  # unreachable, or no address
-        raise InputError(scheduler, [("", f"cannot reach the Dask scheduler ({exc})")]) from None
+    except (ValueError, TypeError):  # not an address (Dask's words are its parser's)
+        reason = "cannot reach the Dask scheduler: not an address like tcp://host:8786"
+        raise InputError(scheduler, [("", reason)]) from None
+    except (OSError, TimeoutError):  # unreachable
+        reason = "cannot reach the Dask scheduler: nothing answered there within 10 s"
+        raise InputError(scheduler, [("", reason)]) from None
     shared = None
     resends = 0
     pace = Pace()
