@@ -121,6 +121,8 @@ def test_an_at2_without_units_still_asks_for_them(tmp_path):
         (("ultimate_displacement: 0.10", "ultimate_displacement: 1000"),
          "abutments.ultimate_displacement: 1000 m is not a backfill's"),
         (("central: 60.0", "central: 1.0e5"), "spans.central: 100000 m is outside 0–2000 m"),
+        # issue 39
+        (("depth: 1.7", "depth: 100.0"), "deck.depth: a 100 m deep deck on a 20.8 m pier"),
     ],
 )  # fmt: skip
 def test_implausible_bridge_values_are_warnings_not_errors(tmp_path, change, warning):
@@ -146,6 +148,7 @@ def test_implausible_bridge_values_are_warnings_not_errors(tmp_path, change, war
         ),  # g as m/s²
         ("0.0 3.0 -2.0 0.0", "m/s2 10", "time step 10 s is not a ground motion's"),  # ms as s
         ("0.0 3.0 -2.0 0.0", "m/s2 5e-5", "time step 5e-05 s is not a ground motion's"),
+        ("0.0 3.0", "m/s2", "only 2 samples: a ground motion has thousands"),  # issue 39
     ],
 )
 def test_implausible_records_are_warned_about_once(tmp_path, values, unit, warning):
@@ -552,3 +555,18 @@ def test_values_accepted_silently_before_are_refused(tmp_path):
     result = invoke("run", tmp_path / "s.yaml", "-o", tmp_path / "x.h5.journal.db")
     refused(result, "x.h5.journal.db: is named as a results file's journal")
     assert not (tmp_path / "x.h5.journal.db").exists()
+
+
+def test_a_vertical_component_of_gravity_is_warned_about(tmp_path):
+    """A vertical companion that is a constant −0.92 g (gravity written into the file) ran
+    without a word (issue 39)."""
+    from rockbridge_cli.config.plausibility import record_warnings
+    from rockbridge_cli.records.files import Record
+
+    samples = 3.0 * np.sin(np.linspace(0.0, 20.0, 500))
+    gravity = np.full(500, -0.92 * 9.80665)
+    record = Record("R", 0.01, samples, vertical=gravity)
+    assert any("vertical component averages -0.92 g" in w for w in record_warnings(record))
+    assert not any(
+        "averages" in w for w in record_warnings(Record("R", 0.01, samples, vertical=0.1 * samples))
+    )
