@@ -38,8 +38,8 @@ _DISPLAY = tuple(
     type=click.IntRange(min=1),
     default=None,
     help="Worker processes [default: the CPUs this process may use, after its affinity "
-    "(taskset, SLURM) and cgroup quota (docker --cpus, Kubernetes limits)]. The results do not "
-    "depend on it.",
+    "(taskset, SLURM) and cgroup quota (docker --cpus, Kubernetes limits)]; at most 4 per CPU, "
+    "and no more start than the study has analyses. The results do not depend on it.",
 )
 @click.option(
     "--fidelity",
