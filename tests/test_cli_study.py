@@ -420,6 +420,8 @@ def test_workers_beyond_a_multiple_of_the_cpus_are_refused_at_once(tmp_path, mon
         result.output
     )
     assert time.perf_counter() - started < 2.0
+    spectrum = invoke("spectrum", "overturning", tmp_path / "missing.yaml", "--workers", 10000)
+    assert spectrum.exit_code == 2 and "10000 workers are more than 8" in spectrum.output
     from rockbridge_cli.config.study import load_study
     from rockbridge_cli.study.run import run_study
 

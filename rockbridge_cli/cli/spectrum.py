@@ -55,11 +55,14 @@ def overturning(
     option of a study (rockbridge run).
     """
     from ..config.study import study_from_data
+    from ..cpus import excess_workers
     from ..plots.common import check_format
     from ..plots.overturning import plot_overturning
     from ..study.run import run_study
     from .progress import ProgressDisplay
 
+    if workers is not None and (excess := excess_workers(workers)) is not None:
+        raise click.BadParameter(excess, param_hint="--workers")
     output = output or Path("results") / f"{bridge.stem}-{pulse}.h5"
     figure = check_format(figure or output.with_suffix(".png"))  # before the spectrum runs
     data = {
