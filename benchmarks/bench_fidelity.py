@@ -36,6 +36,7 @@ import numpy as np
 
 from rockbridge_cli.config.bridge import load_bridge
 from rockbridge_cli.core.analysis import analyze
+from rockbridge_cli.errors import InputError
 
 REPO = Path(__file__).resolve().parents[1]
 BRIDGES = [REPO / "configs" / "bridges" / f"studied-hbar{h}.yaml" for h in ("1.00", "1.25", "2.00")]
@@ -89,15 +90,27 @@ def load_records(args) -> tuple[str, list[tuple[str, float, np.ndarray]]]:
     else:
         folder = args.records or BUNDLED
         name = folder.name
-        if (folder / MANIFEST).exists():
+        if _is_a_set(folder / MANIFEST):
             records = read_record_set(folder)
-        else:
+        else:  # a plain folder, or one whose manifest.json is not a record set's
             files = sorted(p for p in folder.iterdir() if p.suffix.lower() in RECORD_SUFFIXES)
             records = [read_record(p, units=args.units, time_step=args.time_step) for p in files]
     scale = [1.0 if args.pga is None else args.pga * G / r.peak_acceleration for r in records]
     return name, [
         (r.name, r.time_step, f * r.acceleration) for r, f in zip(records, scale, strict=True)
     ]
+
+
+def _is_a_set(manifest: Path) -> bool:
+    """Whether a folder's ``manifest.json`` is a record set's (a JSON object with its
+    ``records``), rather than a file of the user's own."""
+    import json
+
+    try:
+        found = json.loads(manifest.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return False
+    return isinstance(found, dict) and "records" in found
 
 
 RECORD_SUFFIXES = (".txt", ".at2", ".csv", ".dat", ".acc")
@@ -117,7 +130,10 @@ def main() -> None:
     parser.add_argument("--pga", type=float, help="scale every record to this PGA first [g]")
     parser.add_argument("--plot", type=Path, help="write the work-precision diagram here")
     args = parser.parse_args()
-    set_name, records = load_records(args)
+    try:
+        set_name, records = load_records(args)
+    except InputError as exc:  # one line, as the command line says it
+        raise SystemExit(f"error: {exc}") from None
     bridges = [load_bridge(path) for path in BRIDGES]
     analyzed = [b.to_bridge() for b in bridges]
 

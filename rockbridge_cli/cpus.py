@@ -101,3 +101,20 @@ def _v1_quota(folder: Path) -> float | None:
     except (OSError, ValueError):
         return None
     return None if quota <= 0 or period <= 0 else quota / period
+
+
+WORKERS_PER_CPU = 4
+"""The most local worker processes a run starts per CPU it may use (`usable_cpus`): beyond one
+per CPU, workers only share the CPUs, while each holds its own interpreter and kernels (about
+90 MB: ``--workers 40`` took 3.6 GB); a few per CPU still cover a worker waiting on its disk."""
+
+
+def excess_workers(workers: int, cpus: int | None = None) -> str | None:
+    """Why ``workers`` local worker processes are too many for this process's CPUs (more than
+    `WORKERS_PER_CPU` per CPU), or None where they are not."""
+    cpus = usable_cpus() if cpus is None else cpus
+    most = WORKERS_PER_CPU * cpus
+    if workers <= most:
+        return None
+    return (f"{workers} workers are more than {most} ({WORKERS_PER_CPU} per CPU this process may "
+            f"use, {cpus}): more only share the CPUs and take about 90 MB each")  # fmt: skip

@@ -80,3 +80,13 @@ def did_you_mean(path: str | Path) -> str:
         names = []
     close = difflib.get_close_matches(path.name, names, n=3, cutoff=0.75)
     return f" (did you mean {' or '.join(close)}?)" if close else ""
+
+
+def check_path_argument(value: object, function: str, what: str) -> None:
+    """Raise a TypeError that names ``function`` and what it takes where ``value`` is not a path
+    (a ``str`` or an ``os.PathLike``): ``load_study(42)`` said "expected str, bytes or
+    os.PathLike object, not int", the internals of ``open``."""
+    import os
+
+    if not isinstance(value, (str, os.PathLike)):
+        raise TypeError(f"{function} takes the path of {what}, not {type(value).__name__}")

@@ -8,7 +8,9 @@ or a record's layout (a header stating its format, PEER's ``NPTS``, lines of num
 
 from __future__ import annotations
 
+import os
 import re
+import stat
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -34,12 +36,22 @@ _NUMBERS = re.compile(r"^\s*[-+0-9.eE]+(?:[\s,]+[-+0-9.eE]+)*\s*$")
 
 
 def file_kind(path: str | Path) -> str | None:
-    """The kind of file at ``path`` (a key of `KINDS`), or None where it cannot be told."""
+    """The kind of file at ``path`` (a key of `KINDS`), or None where it cannot be told.
+
+    Only a regular file is read: a pipe (a FIFO) or a device is never opened, since opening a
+    FIFO waits for a writer that may never come (and reading a device may never end)."""
     try:
-        with open(path, "rb") as stream:
-            head = stream.read(HEAD_BYTES)
+        descriptor = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
     except OSError:
         return None
+    try:
+        if not stat.S_ISREG(os.fstat(descriptor).st_mode):
+            return None
+        head = os.read(descriptor, HEAD_BYTES)
+    except OSError:
+        return None
+    finally:
+        os.close(descriptor)
     if head.startswith(b"\x89HDF\r\n\x1a\n"):
         return "results"
     text = head.decode("utf-8", errors="replace")

@@ -122,6 +122,8 @@ def test_an_at2_without_units_still_asks_for_them(tmp_path):
         (("ultimate_displacement: 0.10", "ultimate_displacement: 1000"),
          "abutments.ultimate_displacement: 1000 m is not a backfill's"),
         (("central: 60.0", "central: 1.0e5"), "spans.central: 100000 m is outside 0–2000 m"),
+        # issue 39
+        (("depth: 1.7", "depth: 100.0"), "deck.depth: a 100 m deep deck on a 20.8 m pier"),
     ],
 )  # fmt: skip
 def test_implausible_bridge_values_are_warnings_not_errors(tmp_path, change, warning):
@@ -147,6 +149,7 @@ def test_implausible_bridge_values_are_warnings_not_errors(tmp_path, change, war
         ),  # g as m/s²
         ("0.0 3.0 -2.0 0.0", "m/s2 10", "time step 10 s is not a ground motion's"),  # ms as s
         ("0.0 3.0 -2.0 0.0", "m/s2 5e-5", "time step 5e-05 s is not a ground motion's"),
+        ("0.0 3.0", "m/s2", "only 2 samples: a ground motion has thousands"),  # issue 39
     ],
 )
 def test_implausible_records_are_warned_about_once(tmp_path, values, unit, warning):
@@ -311,8 +314,9 @@ def test_a_malformed_scheduler_address_is_refused(tmp_path, monkeypatch, address
     from studies import write_study
 
     monkeypatch.chdir(tmp_path)
-    refused(invoke("run", write_study(tmp_path), "--scheduler", address),
-            f"{address}: cannot reach the Dask scheduler")  # fmt: skip
+    result = invoke("run", write_study(tmp_path), "--scheduler", address)
+    refused(result, f"{address}: cannot reach the Dask scheduler: not an address like tcp://")
+    assert "int()" not in result.output and "missing port" not in result.output  # (issue 39)
 
 
 def test_a_full_disk_while_writing_the_results_names_the_file(tmp_path, monkeypatch):
@@ -329,7 +333,9 @@ def test_a_full_disk_while_writing_the_results_names_the_file(tmp_path, monkeypa
     monkeypatch.chdir(tmp_path)
     result = invoke("run", write_study(tmp_path), "--workers", "1")
     assert result.exit_code == 1 and "Traceback" not in result.output
-    assert "results/study.h5: cannot write the results file (Can't write data" in result.output
+    assert "results/study.h5: cannot write the results file (no space left on the device)" in (
+        result.output
+    )  # not HDF5's "Can't write data (file write failed: errno = 28, …)" (issue 39)
     assert "the finished analyses stay in the journal: rerun to resume" in result.output
 
 
@@ -381,6 +387,23 @@ def test_the_python_api_checks_its_arguments(tmp_path):
     with pytest.raises(TypeError, match="real accelerations"):
         analyze(bridge, np.array([0.0, 1.0j, 0.0]), 0.01)
     assert not (tmp_path / "out.h5").exists()
+
+
+def test_the_python_api_names_what_it_takes_instead_of_a_path(tmp_path):
+    """Issue 39: ``load_study(42)``, ``load_bridge({...})`` and ``read_record(None)`` raised
+    ``open``'s "expected str, bytes or os.PathLike object", ``risks(path, "curve.csv")`` an
+    AttributeError deep inside: each now names the function and what it takes."""
+    from rockbridge_cli.assessment.risk import risks
+    from rockbridge_cli.config.study import load_study
+
+    with pytest.raises(TypeError, match="load_study takes the path of a study YAML file, not int"):
+        load_study(42)  # type: ignore[arg-type]
+    with pytest.raises(TypeError, match="load_bridge takes the path of a bridge YAML file"):
+        load_bridge({"piers": {"width": 2.6}})  # type: ignore[arg-type]
+    with pytest.raises(TypeError, match="read_record takes the path of a record file, not None"):
+        read_record(None)  # type: ignore[arg-type]
+    with pytest.raises(TypeError, match="risks takes a HazardCurve .*, not str"):
+        risks(tmp_path / "r.h5", "curve.csv")  # type: ignore[arg-type]
 
 
 def test_a_file_of_another_kind_is_named_for_what_it_is(tmp_path):
@@ -508,3 +531,84 @@ def test_a_list_entry_is_also_counted_as_a_reader_counts(where, entry):
     """Issue 40: `records.files.1` is the 2nd entry; the paths count from 0, as a sweep's fields
     do, and the message says which entry that is."""
     assert str(InputError("s.yaml", [(where, "why")])) == f"s.yaml: {where}: why{entry}"
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs")
+def test_a_fifo_named_on_the_command_line_is_refused_without_waiting(tmp_path):
+    """A FIFO given as a command's file hung ``describe``, ``analyze``, ``run``,
+    ``generate-records`` and ``plot onset`` (the kind of the refused file was sniffed by opening
+    it, which waits for a writer), and ``peaks``, ``report``, ``fragility`` called it "file not
+    found". A watchdog opens the FIFO's writing end whenever a reader waits on it: it counts the
+    hang and lets the reader go on (to end of file), so a regression fails instead of hanging."""
+    import threading
+
+    fifo = tmp_path / "fifo"
+    os.mkfifo(fifo)
+    bridge = tmp_path / "b.yaml"
+    bridge.write_text(BRIDGE)
+    hangs, done = [], threading.Event()
+
+    def watchdog() -> None:
+        while not done.wait(0.05):
+            try:  # succeeds only where a reader has the FIFO open (or waits to)
+                os.close(os.open(fifo, os.O_WRONLY | os.O_NONBLOCK))
+                hangs.append(1)
+            except OSError:
+                pass
+
+    thread = threading.Thread(target=watchdog, daemon=True)
+    thread.start()
+    try:
+        for args in (("describe", fifo), ("analyze", fifo, fifo), ("analyze", bridge, fifo),
+                     ("run", fifo, "--workers", 1), ("generate-records", fifo),
+                     ("plot", "onset", fifo)):  # fmt: skip
+            refused(invoke(*args), "fifo: is not a regular file")
+        for args in (("peaks", fifo), ("report", fifo), ("fragility", fifo)):
+            refused(invoke(*args), "fifo: is not a regular file", "not a results file")
+    finally:
+        done.set()
+        thread.join()
+    assert not hangs
+
+
+def test_values_accepted_silently_before_are_refused(tmp_path):
+    """Issue 39's silent accepts: ``risk --years inf`` (every probability 1), a spectrum whose
+    frequencies fall (``10:1:40``), ``normalize: "yes"`` read as true, ``-o x.h5.journal.db``
+    (a results file named as a journal), ``identify_pulse`` on NaN (came back "no pulse")."""
+    from rockbridge_cli.assessment.risk import risks_of
+    from rockbridge_cli.config.records import FemaSet
+    from rockbridge_cli.config.spectrum import Spectrum
+    from rockbridge_cli.motions.pulse_identification import identify_pulse
+
+    with pytest.raises(InputError, match=r"positive number of years \(finite\), not inf"):
+        risks_of([], {"measure": "pga_g"}, None, years=float("inf"))  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="frequency ratios must rise"):
+        Spectrum.model_validate({"pulse": "one-sine-a", "amplitudes": {"start": 1, "stop": 5,
+                                 "count": 5}, "frequencies": {"start": 10, "stop": 1,
+                                 "count": 40}})  # fmt: skip
+    with pytest.raises(ValueError, match="normalize"):
+        FemaSet.model_validate({"set": "far-field", "normalize": "yes"})
+    with pytest.raises(ValueError, match="must be finite numbers"):
+        identify_pulse(np.array([0.0, np.nan, 1.0, 0.0] * 100), 0.01)
+    (tmp_path / "b.yaml").write_text(BRIDGE)
+    np.savetxt(tmp_path / "R1.txt", np.column_stack([np.arange(50) * 0.01, np.full(50, 0.1)]))
+    (tmp_path / "s.yaml").write_text("bridges: [b.yaml]\nrecords: {files: [{path: R1.txt, "
+                                     "units: g}]}\n")  # fmt: skip
+    result = invoke("run", tmp_path / "s.yaml", "-o", tmp_path / "x.h5.journal.db")
+    refused(result, "x.h5.journal.db: is named as a results file's journal")
+    assert not (tmp_path / "x.h5.journal.db").exists()
+
+
+def test_a_vertical_component_of_gravity_is_warned_about(tmp_path):
+    """A vertical companion that is a constant −0.92 g (gravity written into the file) ran
+    without a word (issue 39)."""
+    from rockbridge_cli.config.plausibility import record_warnings
+    from rockbridge_cli.records.files import Record
+
+    samples = 3.0 * np.sin(np.linspace(0.0, 20.0, 500))
+    gravity = np.full(500, -0.92 * 9.80665)
+    record = Record("R", 0.01, samples, vertical=gravity)
+    assert any("vertical component averages -0.92 g" in w for w in record_warnings(record))
+    assert not any(
+        "averages" in w for w in record_warnings(Record("R", 0.01, samples, vertical=0.1 * samples))
+    )

@@ -168,6 +168,7 @@ BAD = {  # file → fragments its message must contain (besides the file's name)
         "1.5",
     ],
     "width_not_below_height.yaml": ["piers.heights", "width", "must exceed"],
+    "height_beyond_floating_point.yaml": ["piers.heights", "more than 1e+06 times the width"],
     "deck_area_and_mass.yaml": ["deck", "area", "mass"],
     "two_piers_no_deck.yaml": ["two piers", "deck"],
     "single_pier_with_abutments.yaml": ["single pier", "abutments"],

@@ -169,9 +169,15 @@ def test_default_folder_and_plot(tmp_path, monkeypatch):
 
 def test_a_record_outside_the_tolerance_is_named_and_the_set_is_not_compliant(tmp_path):
     """Two matching iterations cannot bring a record within 1 % of the target: the report names
-    each record that misses, by how much, and the verdict follows."""
+    each record that misses, by how much, and the verdict follows; the exit status too (it was
+    0, so that a batch job could not tell: issue 39)."""
     (tmp_path / "tight.yaml").write_text(SMALL.replace("tolerance: 0.2", "tolerance: 0.01"))
     result = run("generate-records", tmp_path / "tight.yaml", "--out", tmp_path / "set")
+    assert result.exit_code == 1 and "Traceback" not in result.output
+    assert result.output.strip().endswith(
+        "set: written, but the records are NOT compliant with EN 1998-1 §3.2.3.1.2 (the report "
+        "above says why)"
+    )
     assert "every record within 1% of the target over 0.1-2 s -> NO" in result.output
     assert "AR01 misses it by" in result.output
     assert "overall: NOT compliant" in result.output
@@ -314,7 +320,7 @@ def test_a_new_set_replaces_an_old_one_whole(tmp_path):
     and nothing else of the parent folder is left behind."""
     assert small_set(tmp_path, 1, tmp_path / "set").exit_code == 0
     old = {p.name: p.read_bytes() for p in (tmp_path / "set").iterdir()}
-    assert small_set(tmp_path, 2, tmp_path / "set").exit_code == 0
+    assert small_set(tmp_path, 2, tmp_path / "set").exit_code == 1  # written, NOT compliant
     new = {p.name: p.read_bytes() for p in (tmp_path / "set").iterdir()}
     assert new.keys() == old.keys() and new["AR01.txt"] != old["AR01.txt"]
     assert sorted(p.name for p in tmp_path.iterdir() if p.name.startswith(".")) == []

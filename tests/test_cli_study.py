@@ -436,23 +436,64 @@ def test_analyze_says_it_compiles_and_counts_it_as_set_up(tmp_path, monkeypatch)
     assert calls == [True, True]  # the set-up's analysis has a vertical motion too
 
 
-def test_run_starts_its_workers_before_it_loads_the_study(tmp_path, monkeypatch):
-    """The workers load their kernels while the parent loads the study (issue 31)."""
+def test_run_starts_its_workers_once_the_study_is_sized(tmp_path, monkeypatch):
+    """Issue 39: the workers forked before the study was loaded (issue 31 started them early to
+    load their kernels meanwhile), as many as asked: ``--workers 40`` on a one-analysis study
+    forked 40 (3.6 GB), ``--workers 10000`` was still forking after 62 s. Now no worker starts
+    before the study is loaded, and no more than its analyses."""
     import multiprocessing
 
     from rockbridge_cli.config import study as config
+    from rockbridge_cli.study import executors
 
     children: list[int] = []
     load_study = config.load_study
+    sizes: list[int] = []
 
     def loading(*args, **kwargs):
         children.append(len(multiprocessing.active_children()))
         return load_study(*args, **kwargs)
 
+    class Pool(executors.LocalPool):
+        def __init__(self, size: int):
+            sizes.append(size)
+            super().__init__(size)
+
     monkeypatch.setattr(config, "load_study", loading)
-    result = invoke("run", write_study(tmp_path), "--workers", "2")
+    monkeypatch.setattr(executors, "LocalPool", Pool)
+    result = invoke("run", write_study(tmp_path, bridges=STUDIED[:1], records=("R1",)),
+                    "--workers", "3")  # fmt: skip
     assert result.exit_code == 0, result.output
-    assert children == [2]
+    assert result.output.splitlines()[0] == (
+        "workers: 1 (--workers 3: as many as the study's analyses)"
+    )
+    assert children == [0] and sizes == []  # one analysis: run in this process
+    result = invoke("run", write_study(tmp_path, name="two.yaml"), "--workers", "3")
+    assert result.exit_code == 0, result.output
+    assert children == [0, 0] and sizes == [3]  # 2 bridges × 2 records: 3 workers
+
+
+def test_workers_beyond_a_multiple_of_the_cpus_are_refused_at_once(tmp_path, monkeypatch):
+    """``--workers 10000`` forked for over a minute; now refused before anything is loaded."""
+    import time
+
+    from rockbridge_cli import cpus
+
+    monkeypatch.setattr(cpus, "usable_cpus", lambda *args: 2)
+    started = time.perf_counter()
+    result = invoke("run", tmp_path / "missing.yaml", "--workers", 10000)
+    assert result.exit_code == 2 and "Traceback" not in result.output
+    assert "--workers: 10000 workers are more than 8 (4 per CPU this process may use, 2)" in (
+        result.output
+    )
+    assert time.perf_counter() - started < 2.0
+    spectrum = invoke("spectrum", "overturning", tmp_path / "missing.yaml", "--workers", 10000)
+    assert spectrum.exit_code == 2 and "10000 workers are more than 8" in spectrum.output
+    from rockbridge_cli.config.study import load_study
+    from rockbridge_cli.study.run import run_study
+
+    with pytest.raises(ValueError, match="10000 workers are more than 8"):
+        run_study(load_study(write_study(tmp_path)), workers=10000)
 
 
 def interrupted_run(tmp_path, monkeypatch, extra: str, after: int):

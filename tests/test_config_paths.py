@@ -242,6 +242,31 @@ def test_a_set_file_linked_out_of_the_set_is_refused(places):
         load_study(path)
 
 
+def test_a_sets_manifest_linked_out_of_the_set_is_refused(places):
+    """Issue 39: a set's manifest.json that links out of the set was followed (its files were
+    then read from the set's folder, as the manifest elsewhere listed them)."""
+    project, elsewhere = places
+    (project / "set").mkdir()
+    shutil.copy(elsewhere / "R1.txt", project / "set" / "R1.txt")
+    (elsewhere / "manifest.json").write_text(json.dumps({"records": [{"file": "R1.txt"}]}))
+    (project / "set" / "manifest.json").symlink_to(elsewhere / "manifest.json")
+    path = project / "study.yaml"
+    path.write_text("bridges: [bridge.yaml]\nrecords: {set: set}\n")
+    with pytest.raises(InputError, match="manifest.json: is a link out of the set's folder"):
+        load_study(path)
+
+
+def test_a_nul_in_a_manifests_file_name_is_refused(places):
+    """A NUL in a manifest's file name ended in a raw "embedded null byte" (issue 39)."""
+    project, elsewhere = places
+    (project / "set").mkdir()
+    (project / "set" / "manifest.json").write_text('{"records": [{"file": "R1\\u0000.txt"}]}')
+    path = project / "study.yaml"
+    path.write_text("bridges: [bridge.yaml]\nrecords: {set: set}\n")
+    with pytest.raises(InputError, match=r"records\[0\]\.file: holds a NUL character"):
+        load_study(path)
+
+
 def test_command_line_paths_are_the_users_own(places, tmp_path):
     """`analyze BRIDGE RECORD` reads files anywhere: the user named them."""
     project, elsewhere = places

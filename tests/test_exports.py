@@ -144,6 +144,26 @@ def test_pelicun_demands_are_the_peak_tables_rows(ida, tmp_path):
     assert (peaks["failure_mode"] == "abutment").any()  # the collapse flag is exercised
 
 
+def test_pelicun_export_never_replaces_a_users_csv(ida, tmp_path):
+    """A CSV of the user's with the name of a demand sample was overwritten (the only data the
+    issue-39 audit saw destroyed): now refused before any file is written; a sample rockbridge
+    wrote is replaced, and nothing else in the folder is touched."""
+    folder = tmp_path / "demands"
+    assert invoke("export", "pelicun", ida, "-o", folder).exit_code == 0
+    names = sorted(path.name for path in folder.iterdir())
+    mine = folder / names[-1]
+    mine.write_text("my own numbers\n1,2,3\n")
+    (folder / names[0]).unlink()
+    result = invoke("export", "pelicun", ida, "-o", folder)
+    assert result.exit_code == 2, result.output
+    assert f"{mine.name}: exists and is not a pelicun demand sample" in result.output
+    assert mine.read_text() == "my own numbers\n1,2,3\n"
+    assert not (folder / names[0]).exists()  # nothing written before the refusal
+    mine.unlink()
+    assert invoke("export", "pelicun", ida, "-o", folder).exit_code == 0  # its own: replaced
+    assert sorted(path.name for path in folder.iterdir()) == names
+
+
 def test_pelicun_reads_the_demands(ida, tmp_path):
     """Where pelicun is installed (the optional extra ``interop``): its demand model loads each
     sample with the units stated, in SI."""

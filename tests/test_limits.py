@@ -1,6 +1,6 @@
 """Bounds on work and memory (issue 32): every knob that sets how much an analysis or a study
-computes or holds has a documented limit (`core.fidelity.LIMITS`, `config.study.MAX_ANALYSES`,
-`config.sweep.MAX_VARIANTS`, `config.intensity.MAX_SCAN_LEVELS`, …) or a work estimate
+computes or holds has a documented limit (`core.fidelity.LIMITS`,
+`config.study_checks.MAX_ANALYSES`, `config.sweep.MAX_VARIANTS`, `config.intensity.MAX_SCAN_LEVELS`, …) or a work estimate
 (`core.fidelity.check_work`), so that what could not end, or not fit in memory, is refused at once
 with one line naming the file and the field. Each case below ran until killed before."""
 
@@ -11,7 +11,7 @@ import os
 import numpy as np
 import pytest
 from click.testing import CliRunner
-from studies import BRIDGES, write_study
+from studies import BRIDGES, REPO, write_study
 
 from rockbridge_cli.cli import main
 from rockbridge_cli.config.bridge import load_bridge
@@ -88,11 +88,11 @@ def test_too_many_shards_are_refused_and_cost_no_memory(tmp_path):
 def test_too_many_analyses_are_refused(tmp_path, monkeypatch):
     """The size of a study is checked on bridges × records × levels, before the scaled copies of
     the records are made: 2 × 2 × 1000 = 4000 analyses against a limit lowered to 3999."""
-    from rockbridge_cli.config import study as config_study
+    from rockbridge_cli.config import study_checks
 
     levels = ", ".join(f"{0.1 + 1e-4 * i:.4f}" for i in range(1000))
     study = write_study(tmp_path, extra=f"intensity: {{measure: pga_g, levels: [{levels}]}}\n")
-    monkeypatch.setattr(config_study, "MAX_ANALYSES", 3999)
+    monkeypatch.setattr(study_checks, "MAX_ANALYSES", 3999)
     refused(invoke("run", study), "2 bridges × 2 records × 1000 levels are more than 3,999")
 
 
@@ -149,3 +149,75 @@ def test_the_presets_are_within_the_limits_and_the_work_estimate_is_a_count():
     check_work(values, 10001, 0.01)
     with pytest.raises(ValueError, match=r"120 s of analysis would need 1\.2e\+08 steps"):
         check_work({**values, "max_step": 1e-6}, 10001, 0.01)
+
+
+BLOCK_STUDY = "bridges: [{id: block, piers: {width: 0.8, heights: [2.0]}}]\n"
+
+
+@pytest.mark.parametrize(
+    ("records", "fragments"),
+    [
+        ("records: {pulses: [{shape: one-sine-a, amplitude_g: 0.5, period: 1.0e-9}]}\n",
+         ("records.pulses.0", "the pulse would need 2.01e+12 samples")),  # 10 s / (1e-9/200.5)
+        ("records: {pulses: [{shape: one-sine-a, amplitude_g: 0.5, period: 1, cycles: 1.0e+9}]}\n",
+         ("records.pulses.0", "the pulse would need 2e+11 samples")),
+        ("records: {pulses: [{shape: mavroeidis-papageorgiou, amplitude_g: 0.5, period: 1, "
+         "cycles: 1.0e+6}]}\n", ("records.pulses.0", "the pulse would need 2e+08 samples")),
+        ("spectrum: {pulse: one-sine-a, frequencies: {start: 1.0e+6, stop: 1.0e+7, count: 3}, "
+         "amplitudes: {start: 1, stop: 5, count: 5}}\n",
+         ("spectrum.frequencies: the pulse would need", "more than 1e+07")),
+        ("spectrum: {pulse: one-sine-a, frequencies: {start: 1, stop: 10, count: 10000}, "
+         "amplitudes: {start: 1, stop: 10, count: 1000}}\n",
+         ("spectrum: 10000 frequencies × 1000 amplitudes are more than 1,000,000 analyses",)),
+        ("spectrum: {pulse: one-sine-a, frequencies: {start: 1, stop: 10, count: 3}, "
+         "amplitudes: {start: 1, stop: 10, count: 5000}}\n",
+         ("spectrum.amplitudes: at most 1000 amplitudes, not 5000",)),
+    ],
+)  # fmt: skip
+def test_pulses_and_spectra_beyond_the_work_limit_are_refused_before_sampling(
+    tmp_path, records, fragments
+):
+    """Issue 39: the work estimate ran after the samples were built, so a pulse of period 1e-9 s,
+    1e9 cycles, a Mavroeidis–Papageorgiou pulse of 1e6 cycles (1.5 GiB), a spectrum at 1e6–1e7 Hz
+    (15 GiB) ended in a MemoryError after taking the memory; a spectrum's map of 1e7 analyses
+    (its first round) was not counted against the study's limit (10 min, no progress line); 5000
+    amplitudes gave a 4-line pydantic dump about IDA scan levels, exit 1. Each is now one line,
+    exit 2, at once."""
+    import time
+
+    study = tmp_path / "s.yaml"
+    study.write_text(BLOCK_STUDY + records, encoding="utf-8")
+    started = time.perf_counter()
+    refused(invoke("run", study), "s.yaml: ", *fragments)
+    assert time.perf_counter() - started < 5.0
+
+
+def test_generated_records_beyond_the_work_limit_are_refused_before_sampling(tmp_path):
+    """``generate-records`` with ``time_step: 1e-9`` ended in a MemoryError (issue 39)."""
+    config = (REPO / "configs" / "records" / "ec8-type1-C-ag0.6g-vertical.yaml").read_text()
+    (tmp_path / "fine.yaml").write_text(config.replace("time_step: 0.01", "time_step: 1.0e-9"))
+    refused(invoke("generate-records", tmp_path / "fine.yaml", "--out", tmp_path / "set"),
+            "fine.yaml: ", "a record of 20 s at 1e-09 s would hold 2e+10 samples")  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("section", "where"),
+    [
+        ("spectrum: {pulse: one-sine-a, frequencies: {start: 1, stop: 5, count: 3}, "
+         "amplitudes: {start: 1, stop: 5, count: 5}, limit_states: [gap_closure]}\n",
+         "spectrum.limit_states"),
+        ("records: {pulses: [{shape: one-sine-a, amplitude_g: 0.5, period: 1, rest: 1}]}\n"
+         "intensity: {measure: pga_g, ida: {start: 0.1, step: 0.1, max: 1.0, "
+         "limit_states: [gap_closure, overturning]}}\n", "intensity.ida.limit_states"),
+        ("records: {pulses: [{shape: one-sine-a, amplitude_g: 0.5, period: 1, phase: 1.0e+300, "
+         "rest: 1}]}\n", "records.pulses.0"),
+    ],
+)  # fmt: skip
+def test_what_a_block_cannot_reach_or_a_phase_beyond_a_turn_is_refused(tmp_path, section, where):
+    """Issue 39: ``limit_states: [gap_closure]`` for a block (no abutments: its boundary or IDA
+    ran to the top of the scan) and a pulse ``phase: 1e300`` were accepted without a word."""
+    study = tmp_path / "s.yaml"
+    study.write_text(BLOCK_STUDY + section, encoding="utf-8")
+    result = invoke("run", study)
+    refused(result, f"s.yaml: {where}: ")
+    assert "need abutments" in result.output or "within ±2π rad" in result.output

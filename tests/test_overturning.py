@@ -237,6 +237,20 @@ def test_the_spectrum_command_takes_a_studys_tolerance_states_phase_and_cycles(t
     assert section["tolerance"] == 0.05 and section["limit_states"] == ["overturning"]
 
 
+def test_the_spectrum_command_refuses_its_figure_before_it_runs(tmp_path):
+    """``spectrum overturning --figure X.h5`` was refused only after the whole spectrum ran
+    (issue 39): now at once, nothing run, no results file."""
+    bridge = tmp_path / "block.yaml"
+    bridge.write_text("name: block\npiers: {width: 0.8, heights: [2.0]}\n", encoding="utf-8")
+    output = tmp_path / "block.h5"
+    result = CliRunner().invoke(main, [
+        "spectrum", "overturning", str(bridge), "--frequencies", "1:5:3", "--amplitudes", "1:4:4",
+        "-o", str(output), "--workers", "1", "--figure", str(tmp_path / "X.h5"),
+    ])  # fmt: skip
+    assert result.exit_code == 2 and "unknown figure format '.h5'" in result.output
+    assert not output.exists() and "results:" not in result.output
+
+
 def test_a_results_file_without_a_spectrum_is_refused(tmp_path):
     study = tmp_path / "pulse.yaml"
     study.write_text("bridges: [{id: block, piers: {width: 0.8, heights: [2.0]}}]\n"

@@ -272,3 +272,24 @@ def test_what_numpy_cannot_take_as_it_is_is_read_line_by_line(rows):
     from rockbridge_cli.records import files
 
     assert files._rows_at_once(rows) is None
+
+
+def test_bench_fidelity_reads_a_plain_folder_with_a_manifest_of_its_own(tmp_path):
+    """``benchmarks/bench_fidelity.py --records DIR`` ended in a traceback when the folder held
+    a ``manifest.json`` that is not a record set's (issue 39): the folder is read as plain
+    record files, as without it."""
+    import argparse
+    import importlib.util
+
+    from studies import REPO, write_records
+
+    path = REPO / "benchmarks" / "bench_fidelity.py"
+    spec = importlib.util.spec_from_file_location("bench_fidelity", path)
+    assert spec is not None and spec.loader is not None
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    write_records(tmp_path)
+    (tmp_path / "manifest.json").write_text('{"mine": 1}', encoding="utf-8")
+    args = argparse.Namespace(fema=None, records=tmp_path, units=None, time_step=None, pga=None)
+    name, records = bench.load_records(args)
+    assert name == tmp_path.name and [r[0] for r in records] == ["R1", "R2"]

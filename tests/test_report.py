@@ -278,3 +278,24 @@ def test_a_generated_set_brings_its_compliance_and_ground_displacement(tmp_path)
     column = table[0].index("PGD/d_g")
     for row, entry in zip(table[1:-1], manifest["records"], strict=True):
         assert row[0] == entry["name"] and row[column] == f"{entry['pgd_m'] / dg:.2f}"
+
+
+def test_a_study_that_keeps_some_histories_gets_its_page_and_its_figure(tmp_path):
+    """Issue 39: ``report`` and ``plot history`` refused a study that keeps some histories (the
+    bundled vertical-example.yaml among them: "no theta_deck history", exit 2, no page). Now
+    Fig. 10 draws what the file holds and the page, the figure and the command say what is
+    left out."""
+    kept = "output: {path: some.h5, histories: [u_deck, theta1, theta2]}\n"
+    study = load_study(write_study(tmp_path, records=("R1",), extra="fidelity: fast\n" + kept))
+    run_study(study, workers=1)
+    text = write_report(study.output, tmp_path / "r.html").read_text(encoding="utf-8")
+    parsed = Page(text)
+    assert "Response histories under R1 (Fig. 10)" in parsed.headings
+    assert len(parsed.images) == 2
+    assert "Not kept by the study (output.histories): v_deck, θ_deck." in text
+    result = CliRunner().invoke(main, ["plot", "history", str(study.output), "--record", "R1",
+                                       "-o", str(tmp_path / "h.svg")])  # fmt: skip
+    assert result.exit_code == 0, result.output
+    assert "left out: v_deck, θ_deck (not kept by the study: output.histories)" in result.output
+    figure = (tmp_path / "h.svg").read_text(encoding="utf-8")
+    assert "(D)" in figure and "(E)" not in figure  # ground, u_deck, θ1, θ2

@@ -432,3 +432,78 @@ def test_no_reader_parses_the_intensity_attribute_itself():
         if path != reader:
             assert 'attrs.get("intensity"' not in text and 'attrs["intensity"]' not in text, path
             assert '["spectrum"]' not in text, path
+
+
+def flipped(path, offset: int, target):
+    """A copy of ``path`` at ``target`` with one bit flipped at ``offset``."""
+    data = bytearray(path.read_bytes())
+    data[offset] ^= 0x10
+    target.write_bytes(bytes(data))
+    return target
+
+
+def test_run_verifies_a_file_before_it_calls_its_analyses_done(done, tmp_path):
+    """Issue 39: a complete file with a flipped bit in /events, a history or a record's samples
+    was called "already done" by ``run`` and kept (only /peaks was read); text columns had no
+    check at all. Now ``run`` reads every dataset of a file it would call done (HDF5 verifies
+    their Fletcher-32 checksums) and compares the text columns with their SHA-256: damaged,
+    refused with the way out, the file left as it was."""
+    import dataclasses
+
+    study, path = done
+    with h5py.File(path, "r") as file:
+        history = file[f"analyses/{STUDIED[0]}/R1/histories/theta1"]
+        offsets = {
+            "events": file["events/time"].id.get_chunk_info(0).byte_offset + 3,
+            "history": history.id.get_chunk_info(0).byte_offset + 3,
+            "record": file["records/R1/acceleration"].id.get_chunk_info(0).byte_offset + 3,
+        }
+        assert json.loads(file["peaks"].attrs["text_sha256"]).keys() >= {"status", "message"}
+    # a model's name in /peaks/model: its last copy, in HDF5's global heap written last
+    offsets["text"] = path.read_bytes().rindex(b"asymmetric-bridge") + 1
+    with h5py.File(flipped(path, offsets["text"], tmp_path / "t.h5"), "r") as file:
+        assert "acymmetric-bridge" in file["peaks/model"].asstr()[()]  # read without a word
+    intact = tmp_path / "intact.h5"
+    intact.write_bytes(path.read_bytes())
+    assert run_study(dataclasses.replace(study, output=intact), workers=1).resumed == 4
+    for where, offset in offsets.items():
+        damaged = flipped(path, offset, tmp_path / f"{where}.h5")
+        before = damaged.read_bytes()
+        with pytest.raises(InputError, match="damaged .*rerun with --overwrite") as refusal:
+            run_study(dataclasses.replace(study, output=damaged), workers=1)
+        assert str(damaged) in str(refusal.value), where
+        assert damaged.read_bytes() == before, where
+
+
+def test_a_file_of_no_analyses_is_verified_and_resumed(done, tmp_path):
+    """A run refused by its scheduler leaves a file of no analyses (empty, extendable columns),
+    whose verification met chunks outside the empty datasets: a raw ValueError from h5py."""
+    import dataclasses
+
+    study = dataclasses.replace(done[0], output=tmp_path / "empty.h5")
+    with pytest.raises(InputError, match="Dask"):  # unreachable, or Dask not installed
+        run_study(study, scheduler="foo")
+    assert read_peaks(study.output).shape[0] == 0
+    assert run_study(study, workers=1).ran == 4
+
+
+def test_overwrite_replaces_a_results_file_cut_short(done, tmp_path):
+    """Issue 39: a results file cut short (a copy interrupted) could not be replaced even with
+    ``--overwrite`` (not readable, so not recognised as a results file). It is replaced where it
+    still starts as rockbridge's (HDF5, its ``format`` attribute in its first bytes); a file cut
+    before that is left alone, and so is any other file."""
+    import dataclasses
+
+    study, path = done
+    cut = tmp_path / "cut.h5"
+    cut.write_bytes(path.read_bytes()[: path.stat().st_size // 2])
+    with pytest.raises(InputError, match="rerun with --overwrite"):
+        run_study(dataclasses.replace(study, output=cut), workers=1)
+    report = run_study(dataclasses.replace(study, output=cut), workers=1, overwrite=True)
+    assert report.ran == 4 and read_peaks(cut).shape[0] == 4
+    for head in (path.read_bytes()[:1000], b"my notes\n" * 1000):
+        other = tmp_path / "other.h5"
+        other.write_bytes(head)
+        with pytest.raises(InputError, match="not a rockbridge results file: not replaced"):
+            run_study(dataclasses.replace(study, output=other), workers=1, overwrite=True)
+        assert other.read_bytes() == head

@@ -324,3 +324,43 @@ def test_after_the_command_ctrl_c_is_left_to_the_system(monkeypatch):
         assert signal.getsignal(signal.SIGINT) == signal.SIG_DFL
     finally:
         signal.signal(signal.SIGINT, previous)
+
+
+def test_a_stopped_worker_is_named_when_the_run_stalls(tmp_path, monkeypatch):
+    """Issue 39: a worker stopped (SIGSTOP) hung the run with "about 1 s left", nothing saying
+    why. A run whose batches make no progress for `executors.STALL_S` now says so, naming the
+    stopped workers and how to resume them; resumed, the run ends ok."""
+    import multiprocessing
+    import threading
+
+    from rockbridge_cli.study import executors
+
+    monkeypatch.setattr(executors, "STALL_S", 1.0)
+    stopped: list[int] = []
+    said: list[str] = []
+
+    def progress(finished, done, total):
+        if not stopped and done < total:  # every worker stopped after the first analysis
+            stopped.extend(child.pid for child in multiprocessing.active_children())
+            for pid in stopped:
+                os.kill(pid, signal.SIGSTOP)
+            resume = threading.Timer(20.0, lambda: [os.kill(p, signal.SIGCONT) for p in stopped])
+            resume.daemon = True  # unsaid, the run would wait for ever: fail instead
+            resume.start()
+
+    def notice(line: str) -> None:
+        said.append(line)
+        if "stopped" in line:
+            for pid in stopped:
+                os.kill(pid, signal.SIGCONT)
+
+    study = load_study(write_study(tmp_path, extra="output: {path: out.h5}\n"))
+    try:
+        report = run_study(study, workers=2, progress=progress, notice=notice)
+    finally:
+        for pid in stopped:
+            os.kill(pid, signal.SIGCONT) if alive(pid) else None
+    assert report.total == 4 and report.statuses == {"ok": 4}
+    stalls = [line for line in said if line.startswith("no analysis has finished for")]
+    assert stalls and "stopped (SIGSTOP, a debugger?); kill -CONT" in stalls[-1]  # (1 s: the
+    assert stopped and all(str(pid) in stalls[-1] for pid in stopped)  # start may stall too)

@@ -165,7 +165,8 @@ def test_a_seed_too_coarse_for_the_band_is_resampled_and_the_report_says_so(seed
                       encoding="utf-8")  # fmt: skip
     result = CliRunner().invoke(main, ["generate-records", str(config), "--out",
                                        str(folder / "coarse")])  # fmt: skip
-    assert result.exit_code == 0, result.output
+    assert result.exit_code == 1, result.output  # one record: NOT compliant (EN's (4)a wants 3)
+    assert "(4)a at least 3 records: 1 -> NO" in result.output
     assert "coarse was resampled from 0.02 s to 0.01 s" in result.output
     (record,) = read_record_set(folder / "coarse")
     assert record.time_step == 0.01 and record.acceleration.size == 2 * acc.size

@@ -192,11 +192,11 @@ def test_generated_vertical_components_meet_the_vertical_spectrum(tmp_path):
     refuses, naming them, a set without vertical components and a companion changed since."""
     (tmp_path / "plain.yaml").write_text(SMALL, encoding="utf-8")
     (tmp_path / "both.yaml").write_text(SMALL + "vertical: true\n", encoding="utf-8")
-    assert (
-        invoke("generate-records", tmp_path / "plain.yaml", "--out", tmp_path / "p").exit_code == 0
-    )
+    # two records, fewer than EN 1998-1's three: written, NOT compliant, exit status 1
+    plain = invoke("generate-records", tmp_path / "plain.yaml", "--out", tmp_path / "p")
+    assert plain.exit_code == 1 and "(4)a at least 3 records: 2 -> NO" in plain.output
     result = invoke("generate-records", tmp_path / "both.yaml", "--out", tmp_path / "b")
-    assert result.exit_code == 0, result.output
+    assert result.exit_code == 1 and "(4)a at least 3 records: 2 -> NO" in result.output
     assert "Vertical components" in result.output
     manifest = json.loads((tmp_path / "b" / MANIFEST).read_text(encoding="utf-8"))
     periods = np.geomspace(0.05, 4.0, 40)

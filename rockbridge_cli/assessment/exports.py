@@ -28,6 +28,7 @@ did not run to its end (pelicun drops those rows).
 
 from __future__ import annotations
 
+import os
 import re
 import xml.etree.ElementTree as ElementTree
 from pathlib import Path
@@ -37,7 +38,7 @@ import numpy as np
 from ..core.quantities import NO_FAILURE
 from ..errors import InputError
 from ..motions.intensity import MEASURES, scaled_id
-from ..paths import writable
+from ..paths import checked_output, replace_atomically, writable
 from ..results.reading import open_results, peak_columns, read_intensity
 from ..results.sections import IntensitySection
 from .fragility import Fragility, fragilities
@@ -161,6 +162,10 @@ def pelicun_demands(results: str | Path, folder: str | Path) -> list[Path]:
     """Write the demand samples of a results file, one pelicun CSV per bridge and stripe, into
     ``folder`` as ``<bridge>+<level>.csv`` (the level as in record ids, ``+0.6g``).
 
+    A file of that name already in ``folder`` is replaced only where it is a demand sample of
+    the same columns (its first line is the header written here); anything else there is
+    refused before a file is written, and each file is written aside and renamed into place.
+
     Returns
     -------
     The files written.
@@ -168,7 +173,8 @@ def pelicun_demands(results: str | Path, folder: str | Path) -> list[Path]:
     Raises
     ------
     InputError
-        The study has no intensity section (no stripes).
+        The study has no intensity section (no stripes), or a file of a name to be written is
+        there and is not such a demand sample (or not a regular file, or the results file).
     """
     with open_results(results) as file:
         intensity = read_intensity(file)
@@ -180,7 +186,7 @@ def pelicun_demands(results: str | Path, folder: str | Path) -> list[Path]:
     if intensity is None:
         raise InputError(results, [("", "the study has no intensity section: no stripes")])
     folder = writable(folder, folder=True)
-    written = []
+    samples: dict[Path, str] = {}
     for bridge in dict.fromkeys(columns["bridge"]):
         mine = {name: values[columns["bridge"] == bridge] for name, values in columns.items()}
         mine["backfill"] = mine["dcr_backfill"] * capacities[bridge]
@@ -190,15 +196,26 @@ def pelicun_demands(results: str | Path, folder: str | Path) -> list[Path]:
             if set(mine["base_record"][rows]) != records:
                 continue  # an IDA level that not every record ran
             path = folder / f"{scaled_id(bridge, level, intensity.measure)}.csv"
-            _write_demands(path, {name: values[rows] for name, values in mine.items()},
-                           intensity, level)  # fmt: skip
-            written.append(path)
-    return written
+            samples[path] = _demands({name: values[rows] for name, values in mine.items()},
+                                     intensity, level)  # fmt: skip
+    for path, text in samples.items():  # every file checked before any is written
+
+        def ours(existing: Path, header: str = text.partition("\n")[0] + "\n") -> bool:
+            with open(existing, "rb") as stream:
+                return stream.readline(len(header.encode()) + 1) == header.encode()
+
+        checked_output(path, results, ours=ours, what="a pelicun demand sample of these columns")
+    for path, text in samples.items():
+        temporary = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+        try:
+            temporary.write_text(text, encoding="utf-8")
+            replace_atomically(temporary, path)
+        finally:
+            temporary.unlink(missing_ok=True)
+    return list(samples)
 
 
-def _write_demands(
-    path: Path, rows: dict[str, np.ndarray], intensity: IntensitySection, level: float
-) -> None:
+def _demands(rows: dict[str, np.ndarray], intensity: IntensitySection, level: float) -> str:
     """One pelicun demand sample: a header, a units row and one row per record."""
     header, units, values = [""], ["Units"], []
     for name, column, unit in PELICUN_DEMANDS:
@@ -218,7 +235,7 @@ def _write_demands(
     for index, row in enumerate(zip(*values, strict=True)):
         cells = [str(index)] + [_cell(value) for value in row]
         lines.append(",".join(cells))
-    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return "\n".join(lines) + "\n"
 
 
 def _cell(value) -> str:

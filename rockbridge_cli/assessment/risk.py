@@ -162,7 +162,12 @@ def risks(results: str | Path, curve: HazardCurve, years: float = YEARS) -> list
     InputError
         The study has no intensity section, or the curve is of another intensity measure than
         the fragilities.
+    TypeError
+        ``curve`` is not a `hazard.HazardCurve` (a file's path: `read_hazard_curve` it).
     """
+    if not isinstance(curve, HazardCurve):
+        raise TypeError(f"risks takes a HazardCurve (hazard.read_hazard_curve(path)), not "
+                        f"{type(curve).__name__}")  # fmt: skip
     found = fragilities(results)  # refuses a study without an intensity section
     with open_results(results) as file:
         intensity = read_intensity(file)
@@ -174,8 +179,9 @@ def risks_of(
     found: list[Fragility], intensity: IntensitySection, curve: HazardCurve, years: float = YEARS
 ) -> list[Risk]:
     """`risks` of fragilities already fitted, with the study's intensity section."""
-    if not years > 0.0:
-        raise InputError("years", [("", f"must be a positive number of years, not {years}")])
+    if not 0.0 < years < math.inf:  # inf made every probability 1 without a word
+        reason = f"must be a positive number of years (finite), not {years}"
+        raise InputError("years", [("", reason)])
     matched: dict[str, HazardCurve] = {}
     result = []
     for item in found:

@@ -31,7 +31,8 @@ def generate_records(config: Path, out: Path | None, with_plot: bool) -> None:
     """Generate artificial records matched to an EN 1998-1 spectrum, as CONFIG describes.
 
     Writes one text file per record and manifest.json, then prints the EN 1998-1 §3.2.3.1.2
-    compliance report.
+    compliance report; exits with status 1 where the set is NOT compliant (unless its seeds are
+    written as read, adjust: none).
     """
     from ..config.loading import load
     from ..config.records import RecordSetConfig
@@ -47,6 +48,13 @@ def generate_records(config: Path, out: Path | None, with_plot: bool) -> None:
         from ..plots.spectra import plot_record_spectra
 
         click.echo(f"Figure: {plot_record_spectra([folder], folder / 'spectra.png')}")
+    failed = [what for what, part in (("the records", report), ("their vertical components",
+                                                                 report.vertical))
+              if part is not None and not part.compliance.compliant]  # fmt: skip
+    if failed and settings.adjust != "none":  # written and usable; a batch job must tell
+        click.echo(f"error: {folder}: written, but {' and '.join(failed)} are NOT compliant "
+                   "with EN 1998-1 §3.2.3.1.2 (the report above says why)", err=True)  # fmt: skip
+        click.get_current_context().exit(1)
 
 
 def _record_figure(default: str):

@@ -72,10 +72,14 @@ def overturning(
     samples per period and rest too, and every option of a study, with rockbridge run).
     """
     from ..config.study import study_from_data
+    from ..cpus import excess_workers
+    from ..plots.common import check_format
     from ..plots.overturning import plot_overturning
     from ..study.run import run_study
     from .progress import ProgressDisplay
 
+    if workers is not None and (excess := excess_workers(workers)) is not None:
+        raise click.BadParameter(excess, param_hint="--workers")
     output = output or Path("results") / f"{bridge.stem}-{pulse}.h5"
     shape: dict = {"shape": pulse}
     shape.update((k, v) for k, v in (("phase", phase), ("cycles", cycles)) if v is not None)
@@ -86,6 +90,7 @@ def overturning(
         section["tolerance"] = tolerance
     if limit_states:
         section["limit_states"] = list(limit_states)
+    figure = check_format(figure or output.with_suffix(".png"))  # before the spectrum runs
     data = {
         "description": f"rockbridge spectrum overturning {bridge} --pulse {pulse}",
         "bridges": [str(bridge.resolve())],
@@ -102,7 +107,7 @@ def overturning(
     display.close()
     click.echo(f"results: {report.output} ({report.total} analyses, "
                f"{report.wall_time_s:.1f} s on {report.workers} worker(s))")  # fmt: skip
-    drawn = plot_overturning(report.output, figure or report.output.with_suffix(".png"))
+    drawn = plot_overturning(report.output, figure)
     click.echo(f"Figure: {drawn}")
 
 

@@ -4,6 +4,7 @@ peaks|sweep|history``."""
 from __future__ import annotations
 
 import dataclasses
+import json
 from contextlib import nullcontext
 from pathlib import Path
 
@@ -37,8 +38,8 @@ _DISPLAY = tuple(
     type=click.IntRange(min=1),
     default=None,
     help="Worker processes [default: the CPUs this process may use, after its affinity "
-    "(taskset, SLURM) and cgroup quota (docker --cpus, Kubernetes limits)]. The results do not "
-    "depend on it.",
+    "(taskset, SLURM) and cgroup quota (docker --cpus, Kubernetes limits)]; at most 4 per CPU, "
+    "and no more start than the study has analyses. The results do not depend on it.",
 )
 @click.option(
     "--fidelity",
@@ -123,7 +124,7 @@ def run(
     Analyses already in the results file are skipped, so an interrupted run resumes where it
     stopped.
     """
-    from ..cpus import usable_cpus
+    from ..cpus import excess_workers, usable_cpus
     from ..interrupts import exit_status, stopped_by
     from ..study.executors import LocalPool
     from ..study.journal import journal_path
@@ -133,10 +134,14 @@ def run(
     chosen = workers is not None
     part = _shard(shard, shard_count)
     count = workers or usable_cpus()
+    if scheduler is None and (excess := excess_workers(count)) is not None:
+        raise click.BadParameter(excess, param_hint="--workers")
+    resolved = _loaded(study, fidelity, output, tail, recheck, part)
+    count, asked = min(count, _analyses(resolved, part)), count  # once the study's size is known
     local = scheduler is None and count > 1
-    with LocalPool(count) if local else nullcontext() as pool:  # loading their kernels meanwhile
-        resolved = _loaded(study, fidelity, output, tail, recheck, part)
-        display = ProgressDisplay(heading=_heading(resolved, count, scheduler, chosen, part))
+    with LocalPool(count) if local else nullcontext() as pool:  # loading their kernels at once
+        heading = _heading(resolved, count, scheduler, chosen, part, asked)
+        display = ProgressDisplay(heading=heading)
         try:
             report = run_study(
                 resolved, count, resume, overwrite, progress=display,
@@ -232,14 +237,33 @@ def peaks(results: Path, csv_file: str | None, as_json: bool) -> None:
     click.echo(table_text([header for _, header, _ in shown], list(table)))
 
 
-def _heading(study, workers: int, scheduler: str | None, chosen: bool, part) -> str:
+def _analyses(study, part: tuple[int, int] | None) -> int:
+    """The most analyses a run of the study, or of its shard, can have (an IDA's: its curves
+    × their scan levels), which no more workers than that can share."""
+    from ..study.grid import Grid
+    from ..study.plan import plan_of
+
+    grid = Grid.of(study)
+    cells = grid.cells if part is None else grid.shard(*part)
+    plan = plan_of(study, grid, cells)
+    return max(len(cells) * (1 if plan.sized else plan.lattice.count), 1)  # type: ignore[union-attr]
+
+
+def _heading(
+    study, workers: int, scheduler: str | None, chosen: bool, part, asked: int | None = None
+) -> str:
     """The run's first line: where it runs (and which shard); for an IDA, that its total grows."""
     from ..study.shards import shard_label
 
+    capped = asked not in (None, workers)
     if scheduler is not None:
         heading = f"workers: the Dask cluster at {scheduler}"
     elif chosen:
-        heading = f"workers: {workers} (--workers)"
+        heading = f"workers: {workers} (--workers {asked}: as many as the study's analyses)"
+        heading = heading if capped else f"workers: {workers} (--workers)"
+    elif capped:
+        heading = (f"workers: {workers} (as many as the study's analyses, fewer than the {asked} "
+                   "CPUs this process may use)")  # fmt: skip
     else:
         heading = f"workers: {workers} (the CPUs this process may use; --workers to change)"
     if part is not None:
@@ -442,7 +466,13 @@ def plot_sweep(
 @figure_option("<results stem>-history-<record>.png beside RESULTS")
 def plot_history(results: Path, record: str, bridges: tuple[str, ...], output: Path | None) -> None:
     """Histories of u_deck, v_deck, θ_deck, θ1 and θ2 under one record (Figure 10)."""
+    from ..plots.history import left_out
     from ..plots.history import plot_history as draw
+    from ..results.reading import open_results
 
     default = results.with_name(f"{results.stem}-history-{record}.png")
     click.echo(f"Figure: {draw(results, record, output or default, bridges)}")
+    with open_results(results) as file:
+        absent = left_out(json.loads(file.attrs.get("histories", "[]")))
+    if absent:
+        click.echo(f"left out: {', '.join(absent)} (not kept by the study: output.histories)")

@@ -16,6 +16,7 @@ from pydantic import Field, PositiveFloat, ValidationInfo, field_validator, mode
 from ..core import geometry
 from ..core.bridge import Bridge
 from ..core.geometry import Model
+from ..errors import check_path_argument
 from ..kinds import expecting
 from . import loading
 from .loading import StrictModel
@@ -24,6 +25,13 @@ MAX_DASHPOT_RATE = 1e5
 """The largest backfill dashpot per deck mass, c / m_deck [1/s]: an explicit integrator's steps
 shrink as its inverse while the end gap is closed (about c / (3 m_deck) steps per second of
 contact: 1e15 N·s/m took minutes), and backfills have about 25 (48 MN·s/m on 2000 t)."""
+
+
+MAX_SLENDERNESS = 1e6
+"""Most a pier's height 2H may be over its width 2B [-]: built rocking piers lie between 1.5 and
+40 (a warning says so beyond); near 1e15 the slope tan α = B/H reaches the floating-point
+resolution and the geometry cannot be solved (``heights: [1e308, 13]`` ended in a raw
+ValueError)."""
 
 
 class Piers(StrictModel):
@@ -45,6 +53,11 @@ class Piers(StrictModel):
                 raise ValueError(
                     f"every height must exceed the width ({width} m), got {height} m: "
                     "a pier with B ≥ H does not rock on its corners in this model"
+                )
+            if width is not None and not height / width <= MAX_SLENDERNESS:
+                raise ValueError(
+                    f"a height of {height:g} m is more than {MAX_SLENDERNESS:g} times the width "
+                    f"({width:g} m): its angle α (tan α = B/H) is lost in floating point"
                 )
         return heights
 
@@ -222,6 +235,10 @@ def load_bridge(path: str | Path) -> BridgeConfig:
     InputError
         Naming the file, the field path, the value and the reason for every problem; or naming
         the kind of file it is, where it is another (`kinds`).
+    TypeError
+        ``path`` is not a path (a mapping: `BridgeConfig.model_validate` it).
     """
+    check_path_argument(path, "load_bridge", "a bridge YAML file (a mapping: "
+                        "BridgeConfig.model_validate)")  # fmt: skip
     with expecting(path, "bridge"):
         return loading.load(BridgeConfig, path)

@@ -58,6 +58,17 @@ TIME_STEP_S = (1e-4, 0.1)
 """Sample intervals of recorded and synthetic ground motions [s] (10 kHz to 10 Hz): outside, a
 time column in ms or in minutes?"""
 
+DECK_DEPTH_SHARE = 0.5
+"""Most a deck's depth 2h may be of its shortest pier's height 2H before it is implausible
+(the studied bridges: 1.7 m on 20.8 m) [-]."""
+
+RECORD_SAMPLES = 10
+"""Fewest samples of a plausible ground motion (a two-sample "record" ran silently) [-]."""
+
+VERTICAL_MEAN_G = 0.1
+"""Largest plausible mean of a vertical component: ground motion averages near zero; a constant
+near ±1 g is gravity written into the file [g]."""
+
 SCALE_FACTORS = (0.01, 100.0)
 """Factors an intensity level scales a record by, beyond which the level or the measure is
 probably wrong [-]."""
@@ -86,6 +97,11 @@ def bridge_warnings(config: BridgeConfig) -> list[str]:
         if abutments.ultimate_displacement > ULTIMATE_DISPLACEMENT_M:
             found.append(f"abutments.ultimate_displacement: {abutments.ultimate_displacement:g} m "
                          "is not a backfill's (about 0.1 m): mm typed as m?")  # fmt: skip
+    if config.deck is not None:
+        shortest = min(config.piers.heights)
+        if config.deck.depth > DECK_DEPTH_SHARE * shortest:
+            found.append(f"deck.depth: a {config.deck.depth:g} m deep deck on a {shortest:g} m "
+                         "pier is not a bridge's: cm typed as m?")  # fmt: skip
     return found + _outside_ranges(config)
 
 
@@ -121,6 +137,9 @@ def record_warnings(record: Record) -> list[str]:
         found.append(f"peak {pga:.3g} g, weaker than most records that make a bridge rock: if "
                      f"the file's numbers are in g, it peaks at {record.peak_acceleration:.3g} g "
                      "(say units: g, --units g)")  # fmt: skip
+    if record.acceleration.size < RECORD_SAMPLES:
+        found.append(f"only {record.acceleration.size} samples: a ground motion has thousands; "
+                     "is the file complete?")  # fmt: skip
     low, high = TIME_STEP_S
     analytic = "pulse_shape" in record.metadata  # its step is chosen for it, from its period
     if not analytic and not low <= record.time_step <= high:
@@ -129,6 +148,11 @@ def record_warnings(record: Record) -> list[str]:
     from ..records.vertical import peak_vertical  # numpy: loaded on use
 
     vertical = peak_vertical(record) / STANDARD_GRAVITY
+    if record.vertical is not None and record.vertical.size:
+        mean = float(record.vertical.mean()) / STANDARD_GRAVITY
+        if abs(mean) > VERTICAL_MEAN_G:
+            found.append(f"vertical component averages {mean:.3g} g: ground motion averages near "
+                         "zero; is gravity in the file?")  # fmt: skip
     if vertical > VERTICAL_PGA_G:
         found.append(f"vertical peak {vertical:.3g} g exceeds {VERTICAL_PGA_G:g} g: where "
                      "g + ü_v ≤ 0 the bridge would leave the ground (free flight), which the "

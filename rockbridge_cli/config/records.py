@@ -24,6 +24,7 @@ from pydantic import (
     model_validator,
 )
 
+from ..core.fidelity import MAX_GROUND_SAMPLES
 from ..core.quantities import STANDARD_GRAVITY
 from ..errors import InputError, did_you_mean
 from ..motions.pulses import SHAPES, Pulse
@@ -100,7 +101,9 @@ class PulseEntry(StrictModel):
     def _valid_pulse(self) -> PulseEntry:
         if (self.period is None) == (self.frequency is None):
             raise ValueError("give exactly one of period [s] and frequency [Hz]")
-        self.pulse()  # its own checks: a phase or cycles the shape does not have
+        pulse = self.pulse()  # its own checks: a phase or cycles the shape does not have
+        step = self.time_step or pulse.time_step(PULSE_SAMPLES)
+        pulse.check_samples(step, self.rest, MAX_GROUND_SAMPLES)
         return self
 
     def pulse(self) -> Pulse:
@@ -133,7 +136,9 @@ class FemaSet(StrictModel):
         ["a", "b"], min_length=1, max_length=2, description="Horizontal components to use"
     )
     normalize: bool = Field(
-        False, description="Multiply each record by FEMA P695's normalisation factor (§A.8)"
+        False,
+        strict=True,  # "yes" or 1 read as true silently
+        description="Multiply each record by FEMA P695's normalisation factor (§A.8)",
     )
     records: list[PositiveInt] | None = Field(
         None, min_length=1, description="FEMA P695 record ids to keep; default all of the set"
@@ -413,6 +418,12 @@ class RecordSetConfig(StrictModel):
         assert self.duration is not None and self.time_step is not None
         assert self.envelope is not None
         steps = self.duration / self.time_step
+        if not steps + 1 <= MAX_GROUND_SAMPLES:  # refused before a sample is drawn
+            raise ValueError(
+                f"a record of {self.duration:g} s at {self.time_step:g} s would hold "
+                f"{steps + 1:.3g} samples, more than an analysis reads ({MAX_GROUND_SAMPLES:.3g}):"
+                " give a longer time step or a shorter duration"
+            )
         if abs(steps - round(steps)) > 1e-6 * steps:
             raise ValueError(
                 f"duration {self.duration:g} s is not a whole number of time steps "

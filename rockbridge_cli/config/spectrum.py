@@ -34,7 +34,7 @@ from ..core.quantities import LIMIT_STATES, check_limit_state
 from ..motions.pulses import SHAPES, Pulse
 from ..records.files import Record
 from ..records.pulses import pulse_record
-from .intensity import MAX_BISECTIONS
+from .intensity import MAX_BISECTIONS, MAX_SCAN_LEVELS
 from .loading import StrictModel
 from .sweep import Range
 
@@ -100,6 +100,8 @@ class Spectrum(StrictModel):
     def _linear_and_positive(cls, amplitudes: Range) -> Range:
         if amplitudes.spacing != "linear" or not 0.0 < amplitudes.start < amplitudes.stop:
             raise ValueError("amplitudes must be linear, from a positive start up to stop")
+        if amplitudes.count > MAX_SCAN_LEVELS:  # the scan levels of each frequency's IDA
+            raise ValueError(f"at most {MAX_SCAN_LEVELS} amplitudes, not {amplitudes.count}")
         return amplitudes
 
     @field_validator("frequencies")
@@ -107,6 +109,8 @@ class Spectrum(StrictModel):
     def _positive(cls, frequencies: Range) -> Range:
         if min(frequencies.start, frequencies.stop) <= 0.0:
             raise ValueError("frequency ratios must be positive")
+        if not frequencies.start < frequencies.stop:  # 10:1:40 ran, its axis reversed
+            raise ValueError("frequency ratios must rise, from start up to stop")
         return frequencies
 
     @model_validator(mode="after")

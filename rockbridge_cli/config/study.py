@@ -12,7 +12,6 @@ the run records it as the status of that record's analyses.
 
 from __future__ import annotations
 
-import collections
 import dataclasses
 import hashlib
 import json
@@ -34,7 +33,7 @@ from pydantic import (
 
 from ..core.fidelity import PRESETS, Fidelity, check_work, resolve
 from ..core.quantities import HISTORY_UNITS
-from ..errors import InputError
+from ..errors import InputError, check_path_argument
 from ..kinds import expecting
 from ..results.sections import IntensitySection
 from . import loading
@@ -44,13 +43,10 @@ from .loading import ID_PATTERN, ConfigFolder, StrictModel
 from .plausibility import bridge_warnings, record_warnings, scale_warning
 from .records import Records
 from .spectrum import Spectrum
+from .study_checks import check_ids, check_map, check_size, check_states
 from .study_records import StudyRecord, resolve_records, scalable, scaled, study_record
 from .sweep import Sweep, field_value, variant_id, varied
 from .uncertainty import Uncertainty, record_pairs, sampled_configs
-
-MAX_ANALYSES = 1_000_000
-"""Most analyses in a study (bridges × records × levels): its grid and journal stay within a few
-hundred MB; a larger one is several studies, or shards (`study.shards`)."""
 
 
 def _path_or_mapping(value: Any) -> Any:
@@ -332,7 +328,10 @@ def load_study(
         or a path in it lies outside the folders it may reach (`loading.ConfigFolder`: its own
         folder's tree, the working folder's, those in ``ROCKBRIDGE_PATHS``); the message names
         the file and the dotted field path.
+    TypeError
+        ``path`` is not a path.
     """
+    check_path_argument(path, "load_study", "a study YAML file")
     path = Path(path)
     with expecting(path, "study"):
         data = loading.read_yaml(path)
@@ -412,7 +411,12 @@ def _study(
     intensity = None if config.intensity is None else _intensity_section(config.intensity)
     spectrum = None
     if config.spectrum is not None:
-        records, intensity, spectrum = _spectrum(config.spectrum, bridges[0].config)
+        check_map(len(bridges), config.spectrum, path)
+        check_states(bridges, config.spectrum.limit_states, "spectrum.limit_states", path)
+        try:
+            records, intensity, spectrum = _spectrum(config.spectrum, bridges[0].config)
+        except ValueError as exc:  # a pulse too finely sampled
+            raise InputError(path, [("spectrum.frequencies", str(exc))]) from None
     else:
         assert config.records is not None
         records = resolve_records(config.records, path)
@@ -422,7 +426,11 @@ def _study(
         overrides["output_step"] = config.output.output_step
     settled = _settled(config.fidelity.preset, overrides, records, path)
     one_each = config.uncertainty is not None and config.uncertainty.pairing == "one"
-    _check_size(len(bridges), len(records), one_each, config.intensity, path)
+    check_size(len(bridges), len(records), one_each, config.intensity, path)
+    ida = config.intensity.ida if config.intensity is not None else None
+    if ida is not None and "limit_states" in ida.model_fields_set:  # the default: all there are
+        where = "intensity.ida.limit_states"
+        check_states(bridges, ida.limit_states, where, path)
     if config.intensity is not None:
         records = [scalable(item, config.intensity) for item in records]
     if config.intensity is not None and config.intensity.levels is not None:
@@ -431,8 +439,8 @@ def _study(
     pairs = None
     if config.uncertainty is not None and one_each:
         pairs = record_pairs(len(bridges), [r.base or r.id for r in records], config.uncertainty)
-    problems = _check_ids("bridges", [b.id for b in bridges])
-    problems += _check_ids("records", [r.id for r in records])
+    problems = check_ids("bridges", [b.id for b in bridges])
+    problems += check_ids("records", [r.id for r in records])
     problems += [("records", "holds no records to analyze")] if not records else []
     if problems:
         raise InputError(path, problems)
@@ -470,7 +478,7 @@ def _spectrum(
     """A spectrum's records (its pulse at each frequency), the IDA it runs as, and what the
     results keep of it (`config.spectrum`)."""
     model = bridge.to_bridge().model
-    records = spectrum.records(model)
+    records = spectrum.records(model)  # each refused before it is sampled (`Pulse.check_samples`)
     studied = [study_record(record, record.source, record.name) for record in records]
     return studied, spectrum.ida(model), spectrum.described(model, records)
 
@@ -481,19 +489,6 @@ def _intensity_section(intensity: Intensity) -> dict[str, Any]:
     unused = {"ida"} if intensity.ida is None else set()
     unused |= {key for key in ("period_range", "design") if getattr(intensity, key) is None}
     return intensity.model_dump(exclude=unused)
-
-
-def _check_size(
-    bridges: int, records: int, one_each: bool, intensity: Intensity | None, study: Path
-) -> None:
-    """Refuse a study of more than `MAX_ANALYSES` analyses (``one_each``: each bridge meets one
-    record)."""
-    levels = len(intensity.levels or ()) if intensity is not None else 0
-    if (bridges if one_each else bridges * records) * max(levels, 1) > MAX_ANALYSES:
-        count = f"{bridges} bridges × {'one record' if one_each else f'{records} records'}"
-        count += f" × {levels} levels" * bool(levels)
-        reason = f"{count} are more than {MAX_ANALYSES:,} analyses: split the study"
-        raise InputError(study, [("", reason)])
 
 
 def _settled(
@@ -599,14 +594,3 @@ def _resolve_bridges(
     if problems:
         raise InputError(study, problems)
     return bridges
-
-
-def _check_ids(field: str, ids: list[str]) -> list[tuple[str, str]]:
-    """Ids (given or taken from file names) must be unique and fit `ID_PATTERN`."""
-    problems = [
-        (f"{field}.{index}", f"id {i!r} must be letters, digits and _ . + - (no spaces or slashes)")
-        for index, i in enumerate(ids)
-        if not re.match(ID_PATTERN, i)
-    ]
-    twice = sorted(i for i, count in collections.Counter(ids).items() if count > 1)
-    return problems + [(field, f"id {i!r} is used twice: ids must be unique") for i in twice]

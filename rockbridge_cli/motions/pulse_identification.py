@@ -157,6 +157,10 @@ def identify_pulse(acceleration: np.ndarray, time_step: float) -> PulseIdentific
     a = np.atleast_2d(np.asarray(acceleration, dtype=float))
     if a.ndim != 2 or a.shape[0] not in (1, 2) or a.shape[1] < 2:
         raise ValueError("give one component, shape (n,), or two, shape (2, n)")
+    if not np.isfinite(a).all():  # NaN came back as "no pulse"
+        raise ValueError("the accelerations must be finite numbers (a NaN or an infinity)")
+    if not (math.isfinite(time_step) and time_step > 0.0):
+        raise ValueError(f"the time step must be a positive number of seconds, not {time_step}")
     velocities = np.array([integrate_motion(row, time_step)[0] for row in a])
     unit = float(np.max(np.abs(velocities)))  # the search runs on velocities of peak 1
     duration = (a.shape[1] - 1) * time_step  # no pulse longer than the record is looked for

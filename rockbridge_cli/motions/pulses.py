@@ -85,8 +85,8 @@ class Pulse:
     ------
     ValueError
         An unknown shape, a non-positive amplitude or period, a phase or a number of cycles the
-        shape does not have, or a number of cycles it cannot take (n a whole number ≥ 1 for type
-        C_n, γ > 1 for Mavroeidis & Papageorgiou).
+        shape does not have, a phase beyond ±2π, or a number of cycles it cannot take (n a
+        whole number ≥ 1 for type C_n, γ > 1 for Mavroeidis & Papageorgiou).
     """
 
     shape: str
@@ -104,8 +104,8 @@ class Pulse:
             raise ValueError(f"the period must be positive, got {self.period!r}")
         if self.phase and self.shape not in HAS_PHASE:
             raise ValueError(f"a {self.shape} pulse has no free phase")
-        if not math.isfinite(self.phase):
-            raise ValueError(f"the phase must be finite, got {self.phase!r}")
+        if not abs(self.phase) <= 2.0 * math.pi:  # 1e300 ran, its sine all round-off
+            raise ValueError(f"the phase must be within ±2π rad (a turn), got {self.phase!r}")
         if self.cycles is None:
             object.__setattr__(self, "cycles", DEFAULT_CYCLES.get(self.shape))
         elif self.shape not in DEFAULT_CYCLES:
@@ -146,6 +146,25 @@ class Pulse:
         type B, type C_n) is represented to second order in the step, not first [s]."""
         steps = max(1, round(self.duration * per_period / self.period - 0.5))
         return self.duration / (steps + 0.5)
+
+    def check_samples(self, time_step: float, rest: float, most: float) -> None:
+        """Refuse, before any is computed, a sampling of more than ``most`` samples (the work
+        limit of an analysis, `core.fidelity.MAX_GROUND_SAMPLES`): a period of 1e-9 s, 1e9
+        cycles or a time step of 1e-9 s would otherwise take the memory first.
+
+        Raises
+        ------
+        ValueError
+            How many samples it would need, and what to change.
+        """
+        samples = (self.duration + rest) / time_step + 1.0
+        if not samples <= most:
+            raise ValueError(
+                f"the pulse would need {samples:.3g} samples ({self.duration:.6g} s of pulse and "
+                f"{rest:.6g} s of rest at a {time_step:.3g} s time step), more than "
+                f"{most:.3g}: give a longer period or time step, fewer cycles or "
+                "less rest"
+            )
 
     def sampled(self, time_step: float, rest: float = 0.0) -> np.ndarray:
         """The pulse at t = 0, Δt, 2Δt, … up to its `duration`, followed by ``rest`` seconds of

@@ -4,13 +4,14 @@ record, with the ground motion and the events that shape them.
 (A) the ground acceleration, with each bridge's onset of rocking marked on it; then u_deck with
 the end-joint gap ±u_jo (dotted) and each pounding marked, v_deck, θ_deck, θ1 (tall pier) and θ2
 (short pier); one line style per bridge, and a dashed line where an analysis ends in failure.
-A panel that no drawn model has (a single block has no deck and no short pier) is left out.
+A panel that no drawn model has (a single block has no deck and no short pier) is left out, and
+so is one whose history the study did not keep (``output.histories``): the title says which.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -51,7 +52,7 @@ def plot_history(
     Raises
     ------
     InputError
-        An unknown bridge or record, or an analysis without the histories the figure needs.
+        An unknown bridge or record, or an analysis without any of the histories drawn.
     """
     output = check_format(output)
     with open_results(results) as file:
@@ -65,12 +66,15 @@ def plot_history(
         events = {b: event_arrays(file, results, b, record) for b in chosen}
         time_step, ground = ground_motion(file, results, chosen[0], record)
     for bridge, arrays in histories.items():
-        missing = [name for name, _, _ in PANELS if name not in arrays]
-        if missing:
-            raise InputError(
-                results, [(f"analyses/{bridge}/{record}", f"no {', '.join(missing)} history")]
-            )
-    panels = [p for p in PANELS if any(np.isfinite(h[p[0]]).any() for h in histories.values())]
+        if not any(name in arrays for name, _, _ in PANELS):
+            names = ", ".join(name for name, _, _ in PANELS)
+            reason = f"none of the histories drawn ({names}) was kept (output.histories)"
+            raise InputError(results, [(f"analyses/{bridge}/{record}", reason)])
+    panels = [
+        p for p in PANELS
+        if any(p[0] in h and np.isfinite(h[p[0]]).any() for h in histories.values())
+    ]  # fmt: skip
+    absent = left_out(set.intersection(*(set(h) for h in histories.values())))
     figure = Figure(figsize=(8.0, 1.2 + 1.95 * (len(panels) + 1)), layout="constrained")
     axes_list = figure.subplots(len(panels) + 1, 1, sharex=True, squeeze=False)[:, 0]
     letters = iter("ABCDEFG")
@@ -82,6 +86,8 @@ def plot_history(
     limits = sorted({table[b]["model_u_jo"] + table[b]["model_u_ab"] for b in chosen} - {math.inf})
     for (name, scale, label), axes in zip(panels, axes_list[1:], strict=True):
         for index, (bridge, arrays) in enumerate(histories.items()):
+            if name not in arrays:
+                continue
             look = {k: v for k, v in style(index).items() if "marker" not in k}
             axes.plot(arrays["time"], arrays[name] * scale, linewidth=1.0, label=labels[bridge],
                       **look)  # fmt: skip
@@ -108,9 +114,15 @@ def plot_history(
                   loc="outside upper center", ncols=2, frameon=False)  # fmt: skip
     for axes in axes_list:  # times under every panel, not under the last only
         axes.tick_params(labelbottom=True)
-    axes_list[0].set_title(f"record {record}")
+    axes_list[0].set_title(f"record {record}" + (f"; not kept: {', '.join(absent)}" * bool(absent)))
     axes_list[-1].set_xlabel("time t [s]")
     return save(figure, output)
+
+
+def left_out(kept: Collection[str]) -> list[str]:
+    """The responses of the figure (`PANELS`) whose histories are not among ``kept`` (a results
+    file's ``histories`` attribute, or the histories of an analysis), as tables name them."""
+    return [SHOWN[name].text for name, _, _ in PANELS if name not in kept]
 
 
 def _ground_panel(axes, time_step: float, ground: np.ndarray, events: dict) -> None:

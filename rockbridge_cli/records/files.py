@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 
 from ..core.quantities import STANDARD_GRAVITY
-from ..errors import InputError
+from ..errors import InputError, check_path_argument
 from ..paths import read_input_text
 
 #: Accepted spellings of the two units, mapped to their canonical names.
@@ -160,7 +160,7 @@ def read_record(
         The file is missing, unreadable or malformed, or its units or time step are unknown or
         contradict the arguments; the message names the line.
     TypeError
-        ``units`` is not a name, or ``time_step`` not a number.
+        ``path`` is not a path, ``units`` is not a name, or ``time_step`` not a number.
     """
     if units is not None and not isinstance(units, str):
         raise TypeError(f"units is a name (g, m/s2 or cm/s2), not {units!r}")
@@ -168,6 +168,7 @@ def read_record(
         isinstance(time_step, bool) or not isinstance(time_step, numbers.Real)
     ):
         raise TypeError(f"time_step is a number of seconds, not {time_step!r}")
+    check_path_argument(path, "read_record", "a record file")
     path = Path(path)
     lines = _read_lines(path)
     if path.suffix.lower() == ".at2":

@@ -3,6 +3,7 @@ parameters, with its shape and parameters as provenance (`files.PROVENANCE`)."""
 
 from __future__ import annotations
 
+from ..core.fidelity import MAX_GROUND_SAMPLES
 from ..core.quantities import STANDARD_GRAVITY
 from ..motions.pulses import DEFAULT_CYCLES, Pulse
 from .files import Record
@@ -38,7 +39,13 @@ def pulse_record(
         Time at rest after the pulse [s] (the free vibration that decides many overturnings).
     name
         The record's name; default `pulse_id`.
+
+    Raises
+    ------
+    ValueError
+        It would need more samples than an analysis reads (`Pulse.check_samples`).
     """
+    pulse.check_samples(time_step, rest, MAX_GROUND_SAMPLES)  # before a sample is drawn
     metadata = {
         "pulse_shape": pulse.shape, "pulse_amplitude": pulse.amplitude,
         "pulse_period_s": pulse.period, "pulse_phase": pulse.phase, "pulse_rest": rest,

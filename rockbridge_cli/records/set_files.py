@@ -25,12 +25,17 @@ def read_manifest(folder: str | Path) -> dict[str, Any]:
     Raises
     ------
     InputError
-        The manifest is missing, not a regular file of at most `MAX_MANIFEST_BYTES`, not JSON,
-        or lacks its list of records.
+        The manifest is missing, a link out of the folder, not a regular file of at most
+        `MAX_MANIFEST_BYTES`, not JSON, or lacks its list of records.
     """
     path = Path(folder) / MANIFEST
     if not path.exists():
         reason = "file not found: is this a folder written by generate-records?"
+        raise InputError(path, [("", reason)])
+    if path.resolve().parent != Path(folder).resolve():  # as for its record files
+        reason = (
+            f"is a link out of the set's folder (to {path.resolve()}): a set's manifest is its own"
+        )
         raise InputError(path, [("", reason)])
     text = read_input_text(path, MAX_MANIFEST_BYTES, "a record set's manifest")
     try:
@@ -44,6 +49,8 @@ def read_manifest(folder: str | Path) -> dict[str, Any]:
     for index, entry in enumerate(manifest["records"]):
         if not isinstance(entry, dict) or not isinstance(entry.get("file"), str):
             raise InputError(path, [(f"records[{index}].file", "missing or not a file name")])
+        if "\0" in entry["file"]:  # no file name holds one (the OS refuses it, raw)
+            raise InputError(path, [(f"records[{index}].file", "holds a NUL character")])
     return manifest
 
 

@@ -252,8 +252,19 @@ def _figures(
         parts.append(_section(f"Response histories under {chosen} (as the paper's Fig. 10)",
                               figure(plot_history, results, chosen, bridges=under),
                               "Ground motion with each bridge's onset of rocking, then the "
-                              "responses; × marks a pounding on the backwall."))  # fmt: skip
+                              "responses; × marks a pounding on the backwall."
+                              + _left_out(results)))  # fmt: skip
     return parts
+
+
+def _left_out(results: Path) -> str:
+    """What Fig. 10 leaves out of its responses because the study did not keep their
+    histories, as a sentence for its caption (empty where it leaves nothing out)."""
+    from ..plots.history import left_out
+
+    with open_results(results) as file:
+        absent = left_out(json.loads(file.attrs.get("histories", "[]")))
+    return f" Not kept by the study (output.histories): {', '.join(absent)}." if absent else ""
 
 
 def _sweep_section(

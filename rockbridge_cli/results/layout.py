@@ -150,6 +150,25 @@ COUNT_COLUMNS = (
     "rechecked",
 )
 
+TEXT_DIGEST = "text_sha256"
+"""The attribute of ``/peaks`` that holds, per text column (which HDF5's checksum filters cannot
+take), the SHA-256 of its values, each followed by a NUL (`text_digests`); files before it have
+none."""
+
+
+def text_digests(columns: Any) -> dict[str, Any]:
+    """A running SHA-256 per text column of the peak table: ``update(name, values)`` as rows are
+    appended; ``hexdigest()`` of each once they all are."""
+    import hashlib
+
+    return {name: hashlib.sha256() for name in TEXT_COLUMNS if name in columns}
+
+
+def digest_update(digest: Any, values: Sequence[str]) -> None:
+    """Feed text values to a column's running digest (`text_digests`)."""
+    digest.update("".join(f"{value}\0" for value in values).encode("utf-8", "surrogatepass"))
+
+
 COMPRESSION: dict[str, Any] = {
     "compression": "gzip", "compression_opts": 4, "shuffle": True, "fletcher32": True,
 }  # fmt: skip

@@ -19,7 +19,16 @@ import numpy as np
 from ..core.quantities import HISTORY_UNITS
 from ..errors import InputError, did_you_mean, nearest
 from ..paths import journal_path
-from .layout import COUNT_COLUMNS, EVENT_COLUMNS, FORMAT, FORMAT_VERSION, READABLE_VERSIONS
+from .layout import (
+    COUNT_COLUMNS,
+    EVENT_COLUMNS,
+    FORMAT,
+    FORMAT_VERSION,
+    READABLE_VERSIONS,
+    TEXT_DIGEST,
+    digest_update,
+    text_digests,
+)
 from .packing import AnalysisResult
 from .sections import IntensitySection, SpectrumSection
 
@@ -38,6 +47,9 @@ def open_results(path: str | Path) -> Iterator[h5py.File]:
         needs is missing or cannot be read.
     """
     path = Path(path)
+    if path.exists() and not path.is_file():  # a folder, a FIFO (opening one waits), a device
+        kind = "a folder" if path.is_dir() else "not a regular file (a device or a pipe?)"
+        raise InputError(path, [("", f"is {kind}, not a results file")])
     if not path.is_file():
         if journal_path(path).is_file():  # a run stopped before it wrote the file
             reason = (f"file not found, but the journal of a run that was stopped before writing "
@@ -82,14 +94,60 @@ def incompleteness(attributes: Mapping[str, Any]) -> str | None:
     return f"incomplete: the IDA stopped after {done} analyses, before every curve ended"
 
 
+OWN_HEAD = 65536
+"""Bytes at the start of a results file that hold its root's ``format`` attribute (written
+first, in the root's object header, at about 2 KiB) [bytes]."""
+
+
 def is_results_file(path: str | Path) -> bool:
     """Whether a file is a rockbridge results file, of any format version (its root's ``format``
-    attribute): what ``run --overwrite`` and ``merge --overwrite`` may replace."""
+    attribute), or one damaged (cut short, say) that still starts with HDF5's signature and holds
+    that attribute in its first `OWN_HEAD` bytes: what ``run --overwrite`` and ``merge
+    --overwrite`` may replace."""
     try:
         with h5py.File(path, "r") as file:
             return file.attrs.get("format") == FORMAT
     except OSError:  # not HDF5, or damaged beyond its root
+        pass
+    try:
+        with open(path, "rb") as stream:
+            head = stream.read(OWN_HEAD)
+    except OSError:
         return False
+    return head.startswith(b"\x89HDF\r\n\x1a\n") and FORMAT.encode() in head
+
+
+def verify(file: h5py.File) -> None:
+    """Read every dataset of an open results file, so that HDF5 verifies the checksum of each
+    (Fletcher-32: every numeric dataset, the peaks, events, histories and records' samples), and
+    compare the text columns of ``/peaks`` with their stored SHA-256 (`layout.TEXT_DIGEST`,
+    where the file has it). What `study.run` does before it calls the analyses of a file done.
+
+    Raises
+    ------
+    OSError
+        A dataset fails its checksum or cannot be read, or a text column differs from its
+        digest (`open_results` names the file: damaged).
+    """
+
+    def read(name: str, node: Any) -> None:
+        if isinstance(node, h5py.Dataset) and node.shape and node.size:  # (no chunk in 0 rows)
+            try:
+                for chunk in node.iter_chunks() if node.chunks else (Ellipsis,):
+                    node[chunk]  # HDF5 checks each chunk's checksum as it reads it
+            except (ValueError, RuntimeError) as exc:  # h5py's words for a damaged structure
+                raise OSError(f"/{name}: {exc}") from None
+
+    file.visititems(read)
+    stored = json.loads(file["peaks"].attrs.get(TEXT_DIGEST, "{}"))
+    digests = text_digests(stored)
+    for name, digest in digests.items():
+        try:
+            digest_update(digest, file["peaks"][name].asstr()[()].tolist())
+        except UnicodeDecodeError:
+            raise OSError(f"/peaks/{name} is not UTF-8 text") from None
+        if digest.hexdigest() != stored[name]:
+            raise OSError(f"/peaks/{name} differs from its SHA-256 ({TEXT_DIGEST})")
 
 
 def peak_columns(file: h5py.File) -> dict[str, np.ndarray]:

@@ -29,6 +29,9 @@ from .layout import (
     HISTORY_TEXT,
     PEAK_COLUMNS,
     TEXT_COLUMNS,
+    TEXT_DIGEST,
+    digest_update,
+    text_digests,
 )
 from .packing import EVENT_RECORD, NUMBERS, TEXTS, Chunk, Packed
 
@@ -91,6 +94,7 @@ class ResultsWriter:
         self._events = bytearray()  # `EVENT_RECORD` rows
         self._templates = h5py.File(f"templates-{id(self)}", "w", driver="core",
                                     backing_store=False)  # fmt: skip
+        self._digests = text_digests(PEAK_COLUMNS)  # text has no HDF5 checksum: its SHA-256
 
     def add(self, analyses: Iterable[Packed], written: Callable[[int], None] | None = None) -> None:
         """Append analyses, in the study's order: their rows of /peaks, their events, their
@@ -121,6 +125,8 @@ class ResultsWriter:
         self._templates.close()
         self._flush_peaks()
         self._flush_events()
+        digests = {name: digest.hexdigest() for name, digest in self._digests.items()}
+        self.peaks.attrs[TEXT_DIGEST] = json.dumps(digests)
         self.file.attrs.update(
             {"finished": finished, "complete": self.added == self.total,
              "n_analyses": self.total, "n_complete": self.added}
@@ -136,6 +142,7 @@ class ResultsWriter:
         columns.update((name, texts[k :: len(TEXTS)]) for k, name in enumerate(TEXTS))
         for name, values in columns.items():
             _append(self.peaks[name], values)
+            digest_update(self._digests[name], values)
         self.statuses.update(columns["status"])
         self.failures += sum(mode not in ("", NO_FAILURE) for mode in columns["failure_mode"])
         for buffered in (self._bridges, self._records, self._texts, self._numbers):

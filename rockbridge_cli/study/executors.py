@@ -25,6 +25,7 @@ import multiprocessing
 import os
 import signal
 import sys
+import time
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, CancelledError, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
@@ -99,6 +100,11 @@ class Pace:
         guided = math.ceil(cells / (workers * BATCHES_PER_WORKER))
         return max(1, min(MAX_BATCH, timed, guided))
 
+
+STALL_S = 300.0
+"""How long a run on local workers waits with no batch finishing before it says so, naming the
+workers that are stopped (SIGSTOP, a debugger: the run would otherwise wait for them without a
+word, its progress line saying "about 1 s left") [s]."""
 
 RESENDS = 8
 """Times a run sends batches again after a worker died before it gives up: a local pool is
@@ -288,6 +294,7 @@ class _LocalWorkers:
         batches = _batches(cells, self.count, self.pace)
         again: list[list[Cell]] = []  # the batches a dead worker took down with the pool
         in_flight: dict[Future, list[Cell]] = {}
+        progressed, stalled = time.monotonic(), False
         try:
             while True:
                 while len(in_flight) < 2 * self.count and (ready := _next(again, batches)):
@@ -297,6 +304,12 @@ class _LocalWorkers:
                 done, _ = wait(in_flight, timeout=LISTEN_S, return_when=FIRST_COMPLETED)
                 if (said := self.pool.listen()) and self.notice is not None:
                     self.notice(said)
+                if done:
+                    progressed, stalled = time.monotonic(), False
+                elif not stalled and time.monotonic() - progressed > STALL_S:
+                    stalled = True  # said once a stall
+                    if self.notice is not None:
+                        self.notice(_stall(self.pool, time.monotonic() - progressed))
                 for future in done:
                     sent = in_flight.pop(future)
                     if isinstance(future.exception(), BrokenProcessPool):
@@ -336,6 +349,28 @@ class _LocalWorkers:
         assert self.pool is not None
         self.pool.close()
         self.pool = self._start(self.count)
+
+
+def _stall(pool: LocalPool, waited: float) -> str:
+    """What a run says when no batch has finished for `STALL_S`: which of its workers are
+    stopped (their state ``T`` in ``/proc``, where there is one), and what to do."""
+    processes = getattr(pool.executor, "_processes", None) or {}
+    stopped = [pid for pid in sorted(processes) if _process_state(pid) in ("T", "t")]
+    head = f"no analysis has finished for {waited:.0f} s"
+    if stopped:
+        pids = " ".join(map(str, stopped))
+        return (f"{head}: worker process(es) {pids} stopped (SIGSTOP, a debugger?); kill -CONT "
+                f"{pids} resumes them, Ctrl-C saves the analyses finished")  # fmt: skip
+    return f"{head}: the analyses running are long, or stuck; Ctrl-C saves those finished"
+
+
+def _process_state(pid: int) -> str:
+    """A process's state letter from ``/proc/<pid>/stat`` (``T`` stopped), empty if unknown."""
+    try:
+        with open(f"/proc/{pid}/stat", encoding="ascii", errors="replace") as stat:
+            return stat.read().rpartition(")")[2].split()[0]
+    except (OSError, IndexError):
+        return ""
 
 
 def _in_this_process(
@@ -454,8 +489,12 @@ def dask_workers(
         raise InputError(scheduler, [("", reason)]) from None
     try:
         client = Client(scheduler, timeout="10s")
-    except (OSError, TimeoutError, ValueError, TypeError) as exc:  # unreachable, or no address
-        raise InputError(scheduler, [("", f"cannot reach the Dask scheduler ({exc})")]) from None
+    except (ValueError, TypeError):  # not an address (Dask's words are its parser's)
+        reason = "cannot reach the Dask scheduler: not an address like tcp://host:8786"
+        raise InputError(scheduler, [("", reason)]) from None
+    except (OSError, TimeoutError):  # unreachable
+        reason = "cannot reach the Dask scheduler: nothing answered there within 10 s"
+        raise InputError(scheduler, [("", reason)]) from None
     shared = None
     resends = 0
     pace = Pace()

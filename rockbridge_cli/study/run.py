@@ -12,6 +12,7 @@ write an output (a lock), and the workers end with the parent however it ends.
 from __future__ import annotations
 
 import dataclasses
+import errno
 import heapq
 import json
 import math
@@ -31,7 +32,7 @@ from ..assessment.limit_states import Verdict, stored_verdicts
 from ..config.changes import what_differs
 from ..core.quantities import NO_FAILURE
 from ..core.summary import summarize_all
-from ..cpus import usable_cpus
+from ..cpus import excess_workers, usable_cpus
 from ..errors import InputError
 from ..interrupts import stoppable
 from ..paths import checked_output, replace_atomically
@@ -42,6 +43,7 @@ from ..results.reading import (
     peak_columns,
     stored_results,
     stored_shard_of,
+    verify,
 )
 from ..results.writing import ResultsWriter, write_description
 from .describe import Motions, Numerics, describe, motions_of, numerics
@@ -124,7 +126,8 @@ def run_study(
         The resolved study (`config.study.load_study`); its ``output`` is the results file.
     workers
         Worker processes; default: the CPUs this process may use (`cpus.usable_cpus`: its
-        affinity and cgroup quota). 1 runs in this process. The results do not depend on it.
+        affinity and cgroup quota), at most `cpus.WORKERS_PER_CPU` per CPU. 1 runs in this
+        process. The results do not depend on it.
     resume
         Skip the analyses already complete in the results file or its journal (those that could
         not run, status ``error``, are tried again). False recomputes everything.
@@ -155,13 +158,17 @@ def run_study(
         holds results of another study (without ``overwrite``).
     TypeError, ValueError
         ``study`` is not a `config.study.Study` (a path: `load_study` it), or ``workers`` or
-        ``shard`` is not a count, or not a shard.
+        ``shard`` is not a count, or not a shard, or ``workers`` are more than the CPUs can
+        share (`cpus.excess_workers`).
     KeyboardInterrupt
         Once the analyses finished are written (`interrupts.Terminated`: SIGTERM, SIGHUP).
     """
-    _check_arguments(study, workers, shard)
+    _check_arguments(study, workers, shard, local=scheduler is None)
     started, created = time.perf_counter(), _timestamp()
     workers = workers or usable_cpus()
+    if study.output.name.endswith((".journal.db", ".journal.db-wal", ".journal.db-shm")):
+        reason = "is named as a results file's journal (SQLite): choose another output"
+        raise InputError(study.output, [("", reason)])
     output = checked_output(study.output, ours=is_results_file, what="a rockbridge results file")
     grid = Grid.of(study)
     plan = plan_of(study, grid, grid.cells if shard is None else grid.shard(*shard))
@@ -278,8 +285,11 @@ class _Rounds:
         self.ended = True
 
 
-def _check_arguments(study: Study, workers: int | None, shard: tuple[int, int] | None) -> None:
-    """Raise TypeError or ValueError for arguments `run_study` cannot take."""
+def _check_arguments(
+    study: Study, workers: int | None, shard: tuple[int, int] | None, local: bool = True
+) -> None:
+    """Raise TypeError or ValueError for arguments `run_study` cannot take (``local``: the
+    workers are this machine's, bounded by its CPUs)."""
     from ..config.study import Study
 
     if not isinstance(study, Study):
@@ -288,6 +298,8 @@ def _check_arguments(study: Study, workers: int | None, shard: tuple[int, int] |
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)
                                 or workers < 1):  # fmt: skip
         raise ValueError(f"workers is a count of processes, at least 1, not {workers!r}")
+    if local and workers is not None and (excess := excess_workers(workers)) is not None:
+        raise ValueError(excess)
     if shard is not None and not (
         isinstance(shard, tuple) and len(shard) == 2 and all(type(n) is int for n in shard)
         and 0 <= shard[0] < shard[1]
@@ -328,6 +340,8 @@ def _write(
         replace_atomically(temporary, output)
     except (OSError, RuntimeError) as exc:  # a full disk (h5py: RuntimeError), a removed folder
         reason = getattr(exc, "strerror", None) or str(exc)
+        if getattr(exc, "errno", None) == errno.ENOSPC or f"errno = {errno.ENOSPC}," in str(exc):
+            reason = "no space left on the device"  # not HDF5's own words (issue 39)
         raise OSError(f"{output}: cannot write the results file ({reason}); the finished "
                       "analyses stay in the journal: rerun to resume") from None  # fmt: skip
     finally:
@@ -391,6 +405,8 @@ def _earlier_verdicts(
         with open_results(output) as file:
             same = file.attrs.get("config_hash") == study.config_hash
             stored_shard = stored_shard_of(file)
+            if same and stored_shard == shard:  # its analyses are called done: read them all
+                verify(file)
             stored = stored_verdicts(file) if same and stored_shard == shard else {}
             config = json.loads(file.attrs.get("config", "{}")) if not same else {}
     except InputError as exc:  # unreadable or not a results file

@@ -10,7 +10,7 @@ from __future__ import annotations
 import os
 from collections.abc import Mapping
 
-from ..config.study import MAX_ANALYSES
+from ..config.study_checks import MAX_ANALYSES
 from ..errors import InputError
 
 SCHEDULERS = (
@@ -34,7 +34,7 @@ def parse_shard(text: str) -> tuple[int, int]:
     Raises
     ------
     ValueError
-        Not two integers K/N with 1 ≤ K ≤ N ≤ `config.study.MAX_ANALYSES` (a shard beyond the
+        Not two integers K/N with 1 ≤ K ≤ N ≤ `config.study_checks.MAX_ANALYSES` (a shard beyond the
         number of analyses is empty).
     """
     try:

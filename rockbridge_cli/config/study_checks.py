@@ -1,0 +1,67 @@
+"""A study's checks as a whole, before anything runs: its size against `MAX_ANALYSES`, an
+overturning spectrum's map, the limit states asked of bridges without abutments, and its ids."""
+
+from __future__ import annotations
+
+import collections
+import re
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from ..errors import InputError
+from .intensity import Intensity
+from .loading import ID_PATTERN
+from .spectrum import Spectrum
+
+MAX_ANALYSES = 1_000_000
+"""Most analyses in a study (bridges × records × levels): its grid and journal stay within a few
+hundred MB; a larger one is several studies, or shards (`study.shards`)."""
+
+
+def check_states(bridges: Sequence[Any], states: Sequence[str] | None, where: str,
+                  study: Path) -> None:  # fmt: skip
+    """Refuse a limit state of the abutments (gap closure, their failure, the backfill's) asked
+    of a bridge without abutments (a block, a frame): its IDA or boundary could never end
+    there, and ran to the top of its scan without a word."""
+    needs = [s for s in states or () if s != "overturning"]
+    without = [b.id for b in bridges if not b.config.to_bridge().model.has_abutments]
+    if needs and without:
+        reason = f"{', '.join(needs)} need abutments, which {without[0]} has not" + (
+            f" (nor {len(without) - 1} other bridges)" if len(without) > 1 else ""
+        )
+        raise InputError(study, [(where, reason)])
+
+
+def check_map(bridges: int, spectrum: Spectrum, study: Path) -> None:
+    """Refuse a spectrum whose map, its first round (frequencies × amplitudes), is more than
+    `MAX_ANALYSES` analyses."""
+    frequencies, amplitudes = spectrum.frequencies.count, spectrum.amplitudes.count
+    if bridges * frequencies * amplitudes > MAX_ANALYSES:
+        reason = (f"{frequencies} frequencies × {amplitudes} amplitudes are more than "
+                  f"{MAX_ANALYSES:,} analyses in the map: use fewer")  # fmt: skip
+        raise InputError(study, [("spectrum", reason)])
+
+
+def check_size(
+    bridges: int, records: int, one_each: bool, intensity: Intensity | None, study: Path
+) -> None:
+    """Refuse a study of more than `MAX_ANALYSES` analyses (``one_each``: each bridge meets one
+    record)."""
+    levels = len(intensity.levels or ()) if intensity is not None else 0
+    if (bridges if one_each else bridges * records) * max(levels, 1) > MAX_ANALYSES:
+        count = f"{bridges} bridges × {'one record' if one_each else f'{records} records'}"
+        count += f" × {levels} levels" * bool(levels)
+        reason = f"{count} are more than {MAX_ANALYSES:,} analyses: split the study"
+        raise InputError(study, [("", reason)])
+
+
+def check_ids(field: str, ids: list[str]) -> list[tuple[str, str]]:
+    """Ids (given or taken from file names) must be unique and fit `ID_PATTERN`."""
+    problems = [
+        (f"{field}.{index}", f"id {i!r} must be letters, digits and _ . + - (no spaces or slashes)")
+        for index, i in enumerate(ids)
+        if not re.match(ID_PATTERN, i)
+    ]
+    twice = sorted(i for i, count in collections.Counter(ids).items() if count > 1)
+    return problems + [(field, f"id {i!r} is used twice: ids must be unique") for i in twice]
