@@ -1,8 +1,9 @@
 """Bounds on work and memory (issue 32): every knob that sets how much an analysis or a study
 computes or holds has a documented limit (`core.fidelity.LIMITS`,
-`config.study_checks.MAX_ANALYSES`, `config.sweep.MAX_VARIANTS`, `config.intensity.MAX_SCAN_LEVELS`,
-…) or a work estimate (`core.fidelity.check_work`), so that what could not end, or not fit in memory, is refused at once
-with one line naming the file and the field. Each case below ran until killed before."""
+`config.study_checks.MAX_ANALYSES`, `config.sweep.MAX_VARIANTS`,
+`config.intensity.MAX_SCAN_LEVELS`, …) or a work estimate (`core.fidelity.check_work`), so that
+what could not end, or not fit in memory, is refused at once with one line naming the file and
+the field. Each case below ran until killed before."""
 
 from __future__ import annotations
 
