@@ -96,6 +96,8 @@ class SelectionReport:
         the common raise of EN 1998-1 (4)b–c (`motions.selection.code_multiplier`), 1 if none [-].
     compliance
         EN 1998-1 §3.2.3.1.2(4) on the dense grid.
+    lowest_period
+        where the mean spectrum is lowest against the target, on the dense grid [s].
     checks
         the compliance table's rows.
     choice
@@ -113,6 +115,7 @@ class SelectionReport:
     factors: tuple[float, ...]
     multiplier: float
     compliance: ec8.ComplianceReport
+    lowest_period: float
     checks: tuple[Check, ...]
     choice: selection.Selection
     pool_size: int
@@ -158,10 +161,10 @@ def select_record_set(
     compliance = ec8.check_compliance(factors[:, None] * unscaled, goal, factors * peaks,
                                       request.target.surface_pga)  # fmt: skip
     records = [_scaled(c, f) for c, f in zip(chosen, factors, strict=True)]
-    checks = _checks(request, chosen, factors, compliance, dense[np.argmin(
-        (factors[:, None] * unscaled).mean(axis=0) / goal)])  # fmt: skip
+    lowest = float(dense[np.argmin((factors[:, None] * unscaled).mean(axis=0) / goal)])
+    checks = _checks(request, chosen, factors, compliance, lowest)
     report = SelectionReport(folder, chosen, tuple(float(f) for f in factors), multiplier,
-                             compliance, tuple(checks), choice, len(pool), len(usable),
+                             compliance, lowest, tuple(checks), choice, len(pool), len(usable),
                              dense.size, selection_time, 0.0)  # fmt: skip
     summaries = [_summary(r, dense, goal, f * s) for r, f, s in zip(records, factors, unscaled,
                                                                    strict=True)]  # fmt: skip

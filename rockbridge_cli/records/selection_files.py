@@ -111,6 +111,7 @@ def build_manifest(
         "mean": {
             "min_ratio": report.compliance.mean_min_ratio,
             "max_ratio": report.compliance.mean_max_ratio,
+            "min_period_s": report.lowest_period,
         },  # fmt: skip
         "compliance": compliance,
     }
