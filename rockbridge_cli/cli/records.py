@@ -75,7 +75,7 @@ def select_records(config: Path, out: Path | None, with_plot: bool) -> None:
         settings = load(SelectionConfig, config)
     request = settings.request()
     folder = out if out is not None else Path("records") / config.stem
-    report = select_record_set(request, folder, config_name=config.stem)
+    report = select_record_set(request, folder, config_name=config.stem, source=config)
     click.echo(f"Wrote {len(report.chosen)} records and {MANIFEST} to {report.folder}")
     click.echo(compliance_text(request, report))
     click.echo(f"Selection (the pool's spectra once, the choice): {report.selection_time:.2f} s; "

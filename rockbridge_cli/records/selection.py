@@ -126,9 +126,12 @@ class SelectionReport:
 
 
 def select_record_set(
-    request: SelectionRequest, folder: str | Path, config_name: str = ""
+    request: SelectionRequest, folder: str | Path, config_name: str = "", source: str | Path = ""
 ) -> SelectionReport:
     """Select and scale a record set from the pool, check it and write it (module docstring).
+
+    ``source`` (the config file) names what a refusal refuses; ``config_name`` goes in the
+    manifest.
 
     Raises
     ------
@@ -145,7 +148,8 @@ def select_record_set(
     damping = request.target.damping
     computed = np.array([spectra.compute_psa(c.record.acceleration, c.record.time_step, grid,
                                              damping) for c in usable])  # fmt: skip
-    choice = _choose(request, usable, np.log(computed), np.log(request.target.evaluate(grid)))
+    log_target = np.log(request.target.evaluate(grid))
+    choice = _choose(request, usable, np.log(computed), log_target, source or "pool")
     selection_time = time.perf_counter() - timer
     chosen = tuple(usable[i] for i in choice.indices)
     dense = spectral_fit.dense_periods(request.periods, damping)
@@ -157,7 +161,7 @@ def select_record_set(
     multiplier = selection.code_multiplier(unscaled, goal, peaks, request.target.surface_pga,
                                            factors)  # fmt: skip
     factors = factors * multiplier
-    _check_bounds(request, chosen, factors, multiplier)
+    _check_bounds(request, chosen, factors, multiplier, source or "pool")
     compliance = ec8.check_compliance(factors[:, None] * unscaled, goal, factors * peaks,
                                       request.target.surface_pga)  # fmt: skip
     records = [_scaled(c, f) for c, f in zip(chosen, factors, strict=True)]
@@ -186,7 +190,7 @@ def _check_folder(folder: Path, read: tuple[PoolFolder, ...]) -> Path:
     return folder
 
 
-def _choose(request, usable, log_spectra, log_target) -> selection.Selection:
+def _choose(request, usable, log_spectra, log_target, source) -> selection.Selection:
     """`motions.selection.select_records` on the usable candidates; a pool whose caps admit too
     few is refused with the rule."""
     caps = [("max_per_earthquake", np.array([c.earthquake for c in usable]),
@@ -203,10 +207,10 @@ def _choose(request, usable, log_spectra, log_target) -> selection.Selection:
         why = (f"{request.count} records at most {cap} per {rule.split('_')[-1]}: the pool's "
                f"{len(usable)} usable candidates ({earthquakes} earthquakes) admit "
                f"{short.available}, short by {request.count - short.available}")  # fmt: skip
-        raise InputError("pool", [(f"rules.{rule}", why)]) from None
+        raise InputError(source, [(f"rules.{rule}", why)]) from None
 
 
-def _check_bounds(request, chosen, factors, multiplier) -> None:
+def _check_bounds(request, chosen, factors, multiplier, source) -> None:
     """Refuse a set whose raise takes a factor past the highest bound, saying by how much."""
     high = request.bounds[1]
     worst = int(np.argmax(factors))
@@ -215,7 +219,7 @@ def _check_bounds(request, chosen, factors, multiplier) -> None:
     why = (f"EN 1998-1 §3.2.3.1.2(4)b-c need the chosen set raised x{multiplier:.4g}, which "
            f"takes {chosen[worst].record.name}'s factor to {factors[worst]:.4g}, above the "
            f"highest {high:g} by {factors[worst] - high:.3g}")  # fmt: skip
-    raise InputError("pool", [("rules.scale_factor", why)])
+    raise InputError(source, [("rules.scale_factor", why)])
 
 
 def _scaled(candidate: Candidate, factor: float) -> Record:
