@@ -256,3 +256,13 @@ def test_one_earthquake_has_one_name_across_the_fema_sets():
     assert "Northridge-01" in names and "Northridge 1994" in quakes
     assert "Northridge-01 1994" not in quakes
     assert (len(names), len(quakes)) == (22, 19)
+
+
+def test_a_record_set_config_given_for_a_selection_is_named_for_what_it_is():
+    from rockbridge_cli.config.kinds import file_kind
+
+    assert file_kind(EXAMPLE) == "record selection"
+    record_set = ROOT / "configs" / "records" / "ec8-type1-C-ag0.6g.yaml"
+    result = run("select-records", record_set, "-o", "/nonexistent/never-written")
+    assert result.exit_code == 2
+    assert "is a record-set config, not a record-selection config" in result.output
