@@ -20,11 +20,12 @@ from pydantic import (
 )
 
 from ..core.quantities import STANDARD_GRAVITY
+from ..errors import InputError
 from ..motions import ec8
 from ..records.pool import FemaSource as FemaPoolSource
 from ..records.pool import PoolFolder as PoolFolderSource
 from ..records.selection import SelectionRequest
-from ..records.target import TargetDefinition
+from ..records.target import TargetDefinition, read_spectrum_file
 from .loading import StrictModel, resolve_path
 from .records import FemaSource
 
@@ -95,6 +96,24 @@ class SelectionTarget(StrictModel):
         1.0, le=3.0, description="Importance factor γ_I; a_g = γ_I·a_gR (EN 1998-1 §3.2.1(3)) [-]"
     )
     damping: float = Field(0.05, gt=0.0, le=0.3, description="Viscous damping ratio, 0.05 [-]")
+    spectrum_file: Path | None = Field(
+        None, description="A spectrum of your own that replaces Se(T) over the period range (the "
+        "fit and (4)c): two columns, period [s] and Sa, interpolated in log-log, relative to the "
+        "config file; (4)b keeps EN 1998-1's a_g*S",
+    )  # fmt: skip
+    spectrum_units: Literal["g", "m/s2", "cm/s2"] = Field(
+        "g", description="Units of the spectrum file's Sa"
+    )
+
+    @field_validator("spectrum_file")
+    @classmethod
+    def _exists(cls, path: Path | None, info: ValidationInfo) -> Path | None:
+        if path is None:
+            return None
+        resolved = resolve_path(path, info)
+        if not resolved.is_file():
+            raise ValueError(f"spectrum file not found: {path}")
+        return resolved
 
     def resolve(self, gravity: float) -> TargetDefinition:
         """The target in SI units: a_g = γ_I·a_gR and a_g·S [m/s²]."""
@@ -168,9 +187,17 @@ class SelectionConfig(StrictModel):
             PoolFolderSource(f.path, f.pattern, f.units, f.time_step, f.earthquake)
             for f in self.pool.folders or ()
         )  # fmt: skip
-        rules = self.rules
+        rules, target = self.rules, self.target
+        spectrum = None
+        if target.spectrum_file is not None:
+            spectrum = read_spectrum_file(target.spectrum_file, target.spectrum_units)
+            low, high = spectrum.periods[0], spectrum.periods[-1]
+            if not (low <= self.periods[0] and self.periods[1] <= high):
+                why = f"covers {low:g}-{high:g} s, not the period range {list(self.periods)}"
+                raise InputError(target.spectrum_file, [("", why)])
         return SelectionRequest(
             fema, folders, self.target.resolve(self.gravity), self.periods, self.period_count,
             rules.count, rules.max_per_earthquake, rules.max_per_recording, rules.scale_factor,
             self.dispersion_weight, self.gravity, self.model_dump(mode="json", by_alias=True),
+            spectrum,
         )  # fmt: skip

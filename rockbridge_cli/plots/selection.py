@@ -1,4 +1,5 @@
-"""The figure of a selected record set (`records.selection`): the EN 1998-1 target, each scaled
+"""The figure of a selected record set (`records.selection`): the EN 1998-1 target (and the
+user's spectrum that replaced it over the range, if any), each scaled
 record's spectrum, their mean, the 90 % line of §3.2.3.1.2(4)c and the period range, shaded
 (matplotlib, Agg backend; readable in greyscale)."""
 
@@ -41,7 +42,9 @@ def plot_selection(folder: str | Path, output: str | Path, points: int = 240) ->
     output = check_format(output)
     records = read_record_set(folder)
     target = read_set_target(folder)
-    low, high = read_manifest(folder)["check"]["band_s"]
+    manifest = read_manifest(folder)
+    low, high = manifest["check"]["band_s"]
+    user = manifest.get("user_spectrum")
     periods = np.geomspace(*SHOWN, points)
     values = np.array([compute_psa(r.acceleration, r.time_step, periods, target.damping)
                        for r in records]) / STANDARD_GRAVITY  # fmt: skip
@@ -58,8 +61,14 @@ def plot_selection(folder: str | Path, output: str | Path, points: int = 240) ->
     axes.plot(periods, values.mean(axis=0), color="0.1", linewidth=2.0, marker="o",
               markersize=3.5, markevery=16, label=f"mean of {len(records)}", zorder=4)  # fmt: skip
     axes.plot(periods, goal, color="black", linestyle="--", linewidth=1.4, zorder=5,
-              label=f"target: EN 1998-1 type {target.spectrum_type}, ground "
+              label=f"EN 1998-1 type {target.spectrum_type}, ground "
               f"{target.ground_type}")  # fmt: skip
+    if user is not None:  # the user's spectrum replaces Se over the range
+        periods = np.geomspace(low, high, points)
+        goal = np.exp(np.interp(np.log(periods), np.log(user["periods_s"]),
+                                np.log(user["sa_m_s2"]))) / STANDARD_GRAVITY  # fmt: skip
+        axes.plot(periods, goal, color="black", linestyle="-.", linewidth=1.4, zorder=5,
+                  label=f"target: {plain(user['file'])}")  # fmt: skip
     axes.plot(periods, 0.9 * goal, color="black", linestyle=":", linewidth=1.0, zorder=5,
               label="90 % of target (EN 1998-1 §3.2.3.1.2(4)c)")  # fmt: skip
     axes.set_xscale("log")

@@ -26,7 +26,7 @@ from .pool import Candidate, FemaSource, PoolFolder, read_pool
 from .selection_files import COMPLIANCE, build_manifest, record_header
 from .set_files import MANIFEST
 from .summary import RecordSummary
-from .target import TargetDefinition
+from .target import TargetDefinition, UserSpectrum
 
 
 @dataclass(frozen=True)
@@ -53,6 +53,9 @@ class SelectionRequest:
         for values in g [m/s²].
     config
         the config as the manifest stores it.
+    spectrum
+        a spectrum of the user's that replaces Se(T) over the periods (the fit and (4)c); None:
+        EN 1998-1's.
     """
 
     fema: tuple[FemaSource, ...]
@@ -67,6 +70,13 @@ class SelectionRequest:
     dispersion_weight: float
     gravity: float
     config: dict[str, Any]
+    spectrum: UserSpectrum | None = None
+
+    def goal(self, periods: np.ndarray) -> np.ndarray:
+        """The target at the periods: the user's spectrum, or Se [m/s²]."""
+        if self.spectrum is not None:
+            return self.spectrum.evaluate(periods)
+        return self.target.evaluate(periods)
 
 
 @dataclass(frozen=True)
@@ -148,12 +158,12 @@ def select_record_set(
     damping = request.target.damping
     computed = np.array([spectra.compute_psa(c.record.acceleration, c.record.time_step, grid,
                                              damping) for c in usable])  # fmt: skip
-    log_target = np.log(request.target.evaluate(grid))
+    log_target = np.log(request.goal(grid))
     choice = _choose(request, usable, np.log(computed), log_target, source or "pool")
     selection_time = time.perf_counter() - timer
     chosen = tuple(usable[i] for i in choice.indices)
     dense = spectral_fit.dense_periods(request.periods, damping)
-    goal = request.target.evaluate(dense)
+    goal = request.goal(dense)
     unscaled = np.array([spectra.compute_psa(c.record.acceleration, c.record.time_step, dense,
                                              damping) for c in chosen])  # fmt: skip
     peaks = np.array([c.record.peak_acceleration for c in chosen])
@@ -299,7 +309,8 @@ def compliance_text(request: SelectionRequest, report: SelectionReport) -> str:
         f"Selected {len(report.chosen)} of {report.usable} usable candidates ({report.pool_size} "
         f"in the pool) to EN 1998-1 type {request.target.spectrum_type}, ground "
         f"{request.target.ground_type}, a_g = {request.target.design_acceleration / g:.4g} g, "
-        f"over {low:g}-{high:g} s",
+        f"over {low:g}-{high:g} s"
+        + ("" if request.spectrum is None else f", Se replaced by {request.spectrum.source}"),
         f"  objective {report.choice.objective:.5f} = mean-log misfit "
         f"{report.choice.misfit:.5f} + {request.dispersion_weight:g} x dispersion "
         f"{report.choice.dispersion:.5f}; common raise x{report.multiplier:.4f}",

@@ -75,6 +75,18 @@ def build_manifest(
             "ground_displacement_m": target.ground_displacement,
             "gravity_m_s2": request.gravity,
         },
+        **(
+            {}
+            if request.spectrum is None
+            else {
+                "user_spectrum": {
+                    "file": request.spectrum.source,
+                    "periods_s": list(request.spectrum.periods),
+                    "sa_m_s2": list(request.spectrum.values),
+                    "replaces": "Se(T) over the period range: the fit and (4)c; (4)b keeps a_g*S",
+                }
+            }
+        ),  # fmt: skip
         "check": {
             "band_s": list(request.periods),
             "periods": report.dense_periods,
