@@ -294,3 +294,22 @@ def test_a_user_spectrum_of_1_1_se_scales_the_same_records_by_1_1(tmp_path, sele
                                [1.1 * r["scale_factor"] for r in example["records"]],
                                rtol=1e-8)  # fmt: skip
     assert mine["compliance"]["compliant"] and mine["user_spectrum"]["file"] == "user.txt"
+
+
+@needs_fema
+def test_an_aim_above_90_percent_raises_the_set_in_proportion(tmp_path, selected):
+    # the example's raise stops where its mean's minimum over Se is 0.9 ((4)b does not bind:
+    # mean PGA 0.85 g > 0.69 g); aiming at 0.95 raises the same records by 0.95/0.9 more, and the
+    # minimum lands on 0.95
+    folder, _ = selected
+    text = EXAMPLE.read_text().replace("  count: 7\n", "  count: 7\n  mean_ratio: 0.95\n")
+    (tmp_path / "select.yaml").write_text(text)
+    result = run("select-records", tmp_path / "select.yaml", "-o", tmp_path / "aim")
+    assert result.exit_code == 0, result.output
+    mine = json.loads((tmp_path / "aim" / MANIFEST).read_text())
+    example = json.loads((folder / MANIFEST).read_text())
+    assert [r["name"] for r in mine["records"]] == [r["name"] for r in example["records"]]
+    np.testing.assert_allclose([r["scale_factor"] for r in mine["records"]],
+                               [0.95 / 0.9 * r["scale_factor"] for r in example["records"]],
+                               rtol=1e-8)  # fmt: skip
+    assert mine["mean"]["min_ratio"] == pytest.approx(0.95, rel=1e-8)

@@ -134,6 +134,10 @@ class Rules(StrictModel):
     max_per_recording: PositiveInt = Field(
         1, le=2, description="Most horizontal components of one recording (station) [-]"
     )
+    mean_ratio: float = Field(
+        0.9, ge=0.9, le=2.0, description="The raise brings the mean spectrum to at least this "
+        "share of the target over the range: EN 1998-1 (4)c's 0.9, or more for a margin [-]",
+    )  # fmt: skip
     scale_factor: tuple[PositiveFloat, PositiveFloat] = Field(
         (0.25, 4.0), description="Lowest and highest scale factor of a record [-]"
     )
@@ -199,5 +203,5 @@ class SelectionConfig(StrictModel):
             fema, folders, self.target.resolve(self.gravity), self.periods, self.period_count,
             rules.count, rules.max_per_earthquake, rules.max_per_recording, rules.scale_factor,
             self.dispersion_weight, self.gravity, self.model_dump(mode="json", by_alias=True),
-            spectrum,
+            spectrum, rules.mean_ratio,
         )  # fmt: skip

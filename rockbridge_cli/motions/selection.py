@@ -259,9 +259,11 @@ def code_multiplier(
     peaks: np.ndarray,
     surface_pga: float,
     factors: np.ndarray,
+    mean_ratio: float = MEAN_RATIO,
 ) -> float:
     """The smallest common multiplier k >= 1 of a set's factors that meets EN 1998-1
-    §3.2.3.1.2(4)b (mean PGA >= a_g·S) and (4)c (mean spectrum >= 0.9·Se over the periods).
+    §3.2.3.1.2(4)b (mean PGA >= a_g·S) and (4)c (mean spectrum >= 0.9·Se over the periods, or
+    ``mean_ratio``·Se for a margin above it).
 
     Parameters
     ----------
@@ -275,6 +277,8 @@ def code_multiplier(
         a_g·S [m/s²].
     factors
         their scale factors before the raise [-].
+    mean_ratio
+        the share of Se the mean must reach, at least EN 1998-1's `MEAN_RATIO` [-].
 
     Returns
     -------
@@ -282,6 +286,6 @@ def code_multiplier(
         k, a little above the least that meets both (`RAISE_MARGIN`), or 1 [-].
     """
     mean = (factors[:, None] * spectra).mean(axis=0)
-    needed = max(float(np.max(MEAN_RATIO * target / mean)),
+    needed = max(float(np.max(mean_ratio * target / mean)),
                  surface_pga / float(np.mean(factors * peaks)))  # fmt: skip
     return needed * (1.0 + RAISE_MARGIN) if needed > 1.0 else 1.0

@@ -56,6 +56,8 @@ class SelectionRequest:
     spectrum
         a spectrum of the user's that replaces Se(T) over the periods (the fit and (4)c); None:
         EN 1998-1's.
+    mean_ratio
+        the share of the target the raise brings the mean to, >= 0.9 [-].
     """
 
     fema: tuple[FemaSource, ...]
@@ -71,6 +73,7 @@ class SelectionRequest:
     gravity: float
     config: dict[str, Any]
     spectrum: UserSpectrum | None = None
+    mean_ratio: float = selection.MEAN_RATIO
 
     def goal(self, periods: np.ndarray) -> np.ndarray:
         """The target at the periods: the user's spectrum, or Se [m/s²]."""
@@ -169,7 +172,7 @@ def select_record_set(
     peaks = np.array([c.record.peak_acceleration for c in chosen])
     factors = np.array(choice.factors)
     multiplier = selection.code_multiplier(unscaled, goal, peaks, request.target.surface_pga,
-                                           factors)  # fmt: skip
+                                           factors, request.mean_ratio)  # fmt: skip
     factors = factors * multiplier
     _check_bounds(request, chosen, factors, multiplier, source or "pool")
     compliance = ec8.check_compliance(factors[:, None] * unscaled, goal, factors * peaks,
@@ -254,7 +257,9 @@ def _checks(request: SelectionRequest, chosen, factors, compliance, argmin) -> l
         Check("(4)b mean PGA [g]", f"{compliance.mean_zero_period / g:.4f}",
               f">= a_g*S = {compliance.surface_pga / g:.4f}", compliance.zero_period_ok),
         Check(f"(4)c mean/target, min over {low:g}-{high:g} s",
-              f"{compliance.mean_min_ratio:.4f} at {argmin:.3f} s", ">= 0.9", compliance.mean_ok),
+              f"{compliance.mean_min_ratio:.4f} at {argmin:.3f} s",
+              ">= 0.9" + (f" (aim {request.mean_ratio:g})" if request.mean_ratio > 0.9 else ""),
+              compliance.mean_ok),
         Check("records per earthquake, most", f"{per_quake}", f"<= {request.max_per_earthquake}",
               per_quake <= request.max_per_earthquake),
         Check("components per recording, most", f"{per_recording}",
