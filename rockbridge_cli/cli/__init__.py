@@ -1,12 +1,11 @@
 """The ``rockbridge`` command line: a thin layer that parses, calls the library and prints.
 
 One module per command family: ``analyze`` (`analysis`), ``describe`` (`bridge`), ``run``,
-``peaks``, ``merge`` and a results file's figures (`study`), ``generate-records`` and the
-records' figures (`records`), ``fragility`` and its figures (`fragility`), ``risk`` (`risk`),
-``export`` (`export`), ``report`` (`report`), ``sensitivity`` and its figure
-(`sensitivity`), ``spectrum`` and its figure (`spectrum`), the
-parametric figures of a bridge (`parametric`); what they share to print (`output`) and a run's
-progress (`progress`).
+``peaks``, ``merge`` and a results file's figures (`study`), ``generate-records``,
+``select-records`` and the records' figures (`records`), ``fragility`` and its figures
+(`fragility`), ``risk`` (`risk`), ``export`` (`export`), ``report`` (`report`), ``sensitivity`` and
+its figure (`sensitivity`), ``spectrum`` and its figure (`spectrum`), the parametric figures of a
+bridge (`parametric`); what they share to print (`output`) and a run's progress (`progress`).
 
 User errors (bad config, bad record, bad arguments) exit with status 2 and one readable message;
 runtime failures exit with status 1; ``--debug`` shows the traceback instead.

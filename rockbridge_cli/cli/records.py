@@ -1,4 +1,5 @@
-"""Commands for ground motions: ``generate-records`` and the figures ``plot spectra|record``."""
+"""Commands for ground motions: ``generate-records``, ``select-records`` and the figures
+``plot spectra|record``."""
 
 from __future__ import annotations
 
@@ -55,6 +56,42 @@ def generate_records(config: Path, out: Path | None, with_plot: bool) -> None:
         click.echo(f"error: {folder}: written, but {' and '.join(failed)} are NOT compliant "
                    "with EN 1998-1 §3.2.3.1.2 (the report above says why)", err=True)  # fmt: skip
         click.get_current_context().exit(1)
+
+
+@main.command("select-records")
+@click.argument("config", type=click.Path(path_type=Path))
+@click.option(
+    "-o",
+    "--out",
+    "out",
+    type=click.Path(file_okay=False, path_type=Path),
+    default=None,
+    help="Output folder [default: records/<config stem>/].",
+)
+@click.option("--plot", "with_plot", is_flag=True,
+              help="Also draw the scaled spectra to <out>/spectra.png.")  # fmt: skip
+def select_records(config: Path, out: Path | None, with_plot: bool) -> None:
+    """Select recorded motions from a pool and scale them to an EN 1998-1 spectrum, as CONFIG
+    describes; write them as a record set and print the EN 1998-1 §3.2.3.1.2 compliance table
+    (also in <out>/compliance.txt). A pool that cannot meet a rule is refused (exit 2)."""
+    from ..kinds import expecting
+    from ..config.loading import load
+    from ..config.selection import SelectionConfig
+    from ..records.selection import compliance_text, select_record_set
+
+    with expecting(config, "record selection"):
+        settings = load(SelectionConfig, config)
+    request = settings.request()
+    folder = out if out is not None else Path("records") / config.stem
+    report = select_record_set(request, folder, config_name=config.stem, source=config)
+    click.echo(f"Wrote {len(report.chosen)} records and {MANIFEST} to {report.folder}")
+    click.echo(compliance_text(request, report))
+    click.echo(f"Selection (the pool's spectra once, the choice): {report.selection_time:.2f} s; "
+               f"wall time {report.wall_time:.1f} s")  # fmt: skip
+    if with_plot:
+        from ..plots.selection import plot_selection
+
+        click.echo(f"Figure: {plot_selection(folder, folder / 'spectra.png')}")
 
 
 def _record_figure(default: str):

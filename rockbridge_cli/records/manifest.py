@@ -76,7 +76,7 @@ def build_manifest(config, config_name, target, records, summaries, compliance) 
                 "name": s.name,
                 "file": s.file,
                 "record_index": index,
-                **_motion_entries(s, config.gravity),
+                **motion_entries(s, config.gravity),
                 "stationary_duration_s": config.envelope.stationary if config.envelope else None,
                 **(records[index].metadata if config.seeds is not None else {}),
                 **(_seed_entries(s) if config.seeds is not None else {}),
@@ -86,7 +86,7 @@ def build_manifest(config, config_name, target, records, summaries, compliance) 
             for index, s in enumerate(summaries)
         ],
         "mean": {"min_ratio": compliance.mean_min_ratio, "max_ratio": compliance.mean_max_ratio},
-        "compliance": _compliance_entries(compliance),
+        "compliance": compliance_entries(compliance),
     }
 
 
@@ -106,16 +106,16 @@ def add_verticals(manifest: dict[str, Any], config, target, summaries, complianc
         "vertical_pga_m_s2": target.surface_pga,
     }
     for entry, s in zip(manifest["records"], summaries, strict=True):
-        entry["vertical"] = {"file": s.file, **_motion_entries(s, config.gravity),
+        entry["vertical"] = {"file": s.file, **motion_entries(s, config.gravity),
                              "attempts": s.attempts, "iterations": s.iterations}  # fmt: skip
     manifest["vertical_mean"] = {
         "min_ratio": compliance.mean_min_ratio,
         "max_ratio": compliance.mean_max_ratio,
     }
-    manifest["vertical_compliance"] = _compliance_entries(compliance)
+    manifest["vertical_compliance"] = compliance_entries(compliance)
 
 
-def _motion_entries(s: RecordSummary, gravity: float) -> dict[str, float]:
+def motion_entries(s: RecordSummary, gravity: float) -> dict[str, float]:
     """A record's peaks, fit to its target, final motion and duration, as a manifest gives
     them."""
     return {
@@ -131,7 +131,7 @@ def _motion_entries(s: RecordSummary, gravity: float) -> dict[str, float]:
     }
 
 
-def _compliance_entries(compliance: ec8.ComplianceReport) -> dict[str, Any]:
+def compliance_entries(compliance: ec8.ComplianceReport) -> dict[str, Any]:
     """The EN 1998-1 §3.2.3.1.2 check of a set, as a manifest gives it."""
     return {
         "count": compliance.count,

@@ -1,5 +1,6 @@
 """The target spectrum of a record set, resolved in SI units from its config (`resolve_target`)
-or read back from a set's manifest (`read_set_target`)."""
+or read back from a set's manifest (`read_set_target`); a user's spectrum read from a file
+(`read_spectrum_file`), a record selection's optional target."""
 
 from __future__ import annotations
 
@@ -116,3 +117,65 @@ def read_set_target(folder: str | Path) -> TargetDefinition:
     if not isinstance(target, dict) or any(key not in target for key in keys):
         raise InputError(Path(folder) / MANIFEST, [("target", "missing or incomplete")])
     return TargetDefinition(*(target[key] for key in keys))
+
+
+MAX_SPECTRUM_BYTES = 2**20
+"""Largest spectrum file read [bytes]."""
+
+
+@dataclass(frozen=True)
+class UserSpectrum:
+    """A target spectrum given as points: periods and pseudo-spectral accelerations, read from a
+    two-column file (`read_spectrum_file`) and interpolated linearly in log T and log Sa (exact
+    on the power-law branches of EN 1998-1's spectra between their corners).
+
+    Attributes
+    ----------
+    periods
+        increasing, positive [s].
+    values
+        Sa there, positive [m/s²].
+    source
+        the file's name.
+    """
+
+    periods: tuple[float, ...]
+    values: tuple[float, ...]
+    source: str = ""
+
+    def evaluate(self, periods: np.ndarray) -> np.ndarray:
+        """Sa at the given periods, within the file's range [m/s²]."""
+        periods = np.asarray(periods, dtype=float)
+        low, high = self.periods[0], self.periods[-1]
+        if np.any(periods < low * (1 - 1e-12)) or np.any(periods > high * (1 + 1e-12)):
+            raise ValueError(f"the user spectrum covers {low:g}-{high:g} s only")
+        return np.exp(np.interp(np.log(periods), np.log(self.periods), np.log(self.values)))
+
+
+def read_spectrum_file(path: str | Path, units: str) -> UserSpectrum:
+    """A two-column text file, period [s] and Sa (in ``units``: g, m/s2 or cm/s2), ``#`` lines
+    comments, periods increasing and positive, values positive.
+
+    Raises
+    ------
+    InputError
+        The file cannot be read or is not such a table.
+    """
+    from ..paths import read_input_text
+    from .files import UNIT_SCALES
+
+    text = read_input_text(path, MAX_SPECTRUM_BYTES, "a spectrum file")
+    rows = [line.replace(",", " ").split() for line in text.splitlines()
+            if line.strip() and not line.lstrip().startswith("#")]  # fmt: skip
+    try:
+        table = np.array(rows, dtype=float)
+    except ValueError:
+        raise InputError(path, [("", "expected two columns of numbers: period [s], Sa")]) from None
+    if table.ndim != 2 or table.shape[1] != 2 or table.shape[0] < 2:
+        raise InputError(path, [("", "expected at least two rows of two columns: period, Sa")])
+    periods, values = table[:, 0], table[:, 1] * UNIT_SCALES[units]
+    if not (np.all(np.isfinite(table)) and periods[0] > 0 and np.all(np.diff(periods) > 0)):
+        raise InputError(path, [("", "periods must be positive and increasing")])
+    if not np.all(values > 0):
+        raise InputError(path, [("", "spectral accelerations must be positive")])
+    return UserSpectrum(tuple(periods.tolist()), tuple(values.tolist()), Path(path).name)
