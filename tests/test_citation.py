@@ -36,6 +36,7 @@ def test_the_citation_names_the_paper_rockbridge_implements(citation):
     published = ("Journal of Engineering Mechanics", 2022, 148, 3)  # README's References
     assert (paper["journal"], paper["year"], paper["volume"], paper["issue"]) == published
     assert paper["start"] == "04022003"
+    assert paper["doi"].lower() == "10.1061/(asce)em.1943-7889.0002074"  # printed on the paper
 
 
 def test_the_citation_version_is_the_package_version(citation):
