@@ -16,7 +16,8 @@ Then it fits Amdahl's law (Amdahl 1967),
 
 to the measured T(p) by linear least squares in a = T1·s and b = T1·(1 − s), T(p) = a + b/p,
 which gives the serial fraction s = a / (a + b) (two worker counts determine it exactly,
-s = 2·T(2)/T(1) − 1), and projects the speed-up on p cores,
+s = 2·T(2)/T(1) − 1; with more, the fitted T(p) is printed beside the measured, to show how
+well the law holds), and projects the speed-up on p cores,
 
     S(p) = min(1 / (s + (1 − s) / p), 1 / share),
 
@@ -143,6 +144,12 @@ def main() -> None:
         f"counts: T1 = {fitted_t1:.2f} s, serial fraction s = {serial:.3f}; parent's CPU share "
         f"at {counts[-1]} workers {share:.4f}, a cap of {1 / share:.0f} cores"
     )
+    if len(counts) > 2:  # two counts fix s exactly; more say how well the law fits
+        fitted = ", ".join(
+            f"{p}: {fitted_t1 * (serial + (1 - serial) / p):.2f} s ({rows[p]['e2e']:.2f})"
+            for p in counts
+        )
+        print(f"Amdahl's T(p) (measured): {fitted}")
     projection = ", ".join(
         f"{p}: {projected_speedup(p, min(max(serial, 0.0), 1.0), share):.1f}×" for p in PROJECTED
     )
