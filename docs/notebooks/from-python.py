@@ -26,7 +26,7 @@
 # It writes its files (a study, its results file, the figure `from-python.png`) into the
 # current folder; started inside the repository (Jupyter opens a notebook in its own folder),
 # it moves to a new temporary folder first, so that the repository stays as it was.
-# About 10 s on two cores, most of it starting the study's workers.
+# About 10 s on two idle cores (more on a loaded one), most of it imports and starting workers.
 
 # %%
 import os
