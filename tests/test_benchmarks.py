@@ -26,3 +26,35 @@ def test_bench_study_times_a_bundled_study_from_another_folder(tmp_path):
     assert ["3", "none", "1"] == next(r for r in rows if r[:1] == ["3"])[:3]
     stripes = next(r for r in rows if r[:1] == ["paper-stripes"])
     assert stripes[3] == "420"  # 3 bridges × 10 records × 14 PGAs (configs/studies)
+
+
+def test_the_amdahl_fit_of_bench_scaling_recovers_the_serial_fraction(monkeypatch):
+    """Times made by Amdahl's law T(p) = T1·(s + (1 − s)/p) give back T1 and s; two worker
+    counts give the closed form s = 2·T(2)/T(1) − 1; the parent's share caps the projection."""
+    monkeypatch.syspath_prepend(str(REPO / "benchmarks"))
+    from bench_scaling import fit_amdahl, projected_speedup
+
+    workers = [1, 2, 4, 8]
+    t1, serial = fit_amdahl(workers, [12.0 * (0.15 + 0.85 / p) for p in workers])
+    assert t1 == pytest.approx(12.0, rel=1e-12) and serial == pytest.approx(0.15, rel=1e-12)
+    assert fit_amdahl([1, 2], [5.37, 3.45])[1] == pytest.approx(2 * 3.45 / 5.37 - 1, rel=1e-12)
+    assert projected_speedup(4, 0.0, 0.0) == pytest.approx(4.0)
+    assert projected_speedup(32, 0.0, 0.05) == pytest.approx(20.0)  # 1 / share
+    assert projected_speedup(8, 0.1, 0.001) == pytest.approx(1 / (0.1 + 0.9 / 8))
+    with pytest.raises(ValueError, match="two worker counts"):
+        fit_amdahl([2, 2], [1.0, 1.0])
+
+
+@pytest.mark.slow
+def test_bench_scaling_prints_the_table_and_the_fit(tmp_path):
+    env = {k: v for k, v in os.environ.items() if k != "ROCKBRIDGE_PATHS"}
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, (str(REPO), env.get("PYTHONPATH"))))
+    done = subprocess.run(
+        [sys.executable, str(REPO / "benchmarks" / "bench_scaling.py"), "--analyses", "6",
+         "--workers", "1", "2"],
+        capture_output=True, text=True, cwd=tmp_path, env=env, timeout=600,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr[-2000:]
+    rows = [line.split() for line in done.stdout.splitlines()]
+    assert [r[0] for r in rows if r[1:2] == ["|"]] == ["workers", "1", "2"]
+    assert "serial fraction s =" in done.stdout and "projected speed-up" in done.stdout
