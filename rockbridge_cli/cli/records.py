@@ -74,9 +74,9 @@ def select_records(config: Path, out: Path | None, with_plot: bool) -> None:
     """Select recorded motions from a pool and scale them to an EN 1998-1 spectrum, as CONFIG
     describes; write them as a record set and print the EN 1998-1 §3.2.3.1.2 compliance table
     (also in <out>/compliance.txt). A pool that cannot meet a rule is refused (exit 2)."""
-    from ..kinds import expecting
     from ..config.loading import load
     from ..config.selection import SelectionConfig
+    from ..kinds import expecting
     from ..records.selection import compliance_text, select_record_set
 
     with expecting(config, "record selection"):
