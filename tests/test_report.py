@@ -290,7 +290,7 @@ def test_a_study_that_keeps_some_histories_gets_its_page_and_its_figure(tmp_path
     run_study(study, workers=1)
     text = write_report(study.output, tmp_path / "r.html").read_text(encoding="utf-8")
     parsed = Page(text)
-    assert "Response histories under R1 (Fig. 10)" in parsed.headings
+    assert "Response histories under R1 (as the paper's Fig. 10)" in parsed.headings
     assert len(parsed.images) == 2
     assert "Not kept by the study (output.histories): v_deck, θ_deck." in text
     result = CliRunner().invoke(main, ["plot", "history", str(study.output), "--record", "R1",
