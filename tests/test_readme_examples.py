@@ -70,6 +70,6 @@ def blocks(tmp_path_factory):
 def test_readme_quotes_what_the_code_gives(blocks):
     readme = (REPO / "README.md").read_text(encoding="utf-8")
     assert set(blocks) == {"one analysis", "a study", "fragility study", "fragility table",
-                           "gap sweep count", "gap sweep"}  # fmt: skip
+                           "gap sweep count", "gap sweep", "select-records"}  # fmt: skip
     for name, block in blocks.items():
         assert off(block, readme) == [], name
