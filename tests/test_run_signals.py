@@ -338,15 +338,18 @@ def test_a_stopped_worker_is_named_when_the_run_stalls(tmp_path, monkeypatch):
     monkeypatch.setattr(executors, "STALL_S", 1.0)
     stopped: list[int] = []
     said: list[str] = []
+    timers: list[threading.Timer] = []
 
     def progress(finished, done, total):
         if not stopped and done < total:  # every worker stopped after the first analysis
             stopped.extend(child.pid for child in multiprocessing.active_children())
             for pid in stopped:
                 os.kill(pid, signal.SIGSTOP)
-            resume = threading.Timer(20.0, lambda: [os.kill(p, signal.SIGCONT) for p in stopped])
+            resume = threading.Timer(20.0, lambda: [os.kill(p, signal.SIGCONT) for p in stopped
+                                                    if alive(p)])  # fmt: skip
             resume.daemon = True  # unsaid, the run would wait for ever: fail instead
             resume.start()
+            timers.append(resume)
 
     def notice(line: str) -> None:
         said.append(line)
@@ -358,6 +361,8 @@ def test_a_stopped_worker_is_named_when_the_run_stalls(tmp_path, monkeypatch):
     try:
         report = run_study(study, workers=2, progress=progress, notice=notice)
     finally:
+        for timer in timers:  # the workers are resumed here, or have ended
+            timer.cancel()
         for pid in stopped:
             os.kill(pid, signal.SIGCONT) if alive(pid) else None
     assert report.total == 4 and report.statuses == {"ok": 4}
