@@ -1,0 +1,159 @@
+"""The mechanics of the piers' devices (`devices`), compiled: each one's elongation and force,
+their generalised force on θ1 (`restrained`, which `dynamics.acceleration` calls), the moment of
+the tendons' prestress at the onset of rocking, the energy the tendons store, and the devices'
+peaks along a response (docs/model.md §13).
+
+Each function that the integrator calls is compiled for the type of its ``devices``: a table
+(`devices.table`), or None, for which it does nothing (`restrained` returns the force it is
+given), so that a bridge without devices runs the free-standing model's code.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import types
+from numba.extending import overload
+
+from ._jit import jit
+from .devices import (
+    BASE,
+    DAMPING,
+    KIND,
+    OFFSET,
+    PIER,
+    PRESTRESS,
+    STIFFNESS,
+    TENDON,
+    TOP,
+)
+from .geometry import Model
+from .kinematics import EXACT, Kinematics, linkage
+
+
+@jit
+def elongation(model: Model, row: np.ndarray, s: float, theta1: float, kin: Kinematics):
+    """Elongation Δ of one device (a row of `table`) and ∂Δ/∂φ, in mode s at θ1 [rad].
+
+    Returns
+    -------
+    Δ [m], ∂Δ/∂φ [m/rad]
+    """
+    _, psi, theta_deck, dpsi, dtheta, _, _ = linkage(model, s, theta1, kin)
+    if row[PIER] == 0.0:
+        turn, dturn = theta1, 1.0
+    else:
+        turn = psi - (0.5 * np.pi - s * np.arctan2(model.B, model.H2))
+        dturn = dpsi
+    base, top = model.B + s * row[OFFSET], model.B - s * row[OFFSET]
+    # chords 2ℓ·|sin(x/2)|, with |…| = s·(…) while the interface opens in mode s
+    length = row[BASE] * 2.0 * base * s * np.sin(0.5 * turn)
+    rate = row[BASE] * base * s * np.cos(0.5 * turn) * dturn
+    top_turn = turn - theta_deck
+    length += row[TOP] * 2.0 * top * s * np.sin(0.5 * top_turn)
+    rate += row[TOP] * top * s * np.cos(0.5 * top_turn) * (dturn - dtheta)
+    return length, rate
+
+
+@jit
+def pull(row: np.ndarray, length: float, speed: float) -> float:
+    """The force of one device (a row of `table`) at elongation Δ [m] and its rate Δ̇ [m/s],
+    positive in tension [N]."""
+    if row[KIND] == TENDON:
+        return row[PRESTRESS] + row[STIFFNESS] * length
+    return row[DAMPING] * speed
+
+
+def restrained(force: float, devices, model: Model, s: float, theta1: float, omega: float):
+    """The generalised force on θ1 [N·m] with that of the ``devices`` (a `table`, or None) added:
+    ``force`` less Σ (T + F)·∂Δ/∂φ at (θ1, θ̇1) = (theta1, omega) [rad, rad/s] in mode s."""
+    if devices is None:
+        return force
+    return force - _device_moment(devices, model, s, theta1, omega)
+
+
+@overload(restrained)
+def _compiled_restrained(force, devices, model, s, theta1, omega):
+    """`restrained` compiled for the type of ``devices``: without any, ``force`` itself."""
+    if isinstance(devices, (types.NoneType, types.Omitted)):
+        return lambda force, devices, model, s, theta1, omega: force
+    return lambda force, devices, model, s, theta1, omega: force - _device_moment(
+        devices, model, s, theta1, omega
+    )
+
+
+@jit
+def _device_moment(devices: np.ndarray, model: Model, s: float, theta1: float, omega: float):
+    """Σ (T + F)·∂Δ/∂φ of the devices [N·m]."""
+    moment = 0.0
+    for i in range(devices.shape[0]):
+        length, lever = elongation(model, devices[i], s, theta1, EXACT)
+        moment += pull(devices[i], length, lever * omega) * lever
+    return moment
+
+
+@jit
+def strain_energy(devices: np.ndarray, model: Model, s: float, theta1: float) -> float:
+    """Energy stored in the tendons, Σ (P0·Δ + ½k·Δ²) [J] (dampers store none)."""
+    energy = 0.0
+    for i in range(devices.shape[0]):
+        if devices[i, KIND] == TENDON:
+            length = elongation(model, devices[i], s, theta1, EXACT)[0]
+            energy += (devices[i, PRESTRESS] + 0.5 * devices[i, STIFFNESS] * length) * length
+    return energy
+
+
+def prestress_moment(model: Model, devices: np.ndarray, s: float) -> float:
+    """Σ P0·∂Δ/∂φ of the tendons at rest in mode s: what their prestress adds to gravity's
+    resistance to the onset of rocking (`impacts.onset_threshold`) [N·m]. For a tendon through a
+    pier of a bridge, ∂Δ/∂φ ≈ ℓ_base + ℓ_top = 2B, wherever its duct lies."""
+    return float(
+        sum(
+            row[PRESTRESS] * elongation(model, row, s, 0.0, EXACT)[1]
+            for row in devices
+            if row[KIND] == TENDON
+        )
+    )
+
+
+PEAK_LENGTH, PEAK_LENGTH_TIME, PEAK_FORCE, PEAK_FORCE_TIME = range(4)
+"""Columns of the devices' peaks (`peaks_of`, `tracked`): the largest elongation Δ [m] and its
+time [s], the largest |force| [N] and its time [s]."""
+
+
+def peaks_of(devices) -> np.ndarray:
+    """The devices' peaks at the start, one row each (none without devices)."""
+    return np.zeros((0 if devices is None else devices.shape[0], 4))
+
+
+@overload(peaks_of)
+def _compiled_peaks_of(devices):
+    if isinstance(devices, (types.NoneType, types.Omitted)):
+        return lambda devices: np.zeros((0, 4))
+    return lambda devices: np.zeros((devices.shape[0], 4))
+
+
+def tracked(devices, peaks: np.ndarray, model: Model, s: float, theta1: float, omega: float, t):
+    """Raise the devices' ``peaks`` to their elongations and forces in mode s at (θ1, θ̇1) =
+    (theta1, omega) [rad, rad/s] and time t [s]; nothing without devices."""
+    if devices is not None:
+        _tracked(devices, peaks, model, s, theta1, omega, t)
+
+
+@overload(tracked)
+def _compiled_tracked(devices, peaks, model, s, theta1, omega, t):
+    if isinstance(devices, (types.NoneType, types.Omitted)):
+        return lambda devices, peaks, model, s, theta1, omega, t: None
+    return lambda devices, peaks, model, s, theta1, omega, t: _tracked(
+        devices, peaks, model, s, theta1, omega, t
+    )
+
+
+@jit
+def _tracked(devices: np.ndarray, peaks: np.ndarray, model: Model, s, theta1, omega, t) -> None:
+    for i in range(devices.shape[0]):
+        length, lever = elongation(model, devices[i], s, theta1, EXACT)
+        force = abs(pull(devices[i], length, lever * omega))
+        if length > peaks[i, PEAK_LENGTH]:
+            peaks[i, PEAK_LENGTH], peaks[i, PEAK_LENGTH_TIME] = length, t
+        if force > peaks[i, PEAK_FORCE]:
+            peaks[i, PEAK_FORCE], peaks[i, PEAK_FORCE_TIME] = force, t

@@ -1,0 +1,209 @@
+"""Tendons and dampers on the piers (issue 41; docs/model.md §13), against independent checks:
+the onset of a post-tensioned block in closed form, free rocking of a post-tensioned block
+integrated here with scipy (exact events), the elongation's φ-derivative by finite differences, the
+conservation of energy with tendons, the energy a damper takes, and the free-standing bridge
+unchanged without devices."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from conftest import G, studied_bridge
+from scipy.integrate import simpson, solve_ivp
+
+from rockbridge_cli.core import fidelity, impacts
+from rockbridge_cli.core.analysis import analyze
+from rockbridge_cli.core.bridge import Bridge
+from rockbridge_cli.core.device_mechanics import elongation, strain_energy
+from rockbridge_cli.core.devices import Damper, Tendon, table
+from rockbridge_cli.core.dynamics import coefficients, energy
+from rockbridge_cli.core.geometry import single_block
+from rockbridge_cli.core.kinematics import EXACT
+from rockbridge_cli.core.solver import (
+    EVENT_KIND,
+    EVENT_MODE,
+    EVENT_RATE_AFTER,
+    EVENT_RATE_BEFORE,
+    EVENT_TIME,
+    IMPACT,
+    NO_ERROR,
+    Laws,
+    integrate,
+)
+
+DT = 0.01
+BLOCK = single_block(B=0.5, H=2.5, density=2500.0, g=G)  # a 1 m × 5 m block, α = 0.197 rad
+
+
+def test_a_tendons_prestress_raises_the_onset_of_a_block_as_its_closed_form():
+    """A block 2B × 2H of mass m with a tendon at offset d: at rest the ground's inertia force
+    m·a·H must overcome m·g·B + P0·(B + s·d) about the pivot of mode s (the pivot at −s·B), so
+    a_min = g·B/H + P0·(B + s·d)/(m·H) (statics of the block, not the code's linkage)."""
+    m, B, H = BLOCK.m1, BLOCK.B, BLOCK.H1
+    prestress, d = 4.0e5, 0.2
+    rows = table((Tendon(0, d, prestress, 1e8, top=False),))
+    for s in (1.0, -1.0):
+        expected = s * (G * B / H + prestress * (B + s * d) / (m * H))
+        assert impacts.onset_threshold(BLOCK, s, rows) == pytest.approx(expected, rel=1e-12)
+
+
+@pytest.mark.parametrize("h_bar", [1.0, 1.25, 2.0])
+@pytest.mark.parametrize("s", [1.0, -1.0])
+def test_the_elongations_derivative_is_its_finite_difference(h_bar, s):
+    """∂Δ/∂φ of a tendon through each pier (both interfaces) and of a damper at a top interface,
+    against a central difference of Δ (step 1e-6 rad: error ~1e-12 m/rad)."""
+    model = studied_bridge(h_bar)
+    devices = (Tendon(0, 0.4, 1e6, 1e8), Tendon(1, -0.7, 1e6, 1e8), Damper(1, 0.9, 1e6, False, True))
+    for row in table(devices):
+        for theta1 in (0.002, 0.01, 0.03):
+            x, h = s * theta1, 1e-6
+            numeric = (elongation(model, row, s, x + h, EXACT)[0]
+                       - elongation(model, row, s, x - h, EXACT)[0]) / (2 * h)  # fmt: skip
+            assert elongation(model, row, s, x, EXACT)[1] == pytest.approx(numeric, rel=1e-7)
+
+
+def test_a_tendon_through_a_symmetric_frames_pier_stretches_4B_sin_half_theta():
+    """h̄ = 1: the deck translates without turning, both interfaces of a pier turn by θ1, and the
+    chords 2(B + s·d)·sin(θ/2) + 2(B − s·d)·sin(θ/2) add to 4B·sin(θ/2) wherever the duct lies."""
+    model = studied_bridge(1.0, abutments=False)
+    for d in (0.0, 0.5, -1.1):
+        for s in (1.0, -1.0):
+            row = table((Tendon(1, d, 1e6, 1e8),))[0]
+            theta = s * 0.02
+            assert elongation(model, row, s, theta, EXACT)[0] == pytest.approx(
+                4 * model.B * math.sin(0.01), rel=1e-12
+            )
+
+
+def _block_rhs(block, d: float, prestress: float, stiffness: float, a_g: float):
+    """Housner's block with a tendon at offset d, written here from its own free-body diagram:
+    I_O·θ̈ = −m·g·R·sin(s·α − θ) − m·a_g·R·cos(s·α − θ) − T·ℓ·cos(θ/2)·s, ℓ = B + s·d, with
+    T = P0 + k·2ℓ·|sin(θ/2)| (the mode s = sign θ)."""
+    m, B, H = block.m1, block.B, block.H1
+    R, alpha = math.hypot(B, H), math.atan2(B, H)
+    inertia = 4.0 / 3.0 * m * R * R
+
+    def rhs(_t, y):
+        theta, rate = y
+        s = 1.0 if theta > 0 else -1.0
+        ell = B + s * d
+        tension = prestress + stiffness * 2 * ell * abs(math.sin(theta / 2))
+        moment = (
+            -m * G * R * math.sin(s * alpha - theta)
+            - m * a_g * R * math.cos(s * alpha - theta)
+            - tension * ell * math.cos(theta / 2) * s
+        )
+        return [rate, moment / inertia]
+
+    return rhs
+
+
+def test_free_rocking_of_a_post_tensioned_block_matches_an_independent_integration():
+    """Free rocking from θ1 = 0.05 rad: the times of the first six impacts and the rates after
+    them, against scipy's DOP853 on the block's own equation (`_block_rhs`) with its impacts
+    located as events and Housner's η = 1 − 1.5·sin²α applied (regular dynamics: free decay)."""
+    d, prestress, stiffness = 0.15, 3.0e5, 2.0e8
+    bridge = Bridge(BLOCK, devices=(Tendon(0, d, prestress, stiffness, top=False),))
+    response = analyze(bridge, np.zeros(401), DT, "reference", initial=(0.05, 0.0))
+    impacts_ = response.events["kind"] == "impact"
+    times, rates = response.events["time"][impacts_], response.events["rate_after"][impacts_]
+    assert times.size >= 6
+
+    eta = 1.0 - 1.5 * math.sin(math.atan2(BLOCK.B, BLOCK.H1)) ** 2
+    rhs = _block_rhs(BLOCK, d, prestress, stiffness, 0.0)
+    y, t, expected = [0.05, 0.0], 0.0, []
+    for _ in range(6):
+        sign = 1.0 if y[0] > 0 or (y[0] == 0 and y[1] > 0) else -1.0
+
+        def hit(_t, state, sign=sign):
+            return state[0] * sign - (1e-14 if abs(state[0]) < 1e-14 else 0.0)
+
+        hit.terminal, hit.direction = True, -1.0
+        y0 = [sign * 1e-15 if y[0] == 0 else y[0], y[1]]
+        solution = solve_ivp(rhs, (t, t + 10.0), y0, method="DOP853", rtol=1e-13, atol=1e-15,
+                             events=hit)  # fmt: skip
+        t = solution.t_events[0][0]
+        y = [0.0, eta * solution.y_events[0][0][1]]
+        expected.append((t, y[1]))
+    expected_ = np.array(expected)
+    np.testing.assert_allclose(times[:6], expected_[:, 0], rtol=1e-8)
+    np.testing.assert_allclose(rates[:6], expected_[:, 1], rtol=1e-7)
+
+
+@pytest.mark.parametrize("h_bar", [1.0, 1.25, 2.0])
+def test_energy_with_tendons_is_conserved_between_impacts(h_bar):
+    """Free rocking of a frame with a tendon in each pier (no ground motion): the energy
+    ½·M·θ̇1² + ΔV_gravity + Σ(P0·Δ + ½k·Δ²) is the same at every history sample between two
+    impacts (to 1e-8 of it, the reference fidelity's tolerance), and at the impacts (where Δ = 0)
+    with η_s = √(M_s/M_−s), as without tendons (`test_solver`)."""
+    frame = studied_bridge(h_bar, abutments=False)
+    devices = (Tendon(0, 0.3, 2e6, 3e8), Tendon(1, -0.4, 1e6, 5e8))
+    rows = table(devices)
+    mass = {s: coefficients(frame, s, 0.0, EXACT)[0] for s in (1.0, -1.0)}
+    laws = Laws(
+        onset_p=impacts.onset_threshold(frame, 1.0, rows),
+        onset_n=impacts.onset_threshold(frame, -1.0, rows),
+        eta_p=math.sqrt(mass[1.0] / mass[-1.0]),
+        eta_n=math.sqrt(mass[-1.0] / mass[1.0]),
+        pounding=1.0,
+    )
+    settings = fidelity.resolve("reference").settings()
+    result = integrate(frame, laws, EXACT, np.zeros(801), DT, settings, 0.006, 0.0, None, rows)
+    assert result.error == NO_ERROR
+    hits = result.events[result.events[:, EVENT_KIND] == IMPACT]
+    assert len(hits) >= 6
+    before = 0.5 * np.array([mass[-m] for m in hits[:, EVENT_MODE]]) * hits[:, EVENT_RATE_BEFORE] ** 2
+    after = 0.5 * np.array([mass[m] for m in hits[:, EVENT_MODE]]) * hits[:, EVENT_RATE_AFTER] ** 2
+    np.testing.assert_allclose(after, before, rtol=1e-12)
+    np.testing.assert_allclose(before[1:], after[:-1], rtol=1e-8)
+    total = [
+        energy(frame, float(s), y, w, False, EXACT) + strain_energy(rows, frame, float(s), y)
+        for y, w, s in zip(result.theta1, result.rate, result.mode, strict=True)
+        if s != 0
+    ]
+    start = energy(frame, 1.0, 0.006, 0.0, False, EXACT) + strain_energy(rows, frame, 1.0, 0.006)
+    np.testing.assert_allclose(total, start, rtol=1e-8)
+
+
+def test_a_damper_takes_the_energy_it_dissipates():
+    """A symmetric frame with a viscous damper at a pier's base, rocking freely with η = 1 (so
+    that no impact takes energy): the energy lost by each impact, ½M·(θ̇_before² of the next −
+    θ̇_after² of this), equals ∫c·Δ̇² dt over the half cycle, integrated here on the histories
+    (Simpson's rule on the 1e-4 s samples strictly between the impacts: the slivers left out at
+    both ends, < 1e-4 s of a half cycle of about 1.3 s at the largest power, bound it to 1e-3)."""
+    frame = studied_bridge(1.0, abutments=False)
+    damper = Damper(0, 0.6, 2.0e6)
+    rows = table((damper,))
+    mass = coefficients(frame, 1.0, 0.0, EXACT)[0]
+    laws = Laws(
+        onset_p=impacts.onset_threshold(frame, 1.0),
+        onset_n=impacts.onset_threshold(frame, -1.0),
+        eta_p=1.0, eta_n=1.0, pounding=1.0,
+    )  # fmt: skip
+    settings = fidelity.resolve("reference").changed(output_step=1e-4).settings()
+    result = integrate(frame, laws, EXACT, np.zeros(601), DT, settings, 0.008, 0.0, None, rows)
+    hits = result.events[result.events[:, EVENT_KIND] == IMPACT]
+    assert len(hits) >= 3
+    t = np.arange(result.theta1.size) * 1e-4
+    power = np.array([
+        damper.coefficient * (elongation(frame, rows[0], float(s), y, EXACT)[1] * w) ** 2
+        for y, w, s in zip(result.theta1, result.rate, result.mode, strict=True)
+    ])  # fmt: skip
+    for first, second in zip(hits[:-1], hits[1:], strict=False):
+        lost = 0.5 * mass * (first[EVENT_RATE_AFTER] ** 2 - second[EVENT_RATE_BEFORE] ** 2)
+        inside = (t > first[EVENT_TIME]) & (t < second[EVENT_TIME])
+        assert simpson(power[inside], x=t[inside]) == pytest.approx(lost, rel=1e-3)
+
+
+def test_a_bridge_without_devices_runs_as_before():
+    """An empty tuple of devices is the free-standing bridge: the same laws and, bit for bit,
+    the same response (the kernels compiled without devices)."""
+    model = studied_bridge(1.25)
+    t = np.arange(0.0, 8.0, DT)
+    acc = 0.5 * G * np.sin(2 * np.pi * t / 1.2) * (t < 4.0)
+    free, empty = Bridge(model), Bridge(model, devices=())
+    assert empty.device_table() is None and free.laws() == empty.laws()
+    a, b = analyze(free, acc, DT, "fast"), analyze(empty, acc, DT, "fast")
+    assert a.peaks == b.peaks and np.array_equal(a.histories["theta1"], b.histories["theta1"])
