@@ -27,23 +27,30 @@ from .devices import (
     TOP,
 )
 from .geometry import Model
-from .kinematics import EXACT, Kinematics, linkage
+from .kinematics import EXACT, linkage
 
 
 @jit
-def elongation(model: Model, row: np.ndarray, s: float, theta1: float, kin: Kinematics):
-    """Elongation Δ of one device (a row of `table`) and ∂Δ/∂φ, in mode s at θ1 [rad].
+def turns(model: Model, s: float, theta1: float):
+    """How the interfaces turn in mode s at θ1 [rad]: the short pier's rotation θ2 and ψ' = ∂θ2/∂φ,
+    the deck's rotation θ_deck and θ' = ∂θ_deck/∂φ (exact linkage, docs/model.md §3), shared by
+    all the devices of a bridge [rad, -, rad, -]."""
+    _, psi, theta_deck, dpsi, dtheta, _, _ = linkage(model, s, theta1, EXACT)
+    theta2 = psi - (0.5 * np.pi - s * np.arctan2(model.B, model.H2))
+    return theta2, dpsi, theta_deck, dtheta
+
+
+@jit
+def stretch(model: Model, row: np.ndarray, s: float, theta1: float, turned):
+    """Elongation Δ of one device (a row of `table`) and ∂Δ/∂φ, in mode s at θ1 [rad], with the
+    linkage's `turns` there.
 
     Returns
     -------
     Δ [m], ∂Δ/∂φ [m/rad]
     """
-    _, psi, theta_deck, dpsi, dtheta, _, _ = linkage(model, s, theta1, kin)
-    if row[PIER] == 0.0:
-        turn, dturn = theta1, 1.0
-    else:
-        turn = psi - (0.5 * np.pi - s * np.arctan2(model.B, model.H2))
-        dturn = dpsi
+    theta2, dpsi, theta_deck, dtheta = turned
+    turn, dturn = (theta1, 1.0) if row[PIER] == 0.0 else (theta2, dpsi)
     base, top = model.B + s * row[OFFSET], model.B - s * row[OFFSET]
     # chords 2ℓ·|sin(x/2)|, with |…| = s·(…) while the interface opens in mode s
     length = row[BASE] * 2.0 * base * s * np.sin(0.5 * turn)
@@ -52,6 +59,12 @@ def elongation(model: Model, row: np.ndarray, s: float, theta1: float, kin: Kine
     length += row[TOP] * 2.0 * top * s * np.sin(0.5 * top_turn)
     rate += row[TOP] * top * s * np.cos(0.5 * top_turn) * (dturn - dtheta)
     return length, rate
+
+
+@jit
+def elongation(model: Model, row: np.ndarray, s: float, theta1: float):
+    """`stretch` of one device, with the linkage solved for it [m, m/rad]."""
+    return stretch(model, row, s, theta1, turns(model, s, theta1))
 
 
 @jit
@@ -84,9 +97,9 @@ def _compiled_restrained(force, devices, model, s, theta1, omega):
 @jit
 def _device_moment(devices: np.ndarray, model: Model, s: float, theta1: float, omega: float):
     """Σ (T + F)·∂Δ/∂φ of the devices [N·m]."""
-    moment = 0.0
+    moment, turned = 0.0, turns(model, s, theta1)
     for i in range(devices.shape[0]):
-        length, lever = elongation(model, devices[i], s, theta1, EXACT)
+        length, lever = stretch(model, devices[i], s, theta1, turned)
         moment += pull(devices[i], length, lever * omega) * lever
     return moment
 
@@ -94,10 +107,10 @@ def _device_moment(devices: np.ndarray, model: Model, s: float, theta1: float, o
 @jit
 def strain_energy(devices: np.ndarray, model: Model, s: float, theta1: float) -> float:
     """Energy stored in the tendons, Σ (P0·Δ + ½k·Δ²) [J] (dampers store none)."""
-    energy = 0.0
+    energy, turned = 0.0, turns(model, s, theta1)
     for i in range(devices.shape[0]):
         if devices[i, KIND] == TENDON:
-            length = elongation(model, devices[i], s, theta1, EXACT)[0]
+            length = stretch(model, devices[i], s, theta1, turned)[0]
             energy += (devices[i, PRESTRESS] + 0.5 * devices[i, STIFFNESS] * length) * length
     return energy
 
@@ -108,7 +121,7 @@ def prestress_moment(model: Model, devices: np.ndarray, s: float) -> float:
     pier of a bridge, ∂Δ/∂φ ≈ ℓ_base + ℓ_top = 2B, wherever its duct lies."""
     return float(
         sum(
-            row[PRESTRESS] * elongation(model, row, s, 0.0, EXACT)[1]
+            row[PRESTRESS] * elongation(model, row, s, 0.0)[1]
             for row in devices
             if row[KIND] == TENDON
         )
@@ -150,8 +163,9 @@ def _compiled_tracked(devices, peaks, model, s, theta1, omega, t):
 
 @jit
 def _tracked(devices: np.ndarray, peaks: np.ndarray, model: Model, s, theta1, omega, t) -> None:
+    turned = turns(model, s, theta1)
     for i in range(devices.shape[0]):
-        length, lever = elongation(model, devices[i], s, theta1, EXACT)
+        length, lever = stretch(model, devices[i], s, theta1, turned)
         force = abs(pull(devices[i], length, lever * omega))
         if length > peaks[i, PEAK_LENGTH]:
             peaks[i, PEAK_LENGTH], peaks[i, PEAK_LENGTH_TIME] = length, t
