@@ -13,6 +13,8 @@ import pytest
 from conftest import G, studied_bridge
 from scipy.integrate import simpson, solve_ivp
 
+from rockbridge_cli.config.bridge import load_bridge
+from rockbridge_cli.config.plausibility import bridge_warnings
 from rockbridge_cli.core import fidelity, impacts
 from rockbridge_cli.core.analysis import analyze
 from rockbridge_cli.core.bridge import Bridge
@@ -32,6 +34,7 @@ from rockbridge_cli.core.solver import (
     Laws,
     integrate,
 )
+from rockbridge_cli.errors import InputError
 
 DT = 0.01
 BLOCK = single_block(B=0.5, H=2.5, density=2500.0, g=G)  # a 1 m × 5 m block, α = 0.197 rad
@@ -55,7 +58,9 @@ def test_the_elongations_derivative_is_its_finite_difference(h_bar, s):
     """∂Δ/∂φ of a tendon through each pier (both interfaces) and of a damper at a top interface,
     against a central difference of Δ (step 1e-6 rad: error ~1e-12 m/rad)."""
     model = studied_bridge(h_bar)
-    devices = (Tendon(0, 0.4, 1e6, 1e8), Tendon(1, -0.7, 1e6, 1e8), Damper(1, 0.9, 1e6, False, True))
+    devices = (
+        Tendon(0, 0.4, 1e6, 1e8), Tendon(1, -0.7, 1e6, 1e8), Damper(1, 0.9, 1e6, False, True)
+    )  # fmt: skip
     for row in table(devices):
         for theta1 in (0.002, 0.01, 0.03):
             x, h = s * theta1, 1e-6
@@ -154,8 +159,9 @@ def test_energy_with_tendons_is_conserved_between_impacts(h_bar):
     assert result.error == NO_ERROR
     hits = result.events[result.events[:, EVENT_KIND] == IMPACT]
     assert len(hits) >= 6
-    before = 0.5 * np.array([mass[-m] for m in hits[:, EVENT_MODE]]) * hits[:, EVENT_RATE_BEFORE] ** 2
-    after = 0.5 * np.array([mass[m] for m in hits[:, EVENT_MODE]]) * hits[:, EVENT_RATE_AFTER] ** 2
+    modes = hits[:, EVENT_MODE]
+    before = 0.5 * np.array([mass[-m] for m in modes]) * hits[:, EVENT_RATE_BEFORE] ** 2
+    after = 0.5 * np.array([mass[m] for m in modes]) * hits[:, EVENT_RATE_AFTER] ** 2
     np.testing.assert_allclose(after, before, rtol=1e-12)
     np.testing.assert_allclose(before[1:], after[:-1], rtol=1e-8)
     total = [
@@ -207,3 +213,84 @@ def test_a_bridge_without_devices_runs_as_before():
     assert empty.device_table() is None and free.laws() == empty.laws()
     a, b = analyze(free, acc, DT, "fast"), analyze(empty, acc, DT, "fast")
     assert a.peaks == b.peaks and np.array_equal(a.histories["theta1"], b.histories["theta1"])
+
+
+# ---------------------------------------------------------------- the config's devices section
+
+BRIDGE = """
+piers: {{width: 2.6, heights: [{left}, {right}]}}
+deck: {{depth: 1.7, area: 6.0}}
+spans: {{side: 38.0, central: 60.0}}
+abutments: {{gap: 0.12, stiffness: 1.32e+8, damping: 4.8e+7, ultimate_displacement: 0.10}}
+devices:
+{devices}
+"""
+TENDON = "  - {{kind: tendon, pier: {pier}, offset: {offset}, prestress: 4.0e+6, area: 5.0e-3}}"
+
+
+ONE_TENDON = TENDON.format(pier=1, offset=0.3)
+
+
+def _config(tmp_path, left=26.0, right=20.8, devices=ONE_TENDON):
+    path = tmp_path / "bridge.yaml"
+    path.write_text(BRIDGE.format(left=left, right=right, devices=devices), encoding="utf-8")
+    return load_bridge(path)
+
+
+def test_a_configs_tendon_is_the_cores_with_its_stiffness_from_e_a_and_the_pier_height(tmp_path):
+    """k = E·A/L_free with the default E = 195 GPa and L_free = the pier's height 2H = 26 m."""
+    (tendon,) = _config(tmp_path).to_bridge().devices
+    assert tendon == Tendon(0, 0.3, 4.0e6, 195e9 * 5.0e-3 / 26.0, top=True)
+
+
+def test_a_mirrored_bridges_devices_are_mirrored_with_it(tmp_path):
+    """The user's bridge with its tall pier on the right, a tendon in it at +0.3 m and a damper
+    in the short pier at −0.5 m: the core's tall pier is pier 0, offsets change sign; and its
+    response to a motion is the mirror image of the drawn-the-other-way bridge's."""
+    devices = (TENDON.format(pier=2, offset=0.3)
+               + "\n  - {kind: damper, pier: 1, offset: -0.5, coefficient: 1.0e+7}")  # fmt: skip
+    mirrored = _config(tmp_path, left=20.8, right=26.0, devices=devices).to_bridge()
+    assert mirrored.mirrored
+    tendon, damper = mirrored.devices
+    assert (tendon.pier, tendon.offset, damper.pier, damper.offset) == (0, -0.3, 1, 0.5)
+    drawn = (TENDON.format(pier=1, offset=-0.3)
+             + "\n  - {kind: damper, pier: 2, offset: 0.5, coefficient: 1.0e+7}")  # fmt: skip
+    direct = _config(tmp_path, devices=drawn).to_bridge()
+    assert direct.devices == mirrored.devices and direct.model == mirrored.model
+    t = np.arange(0.0, 6.0, DT)
+    acc = 0.6 * G * np.sin(2 * np.pi * t / 1.5) * (t < 3.0)
+    a, b = analyze(direct, acc, DT, "fast"), analyze(mirrored, -acc, DT, "fast")
+    np.testing.assert_array_equal(a.histories["theta1"], -b.histories["theta1"])
+    assert a.peaks["tendon1_force"] == b.peaks["tendon1_force"]
+
+
+@pytest.mark.parametrize(
+    ("devices", "message"),
+    [
+        (TENDON.format(pier=1, offset=1.3), "devices.0.offset: 1.3 m lies outside the section"),
+        (TENDON.format(pier=3, offset=0.0), "devices.0.tendon.pier: Input should be less than"),
+        ("  - {kind: spring, pier: 1}", "kind is tendon or damper"),
+        ("  - {kind: tendon, pier: 1, prestress: -1.0, area: 0.005}", "devices.0.tendon.prestress"),
+        ("  - {kind: damper, pier: 1, coefficient: 0.0}", "devices.0.damper.coefficient"),
+    ],
+)
+def test_impossible_devices_are_refused_naming_the_field(tmp_path, devices, message):
+    with pytest.raises(InputError) as info:
+        _config(tmp_path, devices=devices)
+    assert message in str(info.value)
+
+
+def test_a_single_block_has_no_top_interface_for_a_damper(tmp_path):
+    path = tmp_path / "block.yaml"
+    path.write_text("piers: {width: 1.0, heights: [5.0]}\ndevices:\n"
+                    "  - {kind: damper, pier: 1, coefficient: 1.0e+5, interface: top}\n",
+                    encoding="utf-8")  # fmt: skip
+    with pytest.raises(InputError, match="devices.0.interface: a single block rocks on its base"):
+        load_bridge(path)
+
+
+def test_a_tendon_stressed_beyond_strand_strength_is_warned_of(tmp_path):
+    """4 MN on 1000 mm² is 4000 MPa, over Y1860 strand's 1860 MPa (EN 10138-3)."""
+    devices = "  - {kind: tendon, pier: 1, prestress: 4.0e+6, area: 1.0e-3}"
+    warnings = bridge_warnings(_config(tmp_path, devices=devices))
+    assert any(w.startswith("devices.0.prestress: 4000 MPa") for w in warnings)

@@ -47,8 +47,9 @@ class DamperConfig(StrictModel):
     )
     coefficient: PositiveFloat = Field(description="Dashpot coefficient c [N·s/m]")
     interface: Literal["base", "top", "both"] = Field(
-        "base", description="The rocking interface(s) it crosses: the pier's base, its top (the "
-        "deck's underside) or both"
+        "base",
+        description="The rocking interface(s) it crosses: the pier's base, its top (the "
+        "deck's underside) or both",
     )
 
 

@@ -124,8 +124,9 @@ def _device_warnings(config: BridgeConfig) -> list[str]:
             continue
         stress = device.prestress / device.area
         if stress > TENDON_STRENGTH_PA:
+            strength = TENDON_STRENGTH_PA / 1e6
             found.append(f"devices.{index}.prestress: {stress / 1e6:.4g} MPa on its area is more "
-                         f"than prestressing steel takes ({TENDON_STRENGTH_PA / 1e6:g} MPa)")  # fmt: skip
+                         f"than prestressing steel takes ({strength:g} MPa)")  # fmt: skip
         if 0.0 < device.prestress < TENDON_LEAST_SHARE * weight:
             found.append(f"devices.{index}.prestress: {device.prestress:g} N is less than "
                          f"{TENDON_LEAST_SHARE:.0%} of the shorter pier's weight "

@@ -293,7 +293,9 @@ def device_peak_names(bridge: Bridge) -> list[tuple[str, str]]:
 def _device_peaks(bridge: Bridge, result: Integration) -> dict[str, tuple[float, float]]:
     """The devices' peaks of an integration, by name (`device_peak_names`); NaN where the
     integrator stopped early."""
-    rows = result.device_peaks if result.error == NO_ERROR else np.full((len(bridge.devices), 4), np.nan)
+    rows = result.device_peaks
+    if result.error != NO_ERROR:  # the integrator stopped early: no peak of the record is known
+        rows = np.full_like(rows, np.nan)
     out = {}
     for (length, force), row in zip(device_peak_names(bridge), rows, strict=True):
         out[length] = (float(row[0]), float(row[1]))

@@ -89,8 +89,8 @@ def _compiled_restrained(force, devices, model, s, theta1, omega):
     """`restrained` compiled for the type of ``devices``: without any, ``force`` itself."""
     if isinstance(devices, (types.NoneType, types.Omitted)):
         return lambda force, devices, model, s, theta1, omega: force
-    return lambda force, devices, model, s, theta1, omega: force - _device_moment(
-        devices, model, s, theta1, omega
+    return lambda force, devices, model, s, theta1, omega: (
+        force - _device_moment(devices, model, s, theta1, omega)
     )
 
 
