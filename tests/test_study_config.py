@@ -9,7 +9,8 @@ import pytest
 from studies import BRIDGES, REPO, STUDIED, write_records, write_study
 
 from rockbridge_cli.config.bridge import load_bridge
-from rockbridge_cli.config.study import FidelityConfig, load_study
+from rockbridge_cli.config.study import load_study
+from rockbridge_cli.config.study_models import FidelityConfig
 from rockbridge_cli.core.fidelity import resolve
 from rockbridge_cli.core.quantities import HISTORY_UNITS
 from rockbridge_cli.errors import InputError
