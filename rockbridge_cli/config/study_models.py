@@ -12,13 +12,15 @@ from pydantic import (
     BeforeValidator,
     Field,
     NonNegativeFloat,
+    NonNegativeInt,
     PositiveFloat,
     PositiveInt,
+    create_model,
     field_validator,
     model_validator,
 )
 
-from ..core.fidelity import PRESETS
+from ..core.fidelity import KNOBS, PRESETS, Knob
 from ..core.quantities import HISTORY_UNITS
 from .bridge import BridgeConfig
 from .intensity import Intensity
@@ -44,36 +46,10 @@ class InlineBridge(BridgeConfig):
     id: str = Field(pattern=ID_PATTERN, description="Bridge id in the results [-]")
 
 
-class FidelityConfig(StrictModel):
-    """A fidelity preset and any knobs to change (`rockbridge_cli.core.fidelity`); a plain preset
-    name is short for ``{preset: <name>}``."""
+class _Preset(StrictModel):
+    """A fidelity preset, and the checks of a ``fidelity`` section (`FidelityConfig`)."""
 
     preset: str = Field("default", description=f"One of {', '.join(PRESETS)}")
-    kinematics: Literal["exact", "tabulated", "simplified"] | None = Field(
-        None,
-        description="Kinematics: exact, tabulated (from cubics built once per bridge) or "
-        "simplified (the paper's fits)",
-    )
-    scheme: Literal["rk4", "dopri5"] | None = Field(None, description="Integration scheme")
-    step: PositiveFloat | None = Field(None, description="Fixed (rk4) or first (dopri5) step [s]")
-    rtol: NonNegativeFloat | None = Field(None, description="Relative tolerance of dopri5 [-]")
-    atol: NonNegativeFloat | None = Field(
-        None, description="Absolute tolerance of dopri5 [rad, rad/s]"
-    )
-    max_step: PositiveFloat | None = Field(None, description="Largest step [s]")
-    event_tol: PositiveFloat | None = Field(None, description="Event times located to within [s]")
-    bisection: bool | None = Field(None, description="Locate events by bisection (the paper's)")
-    turning_points: bool | None = Field(None, description="Locate every θ̇1 = 0 exactly")
-    rest_velocity: PositiveFloat | None = Field(
-        None, description="Chatter guard: |θ̇1| below which an impact may end in rest [rad/s]"
-    )
-    max_events: PositiveInt | None = Field(None, description="Stop with a solver error beyond [-]")
-    tail: NonNegativeFloat | None = Field(
-        None, description="Free vibration after the record, with zero ground motion [s]"
-    )
-    recheck: bool | None = Field(
-        None, description="Run again at the reference preset what ends near or beyond a capacity"
-    )
 
     @model_validator(mode="before")
     @classmethod
@@ -94,6 +70,42 @@ class FidelityConfig(StrictModel):
     def overrides(self) -> dict[str, Any]:
         """The knobs this config changes, in the core's terms."""
         return self.model_dump(exclude={"preset"}, exclude_none=True)
+
+
+_NUMBERS: dict[tuple[type, bool], Any] = {
+    (float, False): PositiveFloat, (float, True): NonNegativeFloat,
+    (int, False): PositiveInt, (int, True): NonNegativeInt,
+}  # fmt: skip
+"""The type of a numeric knob's field, by its kind and whether 0 is a value of it."""
+
+
+def _knob_field(knob: Knob) -> tuple[Any, Any]:
+    """The field of a knob (`core.fidelity.KNOBS`) in a study's ``fidelity`` section: its type
+    (one of its choices, a switch, or a number, positive where 0 is no value of it) and its
+    description; None keeps the preset's. Its range is `core.fidelity.resolve`'s to check."""
+    if knob.choices:
+        kind: Any = Literal[knob.choices]  # type: ignore[valid-type]
+    else:
+        kind = bool if knob.kind is bool else _NUMBERS[knob.kind, knob.zero]
+    description = f"{knob.meaning} [{knob.unit}]" if knob.unit else knob.meaning
+    return kind | None, Field(None, description=description)
+
+
+_KNOB_FIELDS: dict[str, Any] = {
+    knob.name: _knob_field(knob) for knob in KNOBS if knob.name != "output_step"
+}
+"""The fields of a ``fidelity`` section's knobs: `core.fidelity.KNOBS`, but ``output_step``,
+which is the ``output`` section's."""
+
+FidelityConfig = create_model(
+    "FidelityConfig",
+    __base__=_Preset,
+    __module__=__name__,
+    __doc__="""A fidelity preset and any knobs to change (`rockbridge_cli.core.fidelity`); a plain
+    preset name is short for ``{preset: <name>}``. Its knobs are `core.fidelity.KNOBS`, but
+    ``output_step``, which is the ``output`` section's.""",
+    **_KNOB_FIELDS,
+)
 
 
 class Output(StrictModel):
@@ -154,7 +166,7 @@ class StudyConfig(StrictModel):
         None, description="Instead of records: the overturning spectrum of the one bridge under "
         "a pulse (config.spectrum)",
     )  # fmt: skip
-    fidelity: FidelityConfig = Field(
+    fidelity: FidelityConfig = Field(  # type: ignore[valid-type]
         default_factory=FidelityConfig, description="Numerical fidelity"
     )
     output: Output = Field(default_factory=Output, description="The results file")
