@@ -108,7 +108,7 @@ def test_the_notebook_page_is_the_script_cell_by_cell():
         page = hook.notebook("notebooks/_test-cells.py")
     finally:
         path.unlink()
-    assert page == "# Title\n\nText.\n\n```python\nx = 1\n```"
+    assert page == "## Title\n\nText.\n\n```python\nx = 1\n```"
 
 
 @pytest.mark.slow

@@ -132,14 +132,15 @@ def escape(cell: str) -> str:
 
 def notebook(target: str) -> str:
     """A jupytext percent script as markdown: ``# %% [markdown]`` cells as text (their ``# ``
-    stripped), ``# %%`` cells as Python blocks, the jupytext header left out."""
+    stripped, their headings a level down, under the page's title), ``# %%`` cells as Python
+    blocks, the jupytext header left out."""
     text = (DOCS / target).read_text(encoding="utf-8")
     parts = []
     for cell in re.split(r"^# %%", text, flags=re.M)[1:]:
         head, _, body = cell.partition("\n")
         if head.strip() == "[markdown]":
             lines = [re.sub(r"^# ?", "", line) for line in body.strip("\n").splitlines()]
-            parts.append("\n".join(lines))
+            parts.append("\n".join(re.sub(r"^(#+ )", r"#\1", line) for line in lines))
         elif body.strip():
             parts.append("```python\n" + body.strip("\n") + "\n```")
     return "\n\n".join(parts)
