@@ -74,6 +74,21 @@ def test_readme_is_a_front_page_linking_into_the_manual():
         assert page in linked, page
 
 
+def slug(heading: str) -> str:
+    """A heading's anchor as MkDocs' and GitHub's renderers make it for these headings: lower
+    case, punctuation dropped, spaces as hyphens."""
+    return re.sub(r"\s+", "-", re.sub(r"[^\w\s-]", "", heading.lower()).strip())
+
+
+def test_readme_links_to_anchors_that_exist():
+    text = (REPO / "README.md").read_text(encoding="utf-8")
+    links = re.findall(r"\]\(docs/([^)#]+\.md)#([^)]+)\)", text)
+    assert links, "README links to no section of a page"
+    for page, anchor in links:
+        anchors = {slug(h) for h in headings((REPO / "docs" / page).read_text(encoding="utf-8"))}
+        assert anchor in anchors, (page, anchor)
+
+
 def test_the_config_reference_gives_each_field_its_unit_and_default():
     table = reference_hook().config_fields("rockbridge_cli.config.bridge:BridgeConfig")
     rows = {r.split("|")[1].strip(" `"): r.split("|")[2:-1] for r in table.splitlines()[2:]}
@@ -99,15 +114,10 @@ def test_the_config_reference_follows_lists_mappings_and_alternatives():
             "output.histories"} <= paths  # fmt: skip
 
 
-def test_the_notebook_page_is_the_script_cell_by_cell():
+def test_the_notebook_page_is_the_script_cell_by_cell(tmp_path):
     script = "# ---\n# jupyter: x\n# ---\n\n# %% [markdown]\n# # Title\n#\n# Text.\n\n# %%\nx = 1\n"
-    hook = reference_hook()
-    path = REPO / "docs" / "notebooks" / "_test-cells.py"
-    try:
-        path.write_text(script, encoding="utf-8")
-        page = hook.notebook("notebooks/_test-cells.py")
-    finally:
-        path.unlink()
+    (tmp_path / "cells.py").write_text(script, encoding="utf-8")
+    page = reference_hook().notebook(str(tmp_path / "cells.py"))  # an absolute path: as it is
     assert page == "## Title\n\nText.\n\n```python\nx = 1\n```"
 
 
