@@ -6,7 +6,7 @@
 # time into NUMBA_CACHE_DIR, which stays set in the image, so a batch job's containers load them
 # from there instead of each compiling them again (8–10 s). ROCKBRIDGE_PATHS lets a study's
 # paths reach the bundled records from any working folder (a config's paths are otherwise
-# confined to its own folder and the working folder: README, "Paths in configs").
+# confined to its own folder and the working folder: docs/studies.md, "Paths in configs").
 FROM python:3.11-slim
 
 ENV PYTHONDONTWRITEBYTECODE=1 \

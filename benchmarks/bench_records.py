@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from rockbridge_cli.config.loading import load
-from rockbridge_cli.config.records import RecordSetConfig
+from rockbridge_cli.config.record_sets import RecordSetConfig
 from rockbridge_cli.motions.baseline import compute_final_motion
 from rockbridge_cli.motions.spectra import compute_psa
 from rockbridge_cli.records.set_files import read_record_set

@@ -26,7 +26,7 @@ REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO))
 
 from rockbridge_cli.config.loading import load  # noqa: E402
-from rockbridge_cli.config.records import RecordSetConfig  # noqa: E402
+from rockbridge_cli.config.record_sets import RecordSetConfig  # noqa: E402
 from rockbridge_cli.core.quantities import STANDARD_GRAVITY  # noqa: E402
 from rockbridge_cli.motions import baseline, matching, seeds, spectral_fit  # noqa: E402
 from rockbridge_cli.records.fema import read_fema_set  # noqa: E402

@@ -26,7 +26,7 @@ With ``--command`` each row is ``rockbridge run STUDY --workers N`` instead, as 
 (its workers start while it loads the study), timed from outside the process: only e2e, total
 and the speed-up are measured.
 
-A second table times the bundled intensity studies end to end, as README runs them: the
+A second table times the bundled intensity studies end to end, as the manual runs them: the
 multiple-stripe study and the IDA of the paper's bridges (``rockbridge run``, then
 ``rockbridge fragility``), each in a fresh process.
 
@@ -59,8 +59,9 @@ NAMED = os.pathsep.join(filter(None, (os.environ.get("ROCKBRIDGE_PATHS"), str(RE
 ENV = os.environ | {"ROCKBRIDGE_PATHS": NAMED}
 """The generated rows' environment: their studies, written in temporary folders, name the
 repository's bridges and records by absolute paths, which a study may reach only where the user
-says so (README, "Paths in configs"). The bundled studies run in the user's environment, as
-README runs them: they reach the records through the repository's .rockbridge marker."""
+says so (docs/studies.md, "Paths in configs"). The bundled studies run in the user's
+environment, as the manual runs them: they reach the records through the repository's
+.rockbridge marker."""
 
 
 def child(command: list[str], cwd: str | Path | None = None, env: dict | None = ENV) -> str:
@@ -154,7 +155,7 @@ def measure_command(study: Path, workers: int) -> dict:
 
 
 def measure_bundled(name: str, workers: int) -> dict:
-    """A bundled study run as README runs it, in a fresh folder: the run, then its fragility."""
+    """A bundled study run as the manual runs it, in a fresh folder: the run, then its fragility."""
     with tempfile.TemporaryDirectory() as folder:
         study = REPO / "configs" / "studies" / f"{name}.yaml"
         run = [sys.executable, "-c", ROW, str(study), str(workers), ""]

@@ -1,11 +1,14 @@
-"""README's example outputs, computed: every block README quotes, as the code gives it today.
+"""The manual's example outputs, computed: every block that README or a page of `docs/` quotes,
+as the code gives it today.
 
     python benchmarks/readme_examples.py
 
 prints each block under its name. `tests/test_readme_examples.py` computes the same blocks and
-checks that README quotes each one, its numbers to the digits README gives (a rounding of the
-last digit allowed), so that they cannot go stale: after a change that moves them, run this and
-paste the blocks into README.
+checks that README or a page quotes each one, in every file that does its numbers to the digits
+it gives (a rounding of the last digit allowed), so that they cannot go stale: after a change that
+moves them, run this and paste the blocks where they are quoted (README's "From Python" example
+and docs/quickstart.md; docs/fragility.md; docs/studies.md, "Parameter sweeps"; docs/records.md,
+"Selecting recorded motions").
 """
 
 from __future__ import annotations

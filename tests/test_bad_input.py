@@ -431,10 +431,12 @@ def test_a_file_of_another_kind_is_named_for_what_it_is(tmp_path):
     refused(invoke("describe", broken), "piers.width")
 
 
-def test_readme_says_what_a_study_does_with_a_missing_or_unreadable_record(tmp_path):
-    """README's sentence and the behaviour agree: a missing record file stops the study before
-    it starts (exit 2), an unreadable one fails only its own analyses (exit 1, the others run)."""
-    readme = " ".join((Path(__file__).parents[1] / "README.md").read_text().split())
+def test_the_manual_says_what_a_study_does_with_a_missing_or_unreadable_record(tmp_path):
+    """The manual's sentence (docs/reliability.md, "Bad input at a glance", once README's) and the
+    behaviour agree: a missing record file stops the study before it starts (exit 2), an
+    unreadable one fails only its own analyses (exit 1, the others run)."""
+    page = Path(__file__).parents[1] / "docs" / "reliability.md"
+    readme = " ".join(page.read_text(encoding="utf-8").split())
     assert "a record file that is missing stops the study before it starts (exit 2" in readme
     assert "while one that exists but cannot be read (malformed, NaN" in readme
     (tmp_path / "b.yaml").write_text(BRIDGE)

@@ -154,12 +154,14 @@ LAYERS = (
 the rooms of the layers below it, never those above."""
 
 BACK_UP = {
+    ("rockbridge_cli.records.sets", "rockbridge_cli.config.record_sets"),
     ("rockbridge_cli.records.sets", "rockbridge_cli.config.records"),
-    ("rockbridge_cli.records.manifest", "rockbridge_cli.config.records"),
-    ("rockbridge_cli.records.target", "rockbridge_cli.config.records"),
+    ("rockbridge_cli.records.manifest", "rockbridge_cli.config.record_sets"),
+    ("rockbridge_cli.records.target", "rockbridge_cli.config.record_sets"),
 }
 """The one room's import that runs back up: a record set is generated from its config (its
-generator, manifest and target read `config.records.RecordSetConfig`)."""
+generator, manifest and target read `config.record_sets.RecordSetConfig`; the generator knows
+its seeds' FEMA P695 set, `config.records.FemaSet`)."""
 
 
 def room(module: str) -> str:

@@ -16,7 +16,7 @@ import pytest
 from scipy.integrate import cumulative_trapezoid
 
 from rockbridge_cli.config.loading import load
-from rockbridge_cli.config.records import RecordSetConfig
+from rockbridge_cli.config.record_sets import RecordSetConfig
 from rockbridge_cli.motions import baseline, matching, wavelets
 from rockbridge_cli.motions.ec8 import compute_elastic_spectrum
 from rockbridge_cli.motions.spectra import compute_psa, find_peak_responses

@@ -32,5 +32,5 @@ def test_the_docstring_names_every_module(package):
 def test_every_package_is_checked():
     assert {p.name for p in PACKAGES} >= {
         "rockbridge_cli", "core", "motions", "records", "results", "config", "assessment",
-        "study", "plots", "report", "cli",
+        "study", "executors", "plots", "report", "cli",
     }  # fmt: skip

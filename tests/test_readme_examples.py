@@ -1,7 +1,8 @@
-"""README's example outputs are what the code gives: `benchmarks/readme_examples.py` computes each
-block README quotes, and README must quote it, every number to the digits README gives (one unit
-of its last digit allowed, for a rounding that other library versions may tip; whole numbers,
-counts, exactly).
+"""The manual's example outputs are what the code gives: `benchmarks/readme_examples.py` computes
+each block that README or a page of the manual (`docs/`) quotes, and one of them must quote it,
+every number to the digits it gives (one unit of its last digit allowed, for a rounding that other
+library versions may tip; whole numbers, counts, exactly) — in every file that quotes it, README
+and a page alike.
 
 Expected values: the code's own output, on purpose. This test checks the documentation against
 the code, not the code: the code's numbers are checked against independent values elsewhere.
@@ -66,10 +67,41 @@ def blocks(tmp_path_factory):
     return examples().blocks(tmp_path_factory.mktemp("readme"))
 
 
+def manual() -> dict[str, str]:
+    """The text of README and of every page of the manual, by path."""
+    pages = [REPO / "README.md", *sorted((REPO / "docs").rglob("*.md"))]
+    return {str(page.relative_to(REPO)): page.read_text(encoding="utf-8") for page in pages}
+
+
+def quoted(block: str, texts: dict[str, str]) -> dict[str, list[tuple[str, str]]]:
+    """For each file that quotes the block, the numbers it quotes off (as `off`); at least one
+    file must quote it."""
+    found = {
+        path: off(block, text) for path, text in texts.items() if re.search(pattern(block), text)
+    }
+    assert found, (
+        f"neither README nor a page of docs/ quotes this block as the code gives it:\n{block}"
+    )
+    return found
+
+
+def test_every_file_that_quotes_a_block_is_checked():
+    texts = {
+        "README.md": "median 0.9358 of 10/10 records",
+        "docs/a.md": "median 0.9378 of 10/10 records",
+        "docs/b.md": "nothing",
+    }
+    assert quoted("median 0.9358 of 10/10 records", texts) == {
+        "README.md": [], "docs/a.md": [("0.9378", "0.9358")]}  # fmt: skip
+    with pytest.raises(AssertionError, match="neither README"):
+        quoted("median 0.9358 of 11/10 records", {"docs/b.md": "nothing"})
+
+
 @pytest.mark.slow
-def test_readme_quotes_what_the_code_gives(blocks):
-    readme = (REPO / "README.md").read_text(encoding="utf-8")
+def test_the_manual_quotes_what_the_code_gives(blocks):
+    texts = manual()
     assert set(blocks) == {"one analysis", "a study", "fragility study", "fragility table",
                            "gap sweep count", "gap sweep", "select-records"}  # fmt: skip
     for name, block in blocks.items():
-        assert off(block, readme) == [], name
+        for path, wrong in quoted(block, texts).items():
+            assert wrong == [], (name, path)

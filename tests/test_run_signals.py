@@ -328,14 +328,14 @@ def test_after_the_command_ctrl_c_is_left_to_the_system(monkeypatch):
 
 def test_a_stopped_worker_is_named_when_the_run_stalls(tmp_path, monkeypatch):
     """Issue 39: a worker stopped (SIGSTOP) hung the run with "about 1 s left", nothing saying
-    why. A run whose batches make no progress for `executors.STALL_S` now says so, naming the
+    why. A run whose batches make no progress for `executors.stall.STALL_S` now says so, naming the
     stopped workers and how to resume them; resumed, the run ends ok."""
     import multiprocessing
     import threading
 
-    from rockbridge_cli.study import executors
+    from rockbridge_cli.study.executors import stall
 
-    monkeypatch.setattr(executors, "STALL_S", 1.0)
+    monkeypatch.setattr(stall, "STALL_S", 1.0)
     stopped: list[int] = []
     said: list[str] = []
     timers: list[threading.Timer] = []

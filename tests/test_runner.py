@@ -405,7 +405,7 @@ def test_batches_hold_a_second_of_work_and_shrink_at_the_end(cells, workers, sec
         FIRST_BATCH,
         MAX_BATCH,
         Pace,
-        _batches,
+        batched,
     )  # fmt: skip
 
     pace = Pace()
@@ -414,7 +414,7 @@ def test_batches_hold_a_second_of_work_and_shrink_at_the_end(cells, workers, sec
         pace.record([done] * 10)
     timed = {None: FIRST_BATCH, 0.0: MAX_BATCH}.get(seconds) or int(BATCH_SECONDS / seconds)
     grid = [Cell(index, 0, index) for index in range(cells)]
-    batches = list(_batches(grid, workers, pace))
+    batches = list(batched(grid, workers, pace))
     assert [cell for batch in batches for cell in batch] == grid
     left = cells
     for batch in batches:

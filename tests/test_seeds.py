@@ -22,7 +22,7 @@ from click.testing import CliRunner
 from rockbridge_cli.cli import main
 from rockbridge_cli.cli.records import format_report
 from rockbridge_cli.config.loading import load
-from rockbridge_cli.config.records import RecordSetConfig
+from rockbridge_cli.config.record_sets import RecordSetConfig
 from rockbridge_cli.errors import InputError
 from rockbridge_cli.motions import baseline, ec8, spectra, spectral_fit, wavelets
 from rockbridge_cli.motions import seeds as seed_matching

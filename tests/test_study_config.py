@@ -9,7 +9,8 @@ import pytest
 from studies import BRIDGES, REPO, STUDIED, write_records, write_study
 
 from rockbridge_cli.config.bridge import load_bridge
-from rockbridge_cli.config.study import FidelityConfig, load_study
+from rockbridge_cli.config.study import load_study
+from rockbridge_cli.config.study_models import FidelityConfig
 from rockbridge_cli.core.fidelity import resolve
 from rockbridge_cli.core.quantities import HISTORY_UNITS
 from rockbridge_cli.errors import InputError
@@ -232,3 +233,25 @@ def test_fidelity_fields_are_the_core_knobs():
     """A knob added to the core must be added to the config (output_step lives in `output`)."""
     fields = set(FidelityConfig.model_fields) - {"preset"}
     assert fields == set(resolve("default").knobs) - {"output_step"}
+
+
+def test_each_knob_is_written_once():
+    """Issue 38: a knob's unit, range and meaning are one row of `core.fidelity.KNOBS`; the
+    config's fields, the ranges `resolve` checks and the solver's settings derive from it, and
+    every preset sets exactly those knobs."""
+    from rockbridge_cli.core.fidelity import KNOBS, LIMITS
+    from rockbridge_cli.core.solver import Settings
+
+    names = [knob.name for knob in KNOBS]
+    assert set(names) == set(resolve("default").knobs) and len(set(names)) == len(names)
+    assert set(Settings._fields) == {knob.name for knob in KNOBS if knob.solver}
+    assert LIMITS == {k.name: (k.low, k.high) for k in KNOBS if k.kind in (int, float)}
+    step = FidelityConfig.model_fields["step"]
+    assert step.description == "Fixed (rk4) or first (dopri5) step [s]"  # meaning [unit]
+    for value, ok in ((1e-3, True), (0.0, False), ("x", False)):  # step: positive (zero=False)
+        try:
+            FidelityConfig.model_validate({"step": value})
+        except ValueError:
+            assert not ok
+        else:
+            assert ok

@@ -88,7 +88,7 @@ print(f"backfill demand/capacity {response.dcr_backfill:.3f}; failure: {response
 # each scaled to seven peak ground accelerations (multiple-stripe analysis, 140 analyses), at
 # the `fast` fidelity and keeping no histories. Its paths are absolute and point into the
 # repository, outside the study's own folder: a study may reach files elsewhere only where
-# `ROCKBRIDGE_PATHS` names them (README, "Paths in configs").
+# `ROCKBRIDGE_PATHS` names them (docs/studies.md, "Paths in configs").
 
 # %%
 os.environ["ROCKBRIDGE_PATHS"] = str(REPO)

@@ -36,7 +36,7 @@ def generate_records(config: Path, out: Path | None, with_plot: bool) -> None:
     written as read, adjust: none).
     """
     from ..config.loading import load
-    from ..config.records import RecordSetConfig
+    from ..config.record_sets import RecordSetConfig
     from ..kinds import expecting
     from ..records.sets import generate_record_set
 

@@ -46,7 +46,7 @@ def spectrum() -> None:
     "--tolerance",
     type=float,
     default=None,
-    help="Bisect each boundary to this width, relative [-] [default: 0.002].",
+    help="Bisect each boundary to this width, relative [-] (default 0.002).",
 )
 @click.option("--limit-state", "limit_states", multiple=True, metavar="NAME",
               help="A boundary to find (repeat for more): overturning, and for a bridge "

@@ -158,7 +158,8 @@ class SelectionConfig(StrictModel):
     periods: tuple[PositiveFloat, PositiveFloat] = Field(
         description="The period range [T_low, T_high] of the fit and of EN 1998-1's (4)c, "
         "0 < T_low < T_high <= 4 s. A rocking bridge has no fundamental period: take the periods "
-        "where its rocking is sensitive (README), or EC8's [0.2·T1, 2·T1] of a reference [s].",
+        "where its rocking is sensitive (docs/records.md), or EC8's [0.2·T1, 2·T1] of a "
+        "reference [s].",
     )  # fmt: skip
     period_count: int = Field(
         60, ge=10, le=1000, description="Log-spaced periods of the selection over the range [-]"

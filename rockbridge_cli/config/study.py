@@ -1,10 +1,11 @@
 """The study config: which bridges meet which records, at which fidelity, and where results go.
 
-A study file is validated in two stages. `StudyConfig` checks the file itself (keys, types, that
-the files and folders it names exist); `load_study` then resolves it into a `Study`: every bridge
-config loaded, every record read, the fidelity knobs settled and the output path chosen. Paths
-inside the study file are relative to the study file; the default output, ``results/<stem>.h5``,
-is relative to the current folder, like a path given on the command line.
+A study file is validated in two stages. `StudyConfig` (`config.study_models`) checks the file
+itself (keys, types, that the files and folders it names exist); `load_study` then resolves it
+into a `Study`: every bridge config loaded, every record read, the fidelity knobs settled and the
+output path chosen. Paths inside the study file are relative to the study file; the default
+output, ``results/<stem>.h5``, is relative to the current folder, like a path given on the
+command line.
 
 A record that cannot be read does not stop the study: the `StudyRecord` carries the reason and
 the run records it as the status of that record's analyses.
@@ -19,186 +20,23 @@ import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import Any
 
-from pydantic import (
-    BeforeValidator,
-    Field,
-    NonNegativeFloat,
-    PositiveFloat,
-    PositiveInt,
-    field_validator,
-    model_validator,
-)
-
-from ..core.fidelity import PRESETS, Fidelity, check_work, resolve
-from ..core.quantities import HISTORY_UNITS
+from ..core.fidelity import Fidelity, check_work, resolve
 from ..errors import InputError, check_path_argument
 from ..kinds import expecting
 from ..results.sections import IntensitySection
 from . import loading
 from .bridge import BridgeConfig, load_bridge
 from .intensity import Intensity
-from .loading import ID_PATTERN, ConfigFolder, StrictModel
+from .loading import ConfigFolder
 from .plausibility import bridge_warnings, record_warnings, scale_warning
-from .records import Records
 from .spectrum import Spectrum
 from .study_checks import check_ids, check_map, check_size, check_states
+from .study_models import InlineBridge, StudyConfig
 from .study_records import StudyRecord, resolve_records, scalable, scaled, study_record
 from .sweep import Sweep, field_value, variant_id, varied
 from .uncertainty import Uncertainty, record_pairs, sampled_configs
-
-
-def _path_or_mapping(value: Any) -> Any:
-    if not isinstance(value, (str, dict)):
-        raise ValueError("expected the path of a bridge file or a bridge mapping with an id")
-    return value
-
-
-BridgeEntry = Annotated[str | dict[str, Any], BeforeValidator(_path_or_mapping)]
-
-
-class InlineBridge(BridgeConfig):
-    """A bridge written inside the study file, with the id that names it in the results."""
-
-    id: str = Field(pattern=ID_PATTERN, description="Bridge id in the results [-]")
-
-
-class FidelityConfig(StrictModel):
-    """A fidelity preset and any knobs to change (`rockbridge_cli.core.fidelity`); a plain preset
-    name is short for ``{preset: <name>}``."""
-
-    preset: str = Field("default", description=f"One of {', '.join(PRESETS)}")
-    kinematics: Literal["exact", "tabulated", "simplified"] | None = Field(
-        None,
-        description="Kinematics: exact, tabulated (from cubics built once per bridge) or "
-        "simplified (the paper's fits)",
-    )
-    scheme: Literal["rk4", "dopri5"] | None = Field(None, description="Integration scheme")
-    step: PositiveFloat | None = Field(None, description="Fixed (rk4) or first (dopri5) step [s]")
-    rtol: NonNegativeFloat | None = Field(None, description="Relative tolerance of dopri5 [-]")
-    atol: NonNegativeFloat | None = Field(
-        None, description="Absolute tolerance of dopri5 [rad, rad/s]"
-    )
-    max_step: PositiveFloat | None = Field(None, description="Largest step [s]")
-    event_tol: PositiveFloat | None = Field(None, description="Event times located to within [s]")
-    bisection: bool | None = Field(None, description="Locate events by bisection (the paper's)")
-    turning_points: bool | None = Field(None, description="Locate every θ̇1 = 0 exactly")
-    rest_velocity: PositiveFloat | None = Field(
-        None, description="Chatter guard: |θ̇1| below which an impact may end in rest [rad/s]"
-    )
-    max_events: PositiveInt | None = Field(None, description="Stop with a solver error beyond [-]")
-    tail: NonNegativeFloat | None = Field(
-        None, description="Free vibration after the record, with zero ground motion [s]"
-    )
-    recheck: bool | None = Field(
-        None, description="Run again at the reference preset what ends near or beyond a capacity"
-    )
-
-    @model_validator(mode="before")
-    @classmethod
-    def _shorthand(cls, data: Any) -> Any:
-        if isinstance(data, str):
-            return {"preset": data}
-        if not isinstance(data, (dict, cls)):
-            raise ValueError(f"expected a preset name ({', '.join(PRESETS)}) or a mapping")
-        return data
-
-    @field_validator("preset")
-    @classmethod
-    def _known(cls, preset: str) -> str:
-        if preset not in PRESETS:
-            raise ValueError(f"unknown preset {preset!r}: choose one of {', '.join(PRESETS)}")
-        return preset
-
-    def overrides(self) -> dict[str, Any]:
-        """The knobs this config changes, in the core's terms."""
-        return self.model_dump(exclude={"preset"}, exclude_none=True)
-
-
-class Output(StrictModel):
-    """Where the results go and what they keep."""
-
-    path: Path | None = Field(
-        None, description="HDF5 file, relative to the study file; default results/<stem>.h5"
-    )
-    output_step: PositiveFloat | None = Field(
-        None, description="Time step of the stored histories; default the preset's (0.01 s) [s]"
-    )
-    histories: str | list[str] = Field(
-        "all", description=f"Histories to keep: all, none, or a list of {', '.join(HISTORY_UNITS)}"
-    )
-
-    @field_validator("histories", mode="before")
-    @classmethod
-    def _known(cls, names: Any) -> Any:
-        choices = ", ".join(HISTORY_UNITS)
-        if names in ("all", "none"):
-            return names
-        if not isinstance(names, list) or not all(isinstance(name, str) for name in names):
-            raise ValueError(f"give all, none or a list of history names ({choices})")
-        unknown = [name for name in names if name not in HISTORY_UNITS]
-        if unknown:
-            raise ValueError(f"unknown histories {', '.join(unknown)}: choose from {choices}")
-        if len(set(names)) != len(names):
-            raise ValueError("a history is listed twice")
-        return names
-
-    def kept(self) -> tuple[str, ...]:
-        """Names of the histories to store, in `HISTORY_UNITS` order."""
-        if self.histories == "all":
-            return tuple(HISTORY_UNITS)
-        if self.histories == "none":
-            return ()
-        return tuple(name for name in HISTORY_UNITS if name in self.histories)
-
-
-class StudyConfig(StrictModel):
-    """A study, as a YAML file describes it."""
-
-    description: str | None = Field(None, description="Free text")
-    bridges: list[BridgeEntry] = Field(
-        min_length=1,
-        description="Bridge files (relative to the study file; id = file stem) or inline bridges "
-        "with an id",
-    )
-    records: Records | None = Field(None, description="The ground motions")
-    intensity: Intensity | None = Field(
-        None, description="Scale every record to levels of an intensity measure"
-    )
-    sweep: Sweep | None = Field(None, description="Vary bridge fields over lists or ranges")
-    uncertainty: Uncertainty | None = Field(
-        None, description="Draw bridge fields from distributions (config.uncertainty)"
-    )
-    spectrum: Spectrum | None = Field(
-        None, description="Instead of records: the overturning spectrum of the one bridge under "
-        "a pulse (config.spectrum)",
-    )  # fmt: skip
-    fidelity: FidelityConfig = Field(
-        default_factory=FidelityConfig, description="Numerical fidelity"
-    )
-    output: Output = Field(default_factory=Output, description="The results file")
-
-    @model_validator(mode="after")
-    def _records_or_spectrum(self) -> StudyConfig:
-        if (self.records is None) == (self.spectrum is None):
-            raise ValueError("give exactly one of records and spectrum")
-        if self.sweep is not None and self.uncertainty is not None:
-            raise ValueError(
-                "give a sweep or an uncertainty section, not both: sample the swept field too, "
-                "or write one study per swept value"
-            )
-        if self.spectrum is not None:
-            others = [
-                name for name in ("intensity", "sweep", "uncertainty")
-                if getattr(self, name) is not None
-            ]  # fmt: skip
-            if others or len(self.bridges) != 1:
-                raise ValueError(
-                    "a spectrum is of one bridge, without intensity or sweep sections (it finds "
-                    "its own levels): write one study per bridge"
-                )
-        return self
 
 
 @dataclass(frozen=True)

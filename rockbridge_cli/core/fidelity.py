@@ -54,14 +54,69 @@ SCHEMES = ("rk4", "dopri5")
 KINEMATICS = ("exact", "tabulated", "simplified")
 """How the linkage is computed (`analysis._kinematics`)."""
 
+
+class Knob(NamedTuple):
+    """One fidelity knob: what it is called, its type, its unit, the values it may take and what
+    it means. The solver's settings (`Fidelity.settings`), the checks of `resolve` and the
+    fields of a study's ``fidelity`` section (`config.study_models.FidelityConfig`) derive from
+    `KNOBS`.
+
+    Attributes
+    ----------
+    name : as a study, `PRESETS` and `Fidelity.knobs` name it
+    kind : ``float``, ``int``, ``bool`` or ``str`` (one of ``choices``)
+    unit : of a number, as a config's description states it; empty for a switch or a choice
+    low, high : the range of a number, ends included, so that an analysis ends and fits in
+        memory; None for a switch or a choice
+    meaning : what it does, as a config's description states it
+    choices : the values of a ``str`` knob
+    zero : whether a study may give it 0 (a study refuses ``rest_velocity: 0``, which would let
+        no impact end in rest, where the core's range admits it)
+    solver : read by the solver (`solver.Settings`), not by the analysis around it
+    """
+
+    name: str
+    kind: type
+    unit: str
+    low: float | None
+    high: float | None
+    meaning: str
+    choices: tuple[str, ...] = ()
+    zero: bool = True
+    solver: bool = True
+
+
+KNOBS: tuple[Knob, ...] = (
+    Knob("scheme", str, "", None, None, "Integration scheme", SCHEMES),
+    Knob("kinematics", str, "", None, None, "Kinematics: exact, tabulated (from cubics built "
+         "once per bridge) or simplified (the paper's fits)", KINEMATICS, solver=False),
+    Knob("step", float, "s", 1e-5, 1.0, "Fixed (rk4) or first (dopri5) step", zero=False),
+    Knob("max_step", float, "s", 1e-5, 1.0, "Largest step", zero=False),
+    Knob("event_tol", float, "s", 1e-13, 1e-2, "Event times located to within", zero=False),
+    Knob("rtol", float, "-", 0.0, 1.0, "Relative tolerance of dopri5"),
+    Knob("atol", float, "rad, rad/s", 0.0, 1.0, "Absolute tolerance of dopri5"),
+    Knob("bisection", bool, "", None, None, "Locate events by bisection (the paper's)"),
+    Knob("turning_points", bool, "", None, None, "Locate every θ̇1 = 0 exactly"),
+    Knob("rest_velocity", float, "rad/s", 0.0, 1.0, "Chatter guard: |θ̇1| below which an "
+         "impact may end in rest", zero=False),
+    Knob("output_step", float, "s", 1e-4, 10.0, "Time step of the stored histories",
+         zero=False),
+    Knob("max_events", int, "-", 1, 1_000_000, "Stop with a solver error beyond", zero=False),
+    Knob("tail", float, "s", 0.0, 3600.0, "Free vibration after the record, with zero ground "
+         "motion", solver=False),
+    Knob("recheck", bool, "", None, None, "Run again at the reference preset what ends near or "
+         "beyond a capacity", solver=False),
+)  # fmt: skip
+"""Every fidelity knob, in the order `resolve` checks them. Steps below 1e-5 s (a hundredth of
+the paper's) would take hours; an event located closer than 1e-13 s cannot be (the spacing of
+floating-point times); 1e6 events take 40 MB."""
+
 LIMITS: dict[str, tuple[float, float]] = {
-    "step": (1e-5, 1.0), "max_step": (1e-5, 1.0), "event_tol": (1e-13, 1e-2),
-    "rtol": (0.0, 1.0), "atol": (0.0, 1.0), "rest_velocity": (0.0, 1.0),
-    "output_step": (1e-4, 10.0), "max_events": (1, 1_000_000), "tail": (0.0, 3600.0),
-}  # fmt: skip
-"""The range of each numeric knob, ends included, so that an analysis ends and fits in memory:
-steps below 1e-5 s (a hundredth of the paper's) would take hours; an event located closer than
-1e-13 s cannot be (the spacing of floating-point times); 1e6 events take 40 MB [SI]."""
+    knob.name: (knob.low, knob.high)
+    for knob in KNOBS
+    if knob.low is not None and knob.high is not None
+}
+"""The range of each numeric knob, ends included (`KNOBS`) [SI]."""
 
 TOLERANCE_FLOORS = (1e-13, 1e-16)
 """DOPRI5 needs ``rtol`` or ``atol`` at least this [-, rad]: below both the error control asks
@@ -91,13 +146,13 @@ class Fidelity(NamedTuple):
         return resolve(self.preset, **{**self.knobs, **overrides})
 
     def settings(self):
-        """The solver's `Settings` (``kinematics``, ``tail`` and ``recheck`` are not the
-        solver's). The solver, and with it the compiler, is imported here, not with this module,
-        so that listing the presets stays cheap."""
+        """The solver's `Settings`: the knobs of `KNOBS` that are the solver's (``kinematics``,
+        ``tail`` and ``recheck`` are not). The solver, and with it the compiler, is imported
+        here, not with this module, so that listing the presets stays cheap."""
         from .solver import Settings
 
         values = {**self.knobs, "scheme": SCHEMES.index(self.knobs["scheme"])}
-        return Settings(**{name: values[name] for name in Settings._fields})
+        return Settings(**{knob.name: values[knob.name] for knob in KNOBS if knob.solver})
 
 
 def resolve(preset: str, **overrides: Any) -> Fidelity:
@@ -114,7 +169,7 @@ def resolve(preset: str, **overrides: Any) -> Fidelity:
     Raises
     ------
     ValueError
-        Unknown preset or knob, or a knob out of range (`LIMITS`).
+        Unknown preset or knob, or a knob out of range (`KNOBS`).
     """
     if preset not in PRESETS:
         raise ValueError(f"unknown fidelity {preset!r}; choose one of {', '.join(PRESETS)}")
@@ -128,22 +183,27 @@ def resolve(preset: str, **overrides: Any) -> Fidelity:
 
 
 def _check(values: dict[str, Any]) -> None:
-    """Raise ValueError for a knob of the wrong type or out of its range (`LIMITS`)."""
-    for name, (low, high) in LIMITS.items():
-        value = values[name]
-        kind = numbers.Integral if name == "max_events" else numbers.Real
+    """Raise ValueError for a knob of the wrong type or out of its range (`KNOBS`)."""
+    for knob in KNOBS:
+        value = values[knob.name]
+        if knob.low is None or knob.high is None:
+            continue
+        kind = numbers.Integral if knob.kind is int else numbers.Real
         if (
             isinstance(value, bool)
             or not isinstance(value, kind)
-            or not low <= float(value) <= high
+            or not knob.low <= float(value) <= knob.high
         ):
-            raise ValueError(f"{name} must be a number from {low:g} to {high:g}, not {value!r}")
-    for name, choices in (("scheme", SCHEMES), ("kinematics", KINEMATICS)):
-        if values[name] not in choices:
-            raise ValueError(f"{name} must be one of {', '.join(choices)}, not {values[name]!r}")
-    for name in ("bisection", "turning_points", "recheck"):
-        if not isinstance(values[name], bool):
-            raise ValueError(f"{name} must be true or false, not {values[name]!r}")
+            raise ValueError(
+                f"{knob.name} must be a number from {knob.low:g} to {knob.high:g}, not {value!r}"
+            )
+    for knob in KNOBS:
+        if knob.choices and values[knob.name] not in knob.choices:
+            raise ValueError(f"{knob.name} must be one of {', '.join(knob.choices)}, not "
+                             f"{values[knob.name]!r}")  # fmt: skip
+    for knob in KNOBS:
+        if knob.kind is bool and not isinstance(values[knob.name], bool):
+            raise ValueError(f"{knob.name} must be true or false, not {values[knob.name]!r}")
     if values["scheme"] == "dopri5" and not (
         values["rtol"] >= TOLERANCE_FLOORS[0] or values["atol"] >= TOLERANCE_FLOORS[1]
     ):

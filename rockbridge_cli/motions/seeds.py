@@ -3,7 +3,7 @@ its phases and envelope, its ground displacement and velocity, its duration and 
 
 `match_seed` runs steps 3–4 of `matching` (wavelets, baseline correction, exact PGA) on the
 seed itself, with four changes that each answer a measured failure (ten FEMA P695 far-field
-seeds, EN 1998-1 type 1, ground C, a_g = 0.6 g; README "Ground motions"):
+seeds, EN 1998-1 type 1, ground C, a_g = 0.6 g; docs/records.md):
 
 1. It starts from the seed linearly scaled to the target PGA, without the frequency-domain step
    of artificial records: scaling the Fourier amplitudes by target/spectrum moves the energy of

@@ -152,7 +152,11 @@ def read_record(
     time_step
         time step of a one-column file [s]; must agree with the file when it states one.
 
-    Values in g are converted with `STANDARD_GRAVITY`.
+    Returns
+    -------
+    Record
+        The ground acceleration in SI [m/s²] and its time step [s]; values in g are converted
+        with `STANDARD_GRAVITY`.
 
     Raises
     ------

@@ -15,7 +15,7 @@ from .files import Record
 from .target import TargetDefinition
 
 if TYPE_CHECKING:
-    from ..config.records import RecordSetConfig
+    from ..config.record_sets import RecordSetConfig
     from .summary import RecordSummary
 
 

@@ -17,7 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..config.records import FemaSet, RecordSetConfig
+from ..config.record_sets import RecordSetConfig
+from ..config.records import FemaSet
 from ..errors import InputError
 from ..motions import baseline, ec8, matching, seeds, spectra, spectral_fit
 from ..paths import replace_folder, writable

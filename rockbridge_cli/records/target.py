@@ -16,7 +16,7 @@ from ..motions import ec8
 from .set_files import MANIFEST, read_manifest
 
 if TYPE_CHECKING:
-    from ..config.records import RecordSetConfig
+    from ..config.record_sets import RecordSetConfig
 
 
 @dataclass(frozen=True)

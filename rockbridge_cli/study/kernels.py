@@ -22,7 +22,7 @@ from pathlib import Path
 
 COMPILE_TIME_S = 20
 """About how long compiling an analysis's kernels takes on an idle core [s] (15 s on the 2-core
-x86-64 machine of README's timings, 30 s while another process kept its cores busy)."""
+x86-64 machine of the manual's timings, 30 s while another process kept its cores busy)."""
 
 VERTICAL_COMPILE_TIME_S = 20
 """The same for the kernels of an analysis with a vertical ground motion, compiled for it of

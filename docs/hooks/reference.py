@@ -1,0 +1,149 @@
+"""MkDocs hook: the pages generated from the code when the manual is built.
+
+A page asks for generated text by a marker comment on a line of its own:
+
+``<!-- config-fields: MODULE:MODEL -->``
+    the table of every field of a pydantic config model (dotted path, type, default, unit,
+    meaning), from the model's JSON schema, so that the reference cannot drift from what the
+    config files accept;
+``<!-- notebook: PATH -->``
+    a jupytext "percent" script (relative to ``docs/``) as a page: its markdown cells as text,
+    its code cells as Python blocks.
+
+The command reference is mkdocs-click's (``docs/reference/cli.md``), the Python reference
+mkdocstrings' (``docs/reference/api.md``).
+"""
+
+from __future__ import annotations
+
+import importlib
+import json
+import re
+from pathlib import Path
+from typing import Any
+
+MARKER = re.compile(r"^<!-- (config-fields|notebook): (\S+) -->$", re.M)
+UNIT = re.compile(r"\s*\[([^\[\]]+)\]\s*$")
+"""A description's trailing unit in brackets, as the config models write it: ``... [m]``."""
+
+INSIDE = re.compile(r"\[([^\[\]\s]{1,12})\]")
+"""A unit in brackets inside a description: short, without spaces (``[s]``, ``[g]``, ``[Hz]``)."""
+
+DOCS = Path(__file__).resolve().parents[1]
+
+
+def on_page_markdown(markdown: str, page: Any, config: Any, files: Any) -> str:
+    """Replace each marker of a page by its generated text (MkDocs' event)."""
+    return MARKER.sub(lambda m: GENERATORS[m.group(1)](m.group(2)), markdown)
+
+
+def config_fields(target: str) -> str:
+    """The markdown table of every field of the model ``MODULE:MODEL``."""
+    module, _, name = target.partition(":")
+    schema = getattr(importlib.import_module(module), name).model_json_schema()
+    rows = ["| field | type | default | unit | meaning |", "|---|---|---|---|---|"]
+    for path, field, required in fields(schema, schema, "", ()):
+        description = " ".join(field.get("description", "").split())
+        unit, meaning = unit_of(description)
+        cells = (type_of(schema, field), default_of(field, required), unit, meaning)
+        rows.append(f"| `{path}` | " + " | ".join(escape(cell) for cell in cells) + " |")
+    return "\n".join(rows)
+
+
+def unit_of(description: str) -> tuple[str, str]:
+    """(unit, meaning) of a field's description: its trailing ``[unit]`` taken off, else the
+    first short bracket inside it (``T_p [s]; or give frequency``), which stays in the text."""
+    trailing = UNIT.search(description)
+    if trailing:
+        return trailing.group(1), UNIT.sub("", description)
+    inside = INSIDE.search(description)
+    return (inside.group(1) if inside else ""), description
+
+
+def fields(root: dict, model: dict, prefix: str, seen: tuple[str, ...]):
+    """(dotted path, field schema, required) of each field of ``model``, depth first: a field
+    whose value is a model (alone, in a list, as a mapping's values or among the forms it may
+    take) is followed by that model's fields."""
+    required = set(model.get("required", ()))
+    for name, field in model.get("properties", {}).items():
+        path = f"{prefix}{name}"
+        yield path, field, name in required
+        for suffix, ref in nested(field):
+            if ref in seen:
+                continue
+            target = root["$defs"][ref]
+            forms = [r for _, r in nested(field)]
+            label = f".<{ref}>" if len(forms) > 1 else ""
+            yield from fields(root, target, f"{path}{suffix}{label}.", (*seen, ref))
+
+
+def nested(field: dict) -> list[tuple[str, str]]:
+    """(path suffix, model name) of each model a field's value may be: ``""`` for the field
+    itself, ``[]`` for a list's entries, ``.<key>`` for a mapping's values."""
+    found = []
+    for option in field.get("anyOf", field.get("oneOf", [field])):
+        if "$ref" in option:
+            found.append(("", ref_name(option)))
+        elif option.get("type") == "array" and "$ref" in option.get("items", {}):
+            found.append(("[]", ref_name(option["items"])))
+        elif isinstance(option.get("additionalProperties"), dict):
+            values = option["additionalProperties"]
+            found += [(".<key>", name) for _, name in nested(values)]
+    return list(dict.fromkeys(found))
+
+
+def ref_name(option: dict) -> str:
+    """The model a ``$ref`` names (``#/$defs/Name`` → ``Name``)."""
+    return option["$ref"].rsplit("/", 1)[1]
+
+
+def type_of(root: dict, field: dict) -> str:
+    """A short type: ``number``, ``list of string``, ``one of a, b``, a model's name, …"""
+    if "$ref" in field:
+        return ref_name(field)
+    if "const" in field:
+        return json.dumps(field["const"])
+    if "enum" in field:
+        return "one of " + ", ".join(str(value) for value in field["enum"])
+    options = field.get("anyOf", field.get("oneOf"))
+    if options:
+        kinds = [type_of(root, o) for o in options if o.get("type") != "null"]
+        return " or ".join(dict.fromkeys(kinds))
+    if field.get("type") == "array":
+        return "list of " + type_of(root, field.get("items", {}))
+    if field.get("type") == "object" and isinstance(field.get("additionalProperties"), dict):
+        return "mapping to " + type_of(root, field["additionalProperties"])
+    return str(field.get("type", "any"))
+
+
+def default_of(field: dict, required: bool) -> str:
+    """``required``, the default as YAML would write it, or ``–`` (none: the field is left out)."""
+    if required:
+        return "required"
+    if "default" not in field or field["default"] is None:
+        return "–"
+    return json.dumps(field["default"], ensure_ascii=False)
+
+
+def escape(cell: str) -> str:
+    """A table cell of text: no pipe breaks the row, no ``<stem>`` is taken for an HTML tag."""
+    return cell.replace("|", "\\|").replace("<", "&lt;")
+
+
+def notebook(target: str) -> str:
+    """A jupytext percent script as markdown: ``# %% [markdown]`` cells as text (their ``# ``
+    stripped, their headings a level down, under the page's title), ``# %%`` cells as Python
+    blocks, the jupytext header left out."""
+    text = (DOCS / target).read_text(encoding="utf-8")
+    parts = []
+    for cell in re.split(r"^# %%", text, flags=re.M)[1:]:
+        head, _, body = cell.partition("\n")
+        if head.strip() == "[markdown]":
+            lines = [re.sub(r"^# ?", "", line) for line in body.strip("\n").splitlines()]
+            parts.append("\n".join(re.sub(r"^(#+ )", r"#\1", line) for line in lines))
+        elif body.strip():
+            parts.append("```python\n" + body.strip("\n") + "\n```")
+    return "\n\n".join(parts)
+
+
+GENERATORS = {"config-fields": config_fields, "notebook": notebook}

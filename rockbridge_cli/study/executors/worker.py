@@ -1,0 +1,81 @@
+"""What runs in a worker process of a local pool (its start-up: `start_worker`; its batches:
+`run_batch`) or of a Dask cluster (`prepared`): the kernels made ready first (`ready_kernels`)."""
+
+from __future__ import annotations
+
+import contextlib
+import ctypes
+import os
+import signal
+import sys
+from collections.abc import Callable
+from typing import Any
+
+from .. import kernels
+from ..grid import Cell, Grid
+from ..journal import Journal
+from ..work import Finished, run_cells
+from .interface import Notice, journalled
+
+_PR_SET_PDEATHSIG = 1
+"""Linux prctl(2) option: the signal a process gets when its parent dies."""
+
+_grid: Grid | None = None
+"""The grid of the study a worker process serves (set when it starts)."""
+
+_journal: Journal | None = None
+"""The journal a worker process commits to (opened when it starts)."""
+
+_said: Any = None
+"""Where a local worker process tells its parent that it compiles the kernels."""
+
+
+def start_worker(setups: Any, said: Any, parent: int) -> None:
+    """Worker start-up: leave Ctrl-C and SIGTERM to the parent, which stops the pool and saves
+    the results; die with the parent, however it dies; load the kernels if the cache holds them;
+    then take the study (its grid, and the journal, a connection of its own) when the parent
+    gives it."""
+    global _grid, _journal, _said
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    if sys.platform.startswith("linux"):
+        ctypes.CDLL(None).prctl(_PR_SET_PDEATHSIG, signal.SIGKILL)
+    if os.getppid() != parent:  # the parent died before the request took effect
+        os._exit(1)
+    _said = said
+    ready_kernels(compiling=False)
+    setup = setups.get()
+    if setup is not None:  # None: the pool ends unused (the run was refused or stopped)
+        grid, output, config_hash = setup
+        _grid = grid
+        _journal = Journal(output, config_hash)
+
+
+def run_batch(cells: list[Cell]) -> list[Finished]:
+    assert _grid is not None and _journal is not None, "a worker runs cells after start_worker"
+    ready_kernels(vertical=_grid.vertical)
+    return journalled(_journal, run_cells(_grid, cells))
+
+
+def ready_kernels(
+    compiling: bool = True, notice: Notice | None = None, vertical: bool = False
+) -> None:
+    """`kernels.prepare` in a worker, which tells its parent (a local pool's, or ``notice`` in
+    this process) that it compiles them; a failure is left to each analysis to meet and record
+    with its message. ``vertical``: those of an analysis with a vertical ground motion too."""
+
+    def announce() -> None:
+        if notice is not None:
+            notice(kernels.compiling_message(vertical))
+        elif _said is not None:
+            _said.put("compiling vertical" if vertical else "compiling")
+
+    with contextlib.suppress(Exception):
+        kernels.prepare(announce, compiling, vertical)
+
+
+def prepared(function: Callable, *args: Any) -> Any:
+    """``function(*args)`` on a worker, its kernels made ready first (`kernels.prepare`; those
+    of a vertical ground motion where a grid among ``args`` has one)."""
+    ready_kernels(vertical=any(isinstance(arg, Grid) and arg.vertical for arg in args))
+    return function(*args)
