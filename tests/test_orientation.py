@@ -13,6 +13,7 @@ import pytest
 from click.testing import CliRunner
 from studies import TIME_STEP, burst, write_records, write_study
 
+from rockbridge_cli.assessment.orientation import orientation_summary, summary_of
 from rockbridge_cli.cli import main
 from rockbridge_cli.config.orientation import Orientation
 from rockbridge_cli.config.study import load_study
@@ -188,3 +189,27 @@ def test_a_sweep_at_0_and_90_degrees_gives_each_component_results_bit_for_bit(tm
                     continue
                 a, b = one[f"peaks/{name}"][given], two[f"peaks/{name}"][row]
                 assert np.array_equal(a, b, equal_nan=True), name
+        theta = two["peaks/theta1_max"][()]
+    summary = summary_of(tmp_path / "pair.h5", ["theta1_max"])
+    (row,) = summary.itertuples()  # one bridge, one pair, no levels
+    assert (row.bridge, row.pair, row.angles) == ("studied-hbar2.00", "P", "3/3")
+    assert row.median == np.median(theta) and row.worst == theta.max()
+    assert row.critical_angle_deg == [0.0, 90.0, 45.0][int(np.argmax(theta))]
+
+
+def test_orientation_summary_groups_by_bridge_pair_and_level():
+    """Two levels of one pair: each level's median and worst over its angles, by hand."""
+    import pandas as pd
+
+    peaks = pd.DataFrame({
+        "bridge": ["B"] * 4 + ["B"],
+        "record": ["P+0deg+0.3g", "P+90deg+0.3g", "P+0deg+0.6g", "P+90deg+0.6g", "other"],
+        "intensity": [0.3, 0.3, 0.6, 0.6, 0.3],
+        "theta1_max": [1.0, 3.0, 5.0, np.nan, 9.0],
+    })  # fmt: skip
+    angles = {"P+0deg+0.3g": ("P", 0.0), "P+90deg+0.3g": ("P", 90.0),
+              "P+0deg+0.6g": ("P", 0.0), "P+90deg+0.6g": ("P", 90.0)}  # fmt: skip
+    summary = orientation_summary(peaks, angles, ["theta1_max"])
+    assert summary[
+        ["intensity", "median", "worst", "critical_angle_deg", "angles"]
+    ].values.tolist() == [[0.3, 2.0, 3.0, 90.0, "2/2"], [0.6, 5.0, 5.0, 0.0, "1/2"]]
