@@ -5,6 +5,7 @@ before; at 0° and 90° the single components' results bit for bit)."""
 
 from __future__ import annotations
 
+import json
 import math
 
 import h5py
@@ -166,7 +167,9 @@ def test_a_second_component_needs_an_orientation_and_an_orientation_needs_pairs(
 def test_a_sweep_at_0_and_90_degrees_gives_each_component_results_bit_for_bit(tmp_path):
     """The pair (R1, R2) at 0° and 90° is R1 and R2: the peak table's rows equal those of the
     study of the two files as given, every column, bit for bit; each projection holds its pair
-    and angle."""
+    and angle; the summary over angles, by hand, and `peaks --orientation --json`. (About 8 s:
+    not marked slow, it guards the issue's "0° and 90° give the single components bit for
+    bit".)"""
     runner = CliRunner()
     single = tmp_path / "single"
     single.mkdir()
@@ -195,6 +198,13 @@ def test_a_sweep_at_0_and_90_degrees_gives_each_component_results_bit_for_bit(tm
     assert (row.bridge, row.pair, row.angles) == ("studied-hbar2.00", "P", "3/3")
     assert row.median == np.median(theta) and row.worst == theta.max()
     assert row.critical_angle_deg == [0.0, 90.0, 45.0][int(np.argmax(theta))]
+    shown = runner.invoke(main, ["peaks", str(tmp_path / "pair.h5"), "--orientation", "--json"])
+    data = json.loads(shown.output)
+    assert data["units"]["theta1_max"] == "rad"
+    first = data["rows"][0]
+    assert (first["quantity"], first["worst"]) == ("theta1_max", theta.max())
+    refused = runner.invoke(main, ["peaks", str(tmp_path / "single.h5"), "--orientation"])
+    assert refused.exit_code == 2 and "no orientation section" in refused.output
 
 
 def test_orientation_summary_groups_by_bridge_pair_and_level():
