@@ -223,3 +223,17 @@ def test_orientation_summary_groups_by_bridge_pair_and_level():
     assert summary[
         ["intensity", "median", "worst", "critical_angle_deg", "angles"]
     ].values.tolist() == [[0.3, 2.0, 3.0, 90.0, "2/2"], [0.6, 5.0, 5.0, 0.0, "1/2"]]
+
+
+def test_stripes_scale_each_projection_by_its_own_measure(tmp_path):
+    """With an intensity section, each angle is a record scaled to each level by its own PGA:
+    ids ``P+45deg+0.3g``, and the factor 0.3 g over the projection's peak (by hand)."""
+    study = load_study(
+        pair_study(tmp_path, "{angles: [0, 45]}\nintensity: {measure: pga_g, levels: [0.3]}")
+    )
+    assert [r.id for r in study.records] == ["P+0deg+0.3g", "P+45deg+0.3g"]
+    r1, r2 = (read_record(tmp_path / f"{n}.txt").acceleration for n in ("R1", "R2"))
+    along = (r1 + r2) / math.sqrt(2.0)
+    item = study.records[1]
+    assert item.base == "P+45deg"
+    assert item.scale == pytest.approx(0.3 * 9.80665 / np.abs(along).max(), rel=1e-12)
