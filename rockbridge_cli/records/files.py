@@ -57,7 +57,7 @@ PROVENANCE = {
     "fault_type": "-", "distance_rrup_km": "km", "distance_rjb_km": "km",
     "normalization_factor": "-", "lowest_usable_frequency_hz": "Hz", "scale_factor": "-",
     "pulse_period_s": "s", "pulse_indicator": "-", "pulse_shape": "-", "pulse_amplitude": "m/s2",
-    "pulse_phase": "rad", "pulse_cycles": "-", "pulse_rest": "s",
+    "pulse_phase": "rad", "pulse_cycles": "-", "pulse_rest": "s", "pair": "-", "angle_deg": "deg",
 }  # fmt: skip
 """Where a recorded motion comes from, as a record's metadata, a file's header, a set's manifest
 and the results file (``/records/<id>``) name it, with units: the FEMA P695 sets give them all
@@ -94,6 +94,9 @@ class Record:
     vertical
         vertical ground acceleration at the same samples, positive up, read-only [m/s²]; None
         without a vertical component (`vertical`).
+    second
+        the other horizontal ground acceleration at the same samples, at +90° from
+        ``acceleration``, read-only [m/s²]; None for a single component (`components`).
     """
 
     name: str
@@ -102,6 +105,7 @@ class Record:
     source: str = ""
     metadata: dict[str, Any] = field(default_factory=dict)
     vertical: np.ndarray | None = None
+    second: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         values = np.array(self.acceleration, dtype=float)
@@ -113,12 +117,15 @@ class Record:
             raise ValueError(f"the time step must be positive, got {self.time_step!r}")
         values.setflags(write=False)
         object.__setattr__(self, "acceleration", values)
-        if self.vertical is not None:
-            up = np.array(self.vertical, dtype=float)
-            if up.shape != values.shape or not np.all(np.isfinite(up)):
-                raise ValueError("a record's vertical component needs a finite value per sample")
-            up.setflags(write=False)
-            object.__setattr__(self, "vertical", up)
+        for name in ("vertical", "second"):
+            given = getattr(self, name)
+            if given is None:
+                continue
+            other = np.array(given, dtype=float)
+            if other.shape != values.shape or not np.all(np.isfinite(other)):
+                raise ValueError(f"a record's {name} component needs a finite value per sample")
+            other.setflags(write=False)
+            object.__setattr__(self, name, other)
 
     @property
     def duration(self) -> float:

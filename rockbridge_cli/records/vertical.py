@@ -4,20 +4,20 @@ PEER NGA and ESM distribute each component of a recording in a file of its own, 
 component of a record is a companion file, in any format `files.read_record` reads: a study's
 record entry names it (``vertical: <file>``), a record set's manifest lists it beside its record
 (``"vertical": {"file": ..., "sha256": ...}``, `vertical_entry`). It must share the horizontal
-component's time step and number of samples (`with_vertical`).
+component's time step and number of samples (`with_vertical`, by `components.read_companion`).
 """
 
 from __future__ import annotations
 
 import dataclasses
-import math
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from ..errors import InputError
-from .files import TIME_STEP_TOLERANCE, Record, read_record
+from .components import read_companion
+from .files import Record
 from .set_files import MANIFEST, check_set_file
 
 
@@ -39,21 +39,7 @@ def with_vertical(
         The companion cannot be read, or its time step or number of samples differ from the
         horizontal component's; the message names the companion file.
     """
-    path = Path(path)
-    up = read_record(path, units=units, time_step=time_step)
-    horizontal = record.source or record.name
-    if not math.isclose(up.time_step, record.time_step, rel_tol=TIME_STEP_TOLERANCE):
-        reason = (
-            f"the vertical component steps by {up.time_step:g} s, its horizontal one "
-            f"({horizontal}) by {record.time_step:g} s: they must share their samples"
-        )
-        raise InputError(path, [("time_step", reason)])
-    if up.acceleration.size != record.acceleration.size:
-        reason = (
-            f"the vertical component has {up.acceleration.size} samples, its horizontal "
-            f"one ({horizontal}) {record.acceleration.size}: they must share their samples"
-        )
-        raise InputError(path, [("points", reason)])
+    up = read_companion(record, path, units, time_step, "vertical")
     metadata = {**record.metadata, "vertical_source": str(path),
                 "vertical_file_units": up.metadata["file_units"]}  # fmt: skip
     return dataclasses.replace(record, metadata=metadata, vertical=up.acceleration)
