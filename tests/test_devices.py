@@ -6,13 +6,17 @@ unchanged without devices."""
 
 from __future__ import annotations
 
+import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
+from click.testing import CliRunner
 from conftest import G, studied_bridge
 from scipy.integrate import simpson, solve_ivp
 
+from rockbridge_cli.cli import main
 from rockbridge_cli.config.bridge import load_bridge
 from rockbridge_cli.config.plausibility import bridge_warnings
 from rockbridge_cli.core import fidelity, impacts
@@ -36,6 +40,7 @@ from rockbridge_cli.core.solver import (
 )
 from rockbridge_cli.errors import InputError
 
+REPO = Path(__file__).resolve().parents[1]
 DT = 0.01
 BLOCK = single_block(B=0.5, H=2.5, density=2500.0, g=G)  # a 1 m × 5 m block, α = 0.197 rad
 
@@ -294,3 +299,22 @@ def test_a_tendon_stressed_beyond_strand_strength_is_warned_of(tmp_path):
     devices = "  - {kind: tendon, pier: 1, prestress: 4.0e+6, area: 1.0e-3}"
     warnings = bridge_warnings(_config(tmp_path, devices=devices))
     assert any(w.startswith("devices.0.prestress: 4000 MPa") for w in warnings)
+
+
+def test_analyze_lists_each_devices_peaks_with_their_units(tmp_path):
+    """`rockbridge analyze --json` of the bundled bridge with tendons: each tendon's largest force
+    (in N) and elongation (in m), as the library gives them; the force is P0 + k·Δ at the largest
+    elongation (an elastic tendon's force grows with Δ alone)."""
+    bridge = REPO / "configs" / "bridges" / "studied-hbar1.25-tendons.yaml"
+    record = REPO / "records" / "ec8-type1-C-ag0.6g" / "AR07.txt"
+    result = CliRunner().invoke(main, ["analyze", str(bridge), str(record), "--json",
+                                       "--fidelity", "fast"])  # fmt: skip
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.output)
+    tendon = load_bridge(bridge).to_bridge().devices[0]
+    for n in (1, 2):
+        assert data["units"][f"tendon{n}_force_max"] == "N"
+        assert data["units"][f"tendon{n}_elongation_max"] == "m"
+    stretched = tendon.prestress + tendon.stiffness * data["tendon1_elongation_max"]
+    assert data["tendon1_force_max"] == pytest.approx(stretched, rel=1e-12)
+    assert data["tendon1_elongation_max"] > 0.0
