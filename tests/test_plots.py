@@ -137,6 +137,37 @@ def test_parametric_figures(tmp_path, suffix):
     assert foreign.read_bytes() == before
 
 
+@pytest.mark.parametrize("bridge", ["fig3-hbar6.4", "fig8-hbar1.5", "studied-hbar2.00"])
+def test_the_short_pier_axis_of_figs_3_and_7_has_labels_that_do_not_collide(bridge, tmp_path,
+                                                                            monkeypatch):  # fmt: skip
+    """Issue 40: the top axis 2H2 = 2H1/h̄ crowded matplotlib's evenly spaced heights toward
+    high h̄ until their labels overlapped. Drawn, no two labels' boxes meet, each stands over the
+    h̄ = 2H1/label it names (H1 from the bridge's file), and they are round numbers."""
+    drawn = []
+    monkeypatch.setattr(parametric, "save", lambda figure, output: drawn.append(figure) or output)
+    h1 = max(load_bridge(BRIDGES / f"{bridge}.yaml").piers.heights) / 2.0  # the tall pier
+    for draw in (parametric.plot_onset, parametric.plot_restitution):
+        draw(BRIDGES / f"{bridge}.yaml", tmp_path / "x.png")
+        figure = drawn.pop()
+        canvas = FigureCanvasAgg(figure)
+        canvas.draw()  # places the tick labels
+        renderer = canvas.get_renderer()
+        (axes,) = figure.axes
+        (top,) = axes.child_axes
+        labels = [t for t in top.get_xticklabels() if t.get_text()]
+        low, high = axes.get_xlim()
+        shown = [t for t in labels if low <= 2.0 * h1 / float(t.get_text()) <= high]
+        assert len(shown) >= 4, [t.get_text() for t in labels]
+        boxes = sorted((t.get_window_extent(renderer) for t in shown), key=lambda b: b.x0)
+        assert all(a.x1 < b.x0 for a, b in zip(boxes, boxes[1:])), [t.get_text() for t in shown]
+        for text in shown:
+            value = float(text.get_text())
+            assert value == float(f"{value:.1g}") or value == round(value)  # 20, 0.5, 12
+            box = text.get_window_extent(renderer)
+            x, _ = axes.transData.inverted().transform((0.5 * (box.x0 + box.x1), box.y0))
+            assert x == pytest.approx(2.0 * h1 / value, abs=0.05 * (high - low))
+
+
 def test_parametric_needs_two_piers(tmp_path):
     block = tmp_path / "block.yaml"
     block.write_text("piers: {width: 2.0, heights: [10.0]}\n", encoding="utf-8")
