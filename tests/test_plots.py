@@ -239,9 +239,12 @@ def test_history_figure(done, tmp_path):
         plot_history(done, "R1", tmp_path / "x.gif")
 
 
-def test_peaks_figure_marks_the_means_and_each_bridges_limits(tmp_path):
-    """Two bridges with different gaps: each gets its own limit lines (one legend entry per
-    kind), and each panel ends with the bridges' means over the records."""
+def test_peaks_figure_marks_the_means_and_each_bridges_limits(tmp_path, monkeypatch):
+    """Bridges with different gaps: each gets its own limit lines (one legend entry per kind),
+    each line ending in the markers of the bridges it belongs to (issue 40: they were told
+    apart by their shade alone), and each panel ends with the bridges' means over the records.
+    The two studied bridges share u_jo = 0.12 m and u_ab = 0.10 m (120 and 220 mm); the third,
+    their copy with a 0.06 m gap, has 60 and 160 mm; markers by order, ``o``, ``s``, ``^``."""
     original = (BRIDGES / f"{STUDIED[1]}.yaml").read_text(encoding="utf-8")
     narrow = original.replace("gap: 0.12", "gap: 0.06").replace("highly asymmetric", "narrow gap")
     (tmp_path / "narrow.yaml").write_text(narrow, encoding="utf-8")
@@ -251,8 +254,18 @@ def test_peaks_figure_marks_the_means_and_each_bridges_limits(tmp_path):
     run_study(study, workers=1)
     with matplotlib.rc_context({"svg.fonttype": "none"}):
         figure = svg_text(plot_peaks(study.output, tmp_path / "peaks.svg"))
-    assert "mean" in figure and "each bridge's, in its shade" in figure
+    assert "mean" in figure and "each bridge's: its marker at the right" in figure
     assert "= 120 mm" not in figure  # no single gap is claimed for all bridges
+    from rockbridge_cli.plots import peaks
+
+    drawn = []
+    monkeypatch.setattr(peaks, "save", lambda figure, output: drawn.append(figure) or output)
+    plot_peaks(study.output, tmp_path / "peaks.png")
+    deck = drawn[0].axes[0]
+    ends = {(round(float(line.get_ydata()[0]), 6), line.get_marker()) for line in deck.lines
+            if line.get_transform() != deck.transData and line.get_marker() not in ("None", "")}
+    assert ends == {(120.0, "o"), (120.0, "s"), (220.0, "o"), (220.0, "s"), (60.0, "^"),
+                    (160.0, "^")}  # fmt: skip
 
 
 @pytest.mark.slow
