@@ -396,3 +396,30 @@ def test_the_fragility_figure_does_not_load_scipy_stats():
     )
     assert result.returncode == 0, result.stderr
     assert result.stdout.strip() == "False"
+
+
+def test_a_sweep_along_a_continuous_second_field_is_a_grey_ramp(tmp_path, monkeypatch):
+    """Issue 40: a grid's second field gave a legend entry per value (20 over the curves).
+    Beyond `RAMP_LINES` values (here 8 heights), the lines are greys from light (the lowest
+    height) to black (the highest), named by a colour bar of the field, with no legend."""
+    from matplotlib.colors import to_rgb
+
+    from rockbridge_cli.plots import sweep
+
+    path = write_study(tmp_path, bridges=(STUDIED[0],), records=("R1",), extra=(
+        "sweep: {fields: {abutments.gap: {start: 0.06, stop: 0.18, count: 2}, piers.heights.1: "
+        "{start: 13.0, stop: 26.0, count: 8}}, grid: true}\n"
+        "fidelity: fast\noutput: {path: out.h5, histories: none}\n"))  # fmt: skip
+    study = load_study(path)
+    run_study(study, workers=1)
+    drawn = []
+    monkeypatch.setattr(sweep, "save", lambda figure, output: drawn.append(figure) or output)
+    sweep.plot_sweep(study.output, tmp_path / "sweep.png", "abutments.gap")
+    axes, bar = drawn[0].axes
+    assert not drawn[0].legends and bar.get_ylabel() == "piers.heights.1 [m]"
+    assert bar.get_ylim() == (13.0, 26.0)
+    greys = [to_rgb(line.get_color()) for line in axes.lines]
+    assert len(greys) == 8 and all(r == g == b for r, g, b in greys)
+    assert greys[0][0] == pytest.approx(0.78, abs=0.01) and greys[-1] == (0.0, 0.0, 0.0)
+    assert [g[0] for g in greys] == sorted((g[0] for g in greys), reverse=True)
+    assert axes.get_title().startswith(STUDIED[0])
