@@ -233,7 +233,8 @@ def stripes(rows: dict[str, np.ndarray]) -> list[tuple[float, np.ndarray]]:
     records = list(dict.fromkeys(rows["base_record"].tolist()))
     ran: dict[tuple[str, float], int] = {}
     failures: dict[str, list[tuple[float, int]]] = {record: [] for record in records}
-    for index, (record, level) in enumerate(zip(rows["base_record"], rows["intensity"])):
+    pairs = zip(rows["base_record"], rows["intensity"], strict=True)
+    for index, (record, level) in enumerate(pairs):
         ran.setdefault((record, float(level)), index)
         if failed[index]:
             failures[record].append((float(level), index))
@@ -242,10 +243,10 @@ def stripes(rows: dict[str, np.ndarray]) -> list[tuple[float, np.ndarray]]:
         chosen = []
         for record in records:
             below = [item for item in failures[record] if item[0] < level]
-            index = ran.get((record, level), max(below)[1] if below else None)
-            if index is None:
+            found_at = ran.get((record, level), max(below)[1] if below else None)
+            if found_at is None:
                 break
-            chosen.append(index)
+            chosen.append(found_at)
         else:
             found.append((level, np.array(chosen, dtype=np.int64)))
     return found
@@ -268,10 +269,10 @@ def _demands(rows: dict[str, np.ndarray], intensity: IntensitySection, level: fl
         header.append(f"1-{name}")
         units.append(unit)
         values.append(rows[column])
-    column = pelicun_intensity(intensity)
-    if column is not None:
-        header.append(f"1-{column[0]}-0-1")
-        units.append(column[1])
+    measure = pelicun_intensity(intensity)
+    if measure is not None:
+        header.append(f"1-{measure[0]}-0-1")
+        units.append(measure[1])
         values.append(np.full(rows["bridge"].size, float(_tidy(level))))
     header += ["1-COL-0-1", "1-ERROR-0-1"]
     units += ["unitless", "unitless"]

@@ -87,8 +87,13 @@ def plot_overturning(results: str | Path, output: str | Path) -> Path:
                                  edgecolor="0.5", linewidth=0.0, hatch=NOT_RUN_HATCH))  # fmt: skip
     present = set(np.unique(spectrum.regions).tolist())
     handles: list[Artist] = [
-        Patch(facecolor=shade, edgecolor="0.5", linewidth=0.5, label=REGION_LABELS[name],
-              hatch=NOT_RUN_HATCH if code == NOT_RUN else None)  # fmt: skip
+        Patch(
+            facecolor=shade,
+            edgecolor="0.5",
+            linewidth=0.5,
+            label=REGION_LABELS[name],
+            hatch=NOT_RUN_HATCH if code == NOT_RUN else None,
+        )  # fmt: skip
         for code, (name, shade) in enumerate(REGION_SHADES.items(), start=NOT_RUN)
         if code in present
     ]

@@ -180,9 +180,10 @@ TOP_SPACING = 1.0 / 12.0
 
 def short_pier_ticks(h1: float, low: float, high: float) -> list[float]:
     """Round short-pier heights 2H2 [m] to label over h̄ = H1/H2 in [low, high]: multiples of
-    10ᵏ (the tallest's power of ten) first, then of 5·10ᵏ⁻¹, 2·10ᵏ⁻¹ and 10ᵏ⁻¹, each kept where it is at least
-    `TOP_SPACING` of the range (in h̄) from every kept one. 2H2 = 2H1/h̄ crowds evenly spaced
-    heights toward high h̄, where matplotlib's own ticks overlapped (issue 40)."""
+    10ᵏ (the tallest's power of ten) first, then of 5·10ᵏ⁻¹, 2·10ᵏ⁻¹ and 10ᵏ⁻¹, each kept
+    where it is at least `TOP_SPACING` of the range (in h̄) from every kept one. 2H2 = 2H1/h̄
+    crowds evenly spaced heights toward high h̄, where matplotlib's own ticks overlapped (issue
+    40)."""
     shortest, tallest = 2.0 * h1 / high, 2.0 * h1 / low
     gap = TOP_SPACING * (high - low)
     kept: list[float] = []
