@@ -97,22 +97,7 @@ def plot_sweep(
     figure = Figure(figsize=(6.5 + 3.0 * (len(lines) > 1 and ramp is None), 4.5),
                     layout="constrained")  # fmt: skip
     axes = figure.subplots()
-    shades = Normalize(*ramp[1]) if ramp is not None else None
-    for index, ((source, others), points) in enumerate(lines.items()):
-        x, middles, lows, highs = (np.array(v) for v in zip(*sorted(points), strict=True))
-        if shades is not None:  # one line style, a grey by the other field's value
-            look = {"color": RAMP(shades(others[0][1])), "linestyle": "-", "marker": "."}
-            label = None
-        else:
-            look = style(index)
-            label = ", ".join([*([] if one and others else [source]),
-                               *(f"{p} = {v:.4g}" for p, v in others)])  # fmt: skip
-        axes.plot(x, middles * factor, label=label, **look)
-        axes.fill_between(x, lows * factor, highs * factor, color=look["color"],
-                          alpha=0.12 if shades is None else 0.05, linewidth=0)  # fmt: skip
-    if ramp is not None and shades is not None:
-        bar = figure.colorbar(ScalarMappable(shades, RAMP), ax=axes)
-        bar.set_label(f"{ramp[0]} [{units.get(ramp[0], '-')}]")
+    _draw(figure, axes, lines, factor, ramp, units)
     what = f"capacity: {quantity.replace('_', ' ')}" if capacity else quantity
     band = "median, 90 % interval" if capacity else "median over the records, 16–84 %"
     if level is not None and intensity is not None:
@@ -130,6 +115,28 @@ def plot_sweep(
     else:
         axes.set_title(f"{next(iter(sources))}: {band}", fontsize="medium")
     return save(figure, output)
+
+
+def _draw(figure, axes, lines: dict[tuple, list], factor: float, ramp, units: dict) -> None:
+    """The sweep's lines and bands: one style each, labelled by bridge file and the other swept
+    fields' values; or, along a ramp field (`ramp_field`), greys by its value and a colour bar."""
+    one = len({source for source, _ in lines}) == 1
+    shades = Normalize(*ramp[1]) if ramp is not None else None
+    for index, ((source, others), points) in enumerate(lines.items()):
+        x, middles, lows, highs = (np.array(v) for v in zip(*sorted(points), strict=True))
+        if shades is not None:  # one line style, a grey by the other field's value
+            look = {"color": RAMP(shades(others[0][1])), "linestyle": "-", "marker": "."}
+            label = None
+        else:
+            look = style(index)
+            label = ", ".join([*([] if one and others else [source]),
+                               *(f"{p} = {v:.4g}" for p, v in others)])  # fmt: skip
+        axes.plot(x, middles * factor, label=label, **look)
+        axes.fill_between(x, lows * factor, highs * factor, color=look["color"],
+                          alpha=0.12 if shades is None else 0.05, linewidth=0)  # fmt: skip
+    if ramp is not None and shades is not None:
+        bar = figure.colorbar(ScalarMappable(shades, RAMP), ax=axes)
+        bar.set_label(f"{ramp[0]} [{units.get(ramp[0], '-')}]")
 
 
 def ramp_field(lines: dict[tuple, list]) -> tuple[str, tuple[float, float]] | None:
