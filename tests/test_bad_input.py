@@ -19,6 +19,7 @@ from rockbridge_cli.config.loading import read_yaml
 from rockbridge_cli.config.plausibility import record_warnings
 from rockbridge_cli.errors import InputError, nearest
 from rockbridge_cli.records.files import read_record
+from rockbridge_cli.results import read_peaks
 
 BRIDGE = """\
 piers: {width: 2.6, heights: [26.0, 20.8]}
@@ -168,6 +169,31 @@ def test_implausible_records_are_warned_about_once(tmp_path, values, unit, warni
 
     with h5py.File(tmp_path / "o.h5", "r") as file:
         assert any(warning in w for w in json.loads(file.attrs["warnings"]))
+
+
+@pytest.mark.parametrize("command", ["analyze", "run"])
+def test_a_record_beyond_any_ground_motion_is_refused_naming_its_units(tmp_path, command):
+    """Issue 40: a 499 g record (a file of cm/s² numbers, 499 cm/s² = 0.51 g, stated in g) ran
+    with a warning. Above 100 g (25 times the largest recorded, about 4 g) it is refused: one
+    line naming the file and its units; `analyze` exits 2, a study runs none of the record's
+    analyses (as for any record it cannot read: the others run; exit 1). 35.7 g (cm/s² as m/s²,
+    above) stays a warning."""
+    record = tmp_path / "r.txt"
+    record.write_text("# units: g\n# time_step: 0.01\n" + "".join(
+        f"{v}\n" for v in (0.0, 499.0, -310.0, 0.0) * 5))  # fmt: skip
+    (tmp_path / "b.yaml").write_text(BRIDGE)
+    study = tmp_path / "s.yaml"
+    study.write_text(f"bridges: [b.yaml]\nrecords:\n  files: [{{path: r.txt}}]\n"
+                     f"output: {{path: {tmp_path / 'o.h5'}}}\n")  # fmt: skip
+    args = ["analyze", tmp_path / "b.yaml", record] if command == "analyze" else ["run", study]
+    result = invoke(*args)
+    assert result.exit_code == (2 if command == "analyze" else 1), result.output
+    problem = "r.txt: units: peak 499 g in g is beyond any ground motion (100 g at most"
+    lines = [line for line in result.output.splitlines() if problem in line]
+    assert len(lines) == 1, result.output
+    assert "Traceback" not in result.output
+    if command == "run":
+        assert list(read_peaks(tmp_path / "o.h5")["status"]) == ["error"]
 
 
 def test_analyze_prints_the_pga_and_warns_of_g_read_as_metres(tmp_path):

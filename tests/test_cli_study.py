@@ -322,6 +322,7 @@ def test_an_output_whose_dots_climb_above_the_root_is_written(tmp_path):
     assert (tmp_path / "out.h5").is_file() and not list(tmp_path.glob("out.h5.journal*"))
 
 
+@pytest.mark.slow
 def test_the_command_line_and_its_workers_use_one_blas_thread():
     """rockbridge's parallelism is its processes: the command line sets one BLAS/OpenMP thread
     before numpy loads (unless the user sets a count), and a worker forked from it keeps it."""

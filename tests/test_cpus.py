@@ -99,6 +99,7 @@ def test_the_quota_caps_the_affinity_rounded_up(tmp_path):
         assert usable_cpus(tmp_path, part) == 2
 
 
+@pytest.mark.slow
 @needs_affinity
 def test_run_pinned_to_one_cpu_uses_one_worker_and_says_so(tmp_path):
     """`taskset -c 0 rockbridge run STUDY`: the affinity mask, not the host's CPU count."""

@@ -16,6 +16,7 @@ import math
 import xml.etree.ElementTree as ElementTree
 
 import numpy as np
+import pandas as pd
 import pytest
 from click.testing import CliRunner
 from scipy.stats import lognorm
@@ -38,6 +39,12 @@ IDA = (
 )
 """Two bridges × the two synthetic bursts of `studies`: the gaps close and the abutments fail
 within 0.1–2.5 g; no pier overturns, so every record runs every scan level (0.1, 0.5, … 2.5 g)."""
+
+PGV_STRIPES = (
+    "intensity: {measure: pgv, levels: [0.1, 0.2]}\n"
+    "fidelity: fast\noutput: {path: pgv.h5, histories: none}\n"
+)
+"""Two PGV stripes, 0.1 and 0.2 m/s."""
 
 NRML = "{http://openquake.org/xmlns/nrml/0.5}"
 EXAMPLE = REPO / "configs" / "hazard" / "example-site-pga.csv"
@@ -116,32 +123,93 @@ def rows_of(path):
         return list(csv.reader(stream))
 
 
+def expected_stripes(peaks, bridge):
+    """The stripes of one bridge as pelicun reads an IDA, from the peak table: at each level, each
+    record's own row, or, where it did not run that level, the row of its failure at the highest
+    level below it (an IDA runs a record no further once the bridge fails: it has collapsed
+    above); a level some record neither ran nor failed below is no stripe."""
+    mine = peaks[peaks["bridge"] == bridge]
+    failed = mine[(mine["failure_mode"] != "none") & (mine["status"] == "ok")]
+    found = {}
+    for level in sorted(mine["intensity"].unique()):
+        rows = []
+        for record in dict.fromkeys(mine["base_record"]):
+            own = mine[(mine["base_record"] == record) & (mine["intensity"] == level)]
+            below = failed[(failed["base_record"] == record) & (failed["intensity"] < level)]
+            rows.append(own.iloc[:1] if len(own) else below.sort_values("intensity").iloc[-1:])
+        if all(len(row) for row in rows):
+            found[level] = pd.concat(rows)
+    return found
+
+
 def test_pelicun_demands_are_the_peak_tables_rows(ida, tmp_path):
     result = invoke("export", "pelicun", ida, "-o", tmp_path / "demands")
     assert result.exit_code == 0, result.output
+    assert "no intensity column" not in result.output
     peaks = read_peaks(ida)
-    counts = peaks.groupby(["bridge", "intensity"])["base_record"].nunique()
-    stripes = counts[counts == 2].index  # the levels both records ran
+    stripes = {bridge: expected_stripes(peaks, bridge) for bridge in peaks["bridge"].unique()}
     names = sorted(p.name for p in (tmp_path / "demands").iterdir())
-    assert names == sorted(f"{bridge}+{level:.10g}g.csv" for bridge, level in stripes)
-    assert {round(level, 9) for _, level in stripes} >= {0.1, 0.5, 0.9}  # below every failure
-    for bridge, level in stripes:
+    assert names == sorted(f"{bridge}+{level:.10g}g.csv" for bridge, levels in stripes.items()
+                           for level in levels)  # fmt: skip
+    medians = {(f.bridge, f.limit_state): f.median for f in fragilities(ida, bootstrap=0)}
+    for bridge, levels in stripes.items():
+        # every scan level (0.1 + 0.4 n g) up to the last a record ran is a stripe, the top one
+        # above the median abutment capacity and all collapse: the issue's export stopped below
+        top = peaks.loc[peaks["bridge"] == bridge, "intensity"].max()
+        scans = 0.1 + 0.4 * np.arange(round((top - 0.1) / 0.4) + 1)
+        assert set(np.round(scans, 9)) <= {round(level, 9) for level in levels}
+        assert max(levels) == top > medians[bridge, "abutment_failure"]
+        assert (levels[top]["failure_mode"] != "none").all()
         gap = load_bridge(BRIDGES / f"{bridge}.yaml").abutments.gap
-        stripe = peaks[(peaks["bridge"] == bridge) & (peaks["intensity"] == level)]
-        table = rows_of(tmp_path / "demands" / f"{bridge}+{level:.10g}g.csv")
-        assert table[0] == ["", "1-DEC-1-1", "1-ABP-1-1", "1-FNR-1-1", "1-FNR-2-1",
-                            "1-PGA-0-1", "1-COL-0-1", "1-ERROR-0-1"]  # fmt: skip
-        assert table[1] == ["Units", "m", "m", "rad", "rad", "g", "unitless", "unitless"]
-        values = np.array([row[1:] for row in table[2:]], dtype=float)
-        np.testing.assert_array_equal(values[:, 0], stripe["u_deck_max"])
-        np.testing.assert_allclose(values[:, 1], np.maximum(0.0, stripe["u_deck_max"] - gap),
-                                   rtol=1e-12, atol=1e-15)  # fmt: skip
-        np.testing.assert_array_equal(values[:, 2], stripe["theta1_max"])
-        np.testing.assert_array_equal(values[:, 3], stripe["theta2_max"])
-        np.testing.assert_allclose(values[:, 4], level, rtol=1e-12)
-        np.testing.assert_array_equal(values[:, 5], stripe["failure_mode"] != "none")
-        assert not values[:, 6].any()
+        for level, stripe in levels.items():
+            table = rows_of(tmp_path / "demands" / f"{bridge}+{level:.10g}g.csv")
+            assert table[0] == ["", "1-DEC-1-1", "1-ABP-1-1", "1-FNR-1-1", "1-FNR-2-1",
+                                "1-PGA-0-1", "1-COL-0-1", "1-ERROR-0-1"]  # fmt: skip
+            assert table[1] == ["Units", "m", "m", "rad", "rad", "g", "unitless", "unitless"]
+            values = np.array([row[1:] for row in table[2:]], dtype=float)
+            np.testing.assert_array_equal(values[:, 0], stripe["u_deck_max"])
+            np.testing.assert_allclose(values[:, 1], np.maximum(0.0, stripe["u_deck_max"] - gap),
+                                       rtol=1e-12, atol=1e-15)  # fmt: skip
+            np.testing.assert_array_equal(values[:, 2], stripe["theta1_max"])
+            np.testing.assert_array_equal(values[:, 3], stripe["theta2_max"])
+            np.testing.assert_allclose(values[:, 4], level, rtol=1e-12)
+            np.testing.assert_array_equal(values[:, 5], stripe["failure_mode"] != "none")
+            assert not values[:, 6].any()
     assert (peaks["failure_mode"] == "abutment").any()  # the collapse flag is exercised
+
+
+@pytest.fixture(scope="module")
+def pgv(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("pgv")
+    study = load_study(write_study(folder, bridges=("studied-hbar2.00",), records=("R2",),
+                                   extra=PGV_STRIPES))  # fmt: skip
+    run_study(study, workers=1)
+    return study.output
+
+
+def test_a_pgv_export_has_its_intensity_column(pgv, tmp_path):
+    """pelicun's demand type of PGV is ``PGV`` and its unit of m/s ``mps`` (pelicun's
+    default_units.json); the levels are the study's."""
+    result = invoke("export", "pelicun", pgv, "-o", tmp_path / "demands")
+    assert result.exit_code == 0, result.output
+    assert "no intensity column" not in result.output
+    for level in (0.1, 0.2):
+        table = rows_of(tmp_path / "demands" / f"studied-hbar2.00+{level:g}mps.csv")
+        assert (table[0][5], table[1][5]) == ("1-PGV-0-1", "mps")
+        assert float(table[2][5]) == level
+
+
+def test_a_measure_pelicun_has_no_type_for_is_said(tmp_path):
+    """pelicun has no demand type for Arias intensity: no column, and one line saying so."""
+    arias = load_study(write_study(tmp_path, bridges=("studied-hbar2.00",), records=("R2",),
+                                   extra=PGV_STRIPES.replace("pgv", "arias")))  # fmt: skip
+    run_study(arias, workers=1)
+    result = invoke("export", "pelicun", arias.output, "-o", tmp_path / "demands")
+    assert result.exit_code == 0, result.output
+    assert "no intensity column: pelicun has no demand type for arias" in result.output
+    table = rows_of(tmp_path / "demands" / "studied-hbar2.00+0.1mps.csv")
+    assert table[0] == ["", "1-DEC-1-1", "1-ABP-1-1", "1-FNR-1-1", "1-FNR-2-1", "1-COL-0-1",
+                        "1-ERROR-0-1"]  # fmt: skip
 
 
 def test_pelicun_export_never_replaces_a_users_csv(ida, tmp_path):
@@ -180,6 +248,25 @@ def test_pelicun_reads_the_demands(ida, tmp_path):
     np.testing.assert_allclose(sample["FNR"]["2"]["1"], stripe["theta2_max"], rtol=1e-12)
     np.testing.assert_allclose(sample["PGA"]["0"]["1"], 0.9, rtol=1e-12)
     assert units["DEC"]["1"]["1"] == "m" and units["PGA"]["0"]["1"] == "g"
+
+
+def test_pelicun_reads_the_collapsed_top_stripe_and_pgv(ida, pgv, tmp_path):
+    """Where pelicun is installed: the IDA's top stripe (2.1 g, above both bridges' median
+    abutment capacity) loads with every record collapsed (``COL`` 1: R1 failed at 1.3 g and
+    below, R2 at 2.1 g), and a PGV sample loads its intensity in m/s (pelicun's SI)."""
+    pytest.importorskip("pelicun")
+    from pelicun.assessment import Assessment
+
+    invoke("export", "pelicun", ida, "-o", tmp_path / "demands")
+    invoke("export", "pelicun", pgv, "-o", tmp_path / "pgv")
+    assessment = Assessment({"PrintLog": False, "Verbose": False})
+    assessment.demand.load_sample(str(tmp_path / "demands" / "studied-hbar2.00+2.1g.csv"))
+    sample = assessment.demand.save_sample()
+    np.testing.assert_array_equal(sample["COL"]["0"]["1"], [1.0, 1.0])
+    assessment.demand.load_sample(str(tmp_path / "pgv" / "studied-hbar2.00+0.2mps.csv"))
+    sample, units = assessment.demand.save_sample(save_units=True)
+    np.testing.assert_allclose(sample["PGV"]["0"]["1"], 0.2, rtol=1e-12)
+    assert units["PGV"]["0"]["1"] == "mps"
 
 
 def test_the_exports_go_beside_the_results_and_never_over_them(ida):

@@ -304,3 +304,36 @@ def test_run_summarises_a_spectrum_by_its_figure(tmp_path):
     assert last.endswith(f"rockbridge plot overturning {tmp_path / 'spectrum.h5'}"), last
     assert "fragility" not in result.output and "plot ida" not in result.output
     assert "warning" not in result.output
+
+
+def test_the_spectrum_figure_is_grey_and_labelled_in_the_fields_symbols(tmp_path, monkeypatch):
+    """Issue 40: the map was in colour while every other figure is grey, its labels plain text
+    with underscores (``a_ref``, ``ω_p / p``), and "no rocking" (white) hard to tell from
+    "rocking, survives" (0.93). Now every region is a grey (a cell that did not run: white,
+    hatched), the two survive-regions differ by 0.14 in grey, and the labels are mathtext."""
+    from matplotlib.colors import to_rgb
+
+    from rockbridge_cli.plots import overturning
+
+    bridge = tmp_path / "block.yaml"
+    bridge.write_text("name: block\npiers: {width: 0.8, heights: [2.0]}\n", encoding="utf-8")
+    output = tmp_path / "block.h5"
+    result = CliRunner().invoke(main, [
+        "spectrum", "overturning", str(bridge), "--pulse", "cycloidal-c", "--frequencies",
+        "1:5:3", "--amplitudes", "1:4:4", "-o", str(output), "--workers", "1",
+    ])  # fmt: skip
+    assert result.exit_code == 0, result.output
+    drawn = []
+    monkeypatch.setattr(overturning, "save", lambda figure, path: drawn.append(figure) or path)
+    overturning.plot_overturning(output, tmp_path / "map.png")
+    (axes,) = drawn[0].axes
+    (mesh,) = axes.collections
+    for r, g, b, _ in mesh.to_rgba(np.ravel(mesh.get_array())):
+        assert r == g == b  # grey
+    shades = {name: to_rgb(shade)[0] for name, shade in overturning.REGION_SHADES.items()}
+    assert shades["no_rocking"] - shades["rocking"] >= 0.1
+    texts = [axes.get_xlabel(), axes.get_ylabel(), axes.get_title()]
+    texts += [t.get_text() for t in drawn[0].legends[0].get_texts()]
+    assert not [t for t in texts if "_" in t.replace("a_{ref}", "").replace("a_p", "")
+                .replace("u}_{g", "")]  # fmt: skip
+    assert axes.get_xlabel() == r"$\omega_p\,/\,p$" and "$a_{ref}$" in axes.get_title()

@@ -128,7 +128,8 @@ def study(tmp_path):
 
 @pytest.mark.parametrize(
     ("how", "status", "said"),
-    [(signal.SIGTERM, 143, "terminated (SIGTERM)"), (signal.SIGHUP, 129, "terminated (SIGHUP)")],
+    [(signal.SIGTERM, 143, "terminated (SIGTERM)"),
+     pytest.param(signal.SIGHUP, 129, "terminated (SIGHUP)", marks=pytest.mark.slow)],
 )  # fmt: skip
 def test_a_signal_in_the_compiled_integrator_saves_the_finished_analyses(
     tmp_path, study, how, status, said
@@ -154,6 +155,7 @@ def test_a_signal_in_the_compiled_integrator_saves_the_finished_analyses(
     assert contents(tmp_path / "out.h5") == expected
 
 
+@pytest.mark.slow
 def test_ctrl_c_in_analyze_stops_it_after_the_integrator(tmp_path):
     """``rockbridge analyze`` runs its one analysis in this process: Ctrl-C while the integrator
     runs ends it with status 130 and one line, not a crash (issue 32)."""
@@ -189,6 +191,7 @@ def test_ctrl_c_says_at_once_what_it_saves(tmp_path, study):
     assert lines[-1].startswith("interrupted: the analyses finished so far are in")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("how", [signal.SIGKILL, signal.SIGTERM])
 def test_the_workers_end_with_the_run(tmp_path, study, how):
     path, _ = study
@@ -267,6 +270,7 @@ def test_a_full_disk_is_one_line_and_the_finished_analyses_stay(tmp_path, monkey
     }
 
 
+@pytest.mark.slow
 def test_a_sigkill_keeps_what_the_workers_journalled(tmp_path, study):
     """After a SIGKILL of a two-worker run (the workers die with it), the journal holds the
     analyses that finished (the workers commit their own batches), and the next run resumes from

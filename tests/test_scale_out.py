@@ -141,6 +141,7 @@ def test_shard_from_the_scheduler_refuses(environment, count, message):
 # Shards and merge, as a user runs them
 
 
+@pytest.mark.slow
 def test_three_shards_merged_equal_a_single_run(paper, tmp_path):
     _, expected = paper
     for k in (1, 2, 3):

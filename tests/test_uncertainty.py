@@ -266,6 +266,7 @@ def test_sampled_bridges_are_the_bridge_with_the_drawn_values(tmp_path):
     assert study.resolved()["uncertainty"]["fields"]["abutments.gap"]["median"] == 0.12
 
 
+@pytest.mark.slow
 def test_a_sampled_study_is_the_same_on_any_worker_count_shard_split_and_resume(tmp_path):
     """Its sampled values and results in the file and the peak table; identical on 1 and 2
     workers, in two shards merged, and after an interrupted run resumed."""

@@ -15,15 +15,17 @@ fit with a β (the returned list says which and why). The engine requires an ``a
 and checks no value: ``lifelines``, the manual's example besides buildings.
 
 **pelicun** (its demand sample CSV): one file per bridge and stripe, an intensity level at which
-every record of the bridge was analyzed (every level of a multiple-stripe study; the scan levels
-all records ran in an IDA). Columns are named ``event-type-location-direction``, the second
-row holds units, then one row per record. ``DEC`` is the deck's peak displacement, ``ABP`` the
-backfill's peak passive displacement (|u_deck| beyond the gap), ``FNR`` the peak rocking
-rotation of pier 1 (the tall pier) and 2 at its base, ``PGA`` or ``SA_<T>`` the stripe's
-intensity; ``COL`` is 1 where the analysis ended in a failure of the bridge (abutment or
-overturning: its demands are those at the failure; pelicun can count it as collapse through a
-``CollapseLimits`` entry or a collapse fragility on ``COL``) and ``ERROR`` 1 where the analysis
-did not run to its end (pelicun drops those rows).
+every record of the bridge is accounted for (every level of a multiple-stripe study; in an IDA,
+every scan level up to the last one a record ran: a record that failed below a level counts as
+collapsed there, with its failure's row, as pelicun's stripes expect, so the stripes reach past
+the median capacity; `stripes`). Columns are named ``event-type-location-direction``, the
+second row holds units, then one row per record. ``DEC`` is the deck's peak displacement,
+``ABP`` the backfill's peak passive displacement (|u_deck| beyond the gap), ``FNR`` the peak
+rocking rotation of pier 1 (the tall pier) and 2 at its base, ``PGA``, ``PGV`` or ``SA_<T>`` the
+stripe's intensity (`PELICUN_MEASURES`); ``COL`` is 1 where the analysis ended in a failure of
+the bridge (abutment or overturning: its demands are those at the failure; pelicun can count it
+as collapse through a ``CollapseLimits`` entry or a collapse fragility on ``COL``) and ``ERROR``
+1 where the analysis did not run to its end (pelicun drops those rows).
 """
 
 from __future__ import annotations
@@ -54,6 +56,12 @@ PELICUN_DEMANDS = (
 )  # fmt: skip
 """pelicun's demand type-location-direction, the peak-table column and its unit (location: the
 deck and the abutments 1, pier 1 or 2; direction 1: along the bridge)."""
+
+PELICUN_MEASURES = {"pga_g": ("PGA", "g"), "pgv": ("PGV", "mps"), "sa_g": ("SA", "g")}
+"""pelicun's demand type of an intensity measure and pelicun's name of its unit (its
+``default_units.json``: ``g``, ``mps`` for m/s). pelicun's ``PGD`` is a permanent ground
+deformation, not a peak ground displacement, and it has no type for AvgSa, Arias intensity, CAV
+or a scale factor: their samples hold no intensity column (the file name gives the level)."""
 
 
 def openquake_fragility_model(results: str | Path, output: str | Path) -> list[str]:
@@ -190,11 +198,7 @@ def pelicun_demands(results: str | Path, folder: str | Path) -> list[Path]:
     for bridge in dict.fromkeys(columns["bridge"]):
         mine = {name: values[columns["bridge"] == bridge] for name, values in columns.items()}
         mine["backfill"] = mine["dcr_backfill"] * capacities[bridge]
-        records = set(mine["base_record"])
-        for level in sorted(set(mine["intensity"].tolist())):
-            rows = mine["intensity"] == level
-            if set(mine["base_record"][rows]) != records:
-                continue  # an IDA level that not every record ran
+        for level, rows in stripes(mine):
             path = folder / f"{scaled_id(bridge, level, intensity.measure)}.csv"
             samples[path] = _demands({name: values[rows] for name, values in mine.items()},
                                      intensity, level)  # fmt: skip
@@ -215,6 +219,49 @@ def pelicun_demands(results: str | Path, folder: str | Path) -> list[Path]:
     return list(samples)
 
 
+def stripes(rows: dict[str, np.ndarray]) -> list[tuple[float, np.ndarray]]:
+    """The stripes of one bridge's peak rows: each level at which every record is accounted
+    for, with the row of each record, in the records' order.
+
+    A record is accounted for at a level it ran (its row there) or at a level above one where
+    its analysis ended in a failure of the bridge: an IDA runs a record no further once it
+    fails, so the record has collapsed at every higher level, and its row is its failure at the
+    highest level below (``COL`` 1). A level some record neither ran nor failed below (an IDA's
+    bisection of another record, a record whose scan stopped without a failure) is no stripe.
+    """
+    failed = (rows["failure_mode"] != NO_FAILURE) & (rows["status"] == "ok")
+    records = list(dict.fromkeys(rows["base_record"].tolist()))
+    ran: dict[tuple[str, float], int] = {}
+    failures: dict[str, list[tuple[float, int]]] = {record: [] for record in records}
+    pairs = zip(rows["base_record"], rows["intensity"], strict=True)
+    for index, (record, level) in enumerate(pairs):
+        ran.setdefault((record, float(level)), index)
+        if failed[index]:
+            failures[record].append((float(level), index))
+    found = []
+    for level in sorted(set(rows["intensity"].tolist())):
+        chosen = []
+        for record in records:
+            below = [item for item in failures[record] if item[0] < level]
+            found_at = ran.get((record, level), max(below)[1] if below else None)
+            if found_at is None:
+                break
+            chosen.append(found_at)
+        else:
+            found.append((level, np.array(chosen, dtype=np.int64)))
+    return found
+
+
+def pelicun_intensity(intensity: IntensitySection) -> tuple[str, str] | None:
+    """pelicun's demand type and unit of a study's intensity measure (`PELICUN_MEASURES`), or
+    None where pelicun has none."""
+    found = PELICUN_MEASURES.get(intensity.measure)
+    if found is None:
+        return None
+    name, unit = found
+    return (f"{name}_{intensity.period or 0:.2f}" if name == "SA" else name), unit
+
+
 def _demands(rows: dict[str, np.ndarray], intensity: IntensitySection, level: float) -> str:
     """One pelicun demand sample: a header, a units row and one row per record."""
     header, units, values = [""], ["Units"], []
@@ -222,10 +269,10 @@ def _demands(rows: dict[str, np.ndarray], intensity: IntensitySection, level: fl
         header.append(f"1-{name}")
         units.append(unit)
         values.append(rows[column])
-    measure = {"pga_g": "PGA", "sa_g": f"SA_{intensity.period or 0:.2f}"}.get(intensity.measure)
+    measure = pelicun_intensity(intensity)
     if measure is not None:
-        header.append(f"1-{measure}-0-1")
-        units.append("g")
+        header.append(f"1-{measure[0]}-0-1")
+        units.append(measure[1])
         values.append(np.full(rows["bridge"].size, float(_tidy(level))))
     header += ["1-COL-0-1", "1-ERROR-0-1"]
     units += ["unitless", "unitless"]

@@ -45,11 +45,18 @@ def export_openquake(results: Path, output: Path | None) -> None:
 )  # fmt: skip
 def export_pelicun(results: Path, output: Path | None) -> None:
     """Write the demand samples of RESULTS (a study with an intensity section) for pelicun: one
-    CSV per bridge and stripe (a level every record ran), named <bridge>+<level>.csv, with the
-    deck's and the backfill's peak displacements, the piers' rocking rotations, the intensity,
-    a collapse flag (COL) and pelicun's ERROR flag."""
-    from ..assessment.exports import pelicun_demands
+    CSV per bridge and stripe (a level every record ran or had failed below: in an IDA, up to
+    the last level any record ran), named <bridge>+<level>.csv, with the deck's and the
+    backfill's peak displacements, the piers' rocking rotations, the intensity (PGA, PGV, Sa), a
+    collapse flag (COL) and pelicun's ERROR flag."""
+    from ..assessment.exports import pelicun_demands, pelicun_intensity
+    from ..results.reading import open_results, read_intensity
 
     folder = output or results.with_name(f"{results.stem}-pelicun")
     written = pelicun_demands(results, folder)
+    with open_results(results) as file:
+        intensity = read_intensity(file)
+    if intensity is not None and pelicun_intensity(intensity) is None:
+        click.echo(f"no intensity column: pelicun has no demand type for {intensity.measure} "
+                   "(each file's name gives its level)")  # fmt: skip
     click.echo(f"pelicun demand samples: {len(written)} files in {folder}")

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.ticker import NullFormatter
-from scipy.stats import norm
+from scipy.special import ndtr
 
 from ..assessment.fragility import Fragility, fragilities
 from ..assessment.fragility_intervals import SETTLED, RecordsNeeded, all_records_needed, band
@@ -58,7 +58,7 @@ def plot_fragility(
                     axes.fill_between(x, *spread, color="0.5", alpha=0.2, linewidth=0, zorder=1,
                                       label=label)  # fmt: skip
                     banded = True
-                axes.plot(x, norm.cdf(np.log(x / item.median) / item.beta),
+                axes.plot(x, ndtr(np.log(x / item.median) / item.beta),
                           color=look["color"], linestyle=look["linestyle"], zorder=3)  # fmt: skip
         axes.set_title(state.replace("_", " "))
         mine = [f for f in found if f.limit_state == state]

@@ -12,27 +12,42 @@ import numpy as np
 from matplotlib.artist import Artist
 from matplotlib.colors import BoundaryNorm, ListedColormap
 from matplotlib.figure import Figure
-from matplotlib.patches import Patch
+from matplotlib.patches import Patch, Rectangle
 
 from ..assessment.spectrum import NOT_RUN, REGIONS, read_spectrum
 from ..core.quantities import STANDARD_GRAVITY
-from .common import FAILURE_LINE, GAP_LINE, check_format, save
+from .common import FAILURE_LINE, GAP_LINE, check_format, plain, save
 
-REGION_COLOURS = {
-    "not run": "#f2d0e0",
+REGION_SHADES = {
+    "not run": "white",
     "no_rocking": "white",
-    "rocking": "0.93",
-    "gap_closure": "#cfe0ee",
-    "abutment_failure": "#f3c98f",
-    "overturning_after_impact": "0.62",
-    "overturning_without_impact": "0.3",
+    "rocking": "0.86",
+    "gap_closure": "0.74",
+    "abutment_failure": "0.6",
+    "overturning_after_impact": "0.42",
+    "overturning_without_impact": "0.22",
 }
-"""Each region's colour (code −1 first): greys for the block's regions, so that they print."""
+"""Each region's grey (code −1 first), lighter to darker as the response grows, so that the map
+prints as the other figures do; cells that did not run are white under `NOT_RUN_HATCH`."""
 
-REGION_LABELS = {"rocking": "rocking, survives", "gap_closure": "gaps close, survives"}
-"""Legend labels where the region's name alone would not say it."""
+NOT_RUN_HATCH = "////"
+"""The hatching of the cells whose analysis did not run (white like "no rocking" otherwise)."""
 
-REFERENCE_LABELS = {"g_tan_alpha": "a_p / (g·tan α)", "onset": "a_p / ü_g,min"}
+REGION_LABELS = {
+    "not run": "not run",
+    "no_rocking": "no rocking",
+    "rocking": "rocks, survives",
+    "gap_closure": "gaps close, survives",
+    "abutment_failure": "abutment fails",
+    "overturning_after_impact": "overturns after an impact",
+    "overturning_without_impact": "overturns without an impact",
+}
+"""Legend labels of the regions."""
+
+REFERENCE_LABELS = {
+    "g_tan_alpha": r"$a_p\,/\,(g\,\tan\alpha)$",
+    "onset": r"$a_p\,/\,\ddot{u}_{g,min}$",
+}
 """The vertical axis, by the spectrum's reference acceleration."""
 
 BOUNDARY_LINES = {
@@ -61,20 +76,25 @@ def plot_overturning(results: str | Path, output: str | Path) -> Path:
     x, y = spectrum.frequency_ratios, spectrum.amplitude_ratios
     figure = Figure(figsize=(6.4, 4.8), layout="constrained")
     axes = figure.subplots()
-    colours = ListedColormap(list(REGION_COLOURS.values()))
+    colours = ListedColormap(list(REGION_SHADES.values()))
     norm = BoundaryNorm(np.arange(NOT_RUN - 0.5, len(REGIONS)), colours.N)
     logarithmic = x.size > 2 and np.allclose(np.diff(np.log(x)), np.log(x[1] / x[0]))
     edges_x, edges_y = _edges(x, logarithmic), _edges(y)
     axes.pcolormesh(edges_x, edges_y, spectrum.regions.T, cmap=colours, norm=norm)
+    for i, j in zip(*np.nonzero(spectrum.regions == NOT_RUN), strict=True):
+        axes.add_patch(Rectangle((edges_x[i], edges_y[j]), edges_x[i + 1] - edges_x[i],
+                                 edges_y[j + 1] - edges_y[j], facecolor="none",
+                                 edgecolor="0.5", linewidth=0.0, hatch=NOT_RUN_HATCH))  # fmt: skip
     present = set(np.unique(spectrum.regions).tolist())
     handles: list[Artist] = [
         Patch(
-            facecolor=colour,
+            facecolor=shade,
             edgecolor="0.5",
             linewidth=0.5,
-            label=REGION_LABELS.get(name, name.replace("_", " ")),
+            label=REGION_LABELS[name],
+            hatch=NOT_RUN_HATCH if code == NOT_RUN else None,
         )  # fmt: skip
-        for code, (name, colour) in enumerate(REGION_COLOURS.items(), start=NOT_RUN)
+        for code, (name, shade) in enumerate(REGION_SHADES.items(), start=NOT_RUN)
         if code in present
     ]
     for state, values in spectrum.boundaries.items():
@@ -85,12 +105,13 @@ def plot_overturning(results: str | Path, output: str | Path) -> Path:
     axes.set_xscale("log" if logarithmic else "linear")
     axes.set_xlim(edges_x[0], edges_x[-1])
     axes.set_ylim(edges_y[0], edges_y[-1])
-    axes.set_xlabel("ω_p / p")
+    axes.set_xlabel(r"$\omega_p\,/\,p$")
     axes.set_ylabel(REFERENCE_LABELS[spectrum.reference])
-    pulse = spectrum.pulse["shape"]
+    pulse = plain(str(spectrum.pulse["shape"]).replace("_", " "))
     axes.set_title(
-        f"{spectrum.bridge} under {pulse}\np = {spectrum.frequency_parameter:.3g} rad/s, "
-        f"a_ref = {spectrum.reference_acceleration / STANDARD_GRAVITY:.3g} g",
+        f"{plain(spectrum.bridge)} under {pulse}\n$p$ = "
+        f"{spectrum.frequency_parameter:.3g} rad/s, $a_{{ref}}$ = "
+        f"{spectrum.reference_acceleration / STANDARD_GRAVITY:.3g} g",
         fontsize="medium",
     )
     figure.legend(handles=handles, loc="outside right center", frameon=False, fontsize="small")

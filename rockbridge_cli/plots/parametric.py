@@ -15,16 +15,18 @@ right, the core's modes are swapped as in `core.summary.summarize`.
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.ticker import NullLocator
 
 from ..config.bridge import BridgeConfig, load_bridge
 from ..core import impacts
 from ..core.geometry import Model, ratios, with_short_pier
 from ..errors import InputError
-from .common import check_format, panel_label, plain, save, style
+from .common import PLAIN, check_format, panel_label, plain, save, style
 
 POINTS = 60
 """Points per curve [-]."""
@@ -72,7 +74,7 @@ def plot_onset(bridge: str | Path, output: str | Path, h_max: float | None = Non
     curves = onset_curves(config, h_bars)
     own = onset_curves(config, np.array([model.H1 / model.H2]))
     figure, axes = _figure()
-    _short_pier_axis(axes, model)
+    _short_pier_axis(axes, model, h_bars)
     for index, (mode, values) in enumerate(curves.items()):
         axes.plot(h_bars, values, markevery=6, label=f"mode {mode}", **style(index))
     _mark_own(axes, model.H1 / model.H2, [values[0] for values in own.values()])
@@ -108,7 +110,7 @@ def plot_restitution(bridge: str | Path, output: str | Path, h_max: float | None
     curves = restitution_curves(config, [with_short_pier(model, h) for h in h_bars])
     own = restitution_curves(config, [model])
     figure, axes = _figure()
-    _short_pier_axis(axes, model)
+    _short_pier_axis(axes, model, h_bars)
     for index, (name, values) in enumerate(curves.items()):
         axes.plot(h_bars, values, markevery=6, label=name, **style(index))
     _mark_own(axes, model.H1 / model.H2, [values[0] for values in own.values()])
@@ -172,14 +174,42 @@ def _mark_own(axes, x: float, values: list[float]) -> None:
               markersize=11, label="this bridge", zorder=4)  # fmt: skip
 
 
-def _short_pier_axis(axes, model: Model) -> None:
-    """A top axis in the variable the paper varies, the short pier's height 2H2 = 2H1/h̄ [m]."""
+TOP_SPACING = 1.0 / 12.0
+"""The top axis's labels are at least this share of the h̄ range apart."""
+
+
+def short_pier_ticks(h1: float, low: float, high: float) -> list[float]:
+    """Round short-pier heights 2H2 [m] to label over h̄ = H1/H2 in [low, high]: multiples of
+    10ᵏ (the tallest's power of ten) first, then of 5·10ᵏ⁻¹, 2·10ᵏ⁻¹ and 10ᵏ⁻¹, each kept
+    where it is at least `TOP_SPACING` of the range (in h̄) from every kept one. 2H2 = 2H1/h̄
+    crowds evenly spaced heights toward high h̄, where matplotlib's own ticks overlapped (issue
+    40)."""
+    shortest, tallest = 2.0 * h1 / high, 2.0 * h1 / low
+    gap = TOP_SPACING * (high - low)
+    kept: list[float] = []
+    power = 10.0 ** math.floor(math.log10(tallest))
+    steps = [factor * power for factor in (1.0, 0.5, 0.2, 0.1)]
+    for step in steps:
+        first = math.ceil(shortest / step - 1e-9)
+        for value in np.arange(first, math.floor(tallest / step + 1e-9) + 1) * step:
+            h_bar = 2.0 * h1 / value
+            if all(abs(h_bar - 2.0 * h1 / other) >= gap for other in kept):
+                kept.append(round(float(value), 12))
+    return sorted(kept)
+
+
+def _short_pier_axis(axes, model: Model, h_bars: np.ndarray) -> None:
+    """A top axis in the variable the paper varies, the short pier's height 2H2 = 2H1/h̄ [m],
+    labelled at `short_pier_ticks`."""
 
     def swap(x):  # h̄ ↔ 2H2, its own inverse; matplotlib also asks at 0
         x = np.asarray(x, dtype=float)
         return np.divide(2.0 * model.H1, x, out=np.full_like(x, np.inf), where=x != 0.0)
 
     top = axes.secondary_xaxis("top", functions=(swap, swap))
+    top.set_xticks(short_pier_ticks(model.H1, float(h_bars[0]), float(h_bars[-1])))
+    top.xaxis.set_major_formatter(PLAIN)
+    top.xaxis.set_minor_locator(NullLocator())
     top.set_xlabel(r"short pier height $2H_2$ [m]")
 
 

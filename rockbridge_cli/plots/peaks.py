@@ -151,10 +151,15 @@ def plot_peaks(results: str | Path, output: str | Path, level: float | None = No
 
 def _limits(axes, bridges: dict) -> None:
     """Horizontal lines of the end-joint gap and of abutment failure (bridges with abutments):
-    one black pair when the bridges share them, else one pair per bridge in its shade."""
+    one black pair when the bridges share them, else one pair per bridge in its shade, each
+    line ending at the right frame in the markers of the bridges it belongs to, so that it is
+    told from the others in print, not by its shade alone (issue 40)."""
     shown = SHOWN["u_deck"]
-    limits = {(a["model_u_jo"], a["model_u_ab"]): index for index, a in
-              enumerate(bridges.values()) if math.isfinite(a["model_u_jo"])}  # fmt: skip
+    limits: dict[tuple[float, float], list[int]] = {}
+    for index, attributes in enumerate(bridges.values()):
+        if math.isfinite(attributes["model_u_jo"]):
+            pair = (attributes["model_u_jo"], attributes["model_u_ab"])
+            limits.setdefault(pair, []).append(index)
     if len(limits) == 1:
         ((gap, ultimate),) = limits
         contact, failure = gap * shown.factor, (gap + ultimate) * shown.factor
@@ -166,10 +171,16 @@ def _limits(axes, bridges: dict) -> None:
     if len(limits) > MAX_LIMITS:
         axes.plot([], [], linestyle="none", label=f"limit lines left out: {len(limits)} gaps")
         return
-    for (gap, ultimate), index in limits.items():
-        shade = {"color": style(index)["color"]}
-        axes.axhline(gap * shown.factor, **{**GAP_LINE, **shade})
-        axes.axhline((gap + ultimate) * shown.factor, **{**FAILURE_LINE, **shade})
+    for (gap, ultimate), indices in limits.items():
+        shade = {"color": style(indices[0])["color"]}
+        for level, line in ((gap, GAP_LINE), (gap + ultimate, FAILURE_LINE)):
+            level *= shown.factor
+            axes.axhline(level, **{**line, **shade})
+            for place, index in enumerate(indices):  # the owners' markers, inside the frame
+                look = {k: v for k, v in style(index).items() if k != "linestyle"}
+                axes.plot(0.985 - 0.03 * place, level, transform=axes.get_yaxis_transform(),
+                          linestyle="none", markersize=5, **look)  # fmt: skip
     if limits:  # one legend entry for each kind of line
-        axes.plot([], [], **GAP_LINE, label=r"contact, $u_{jo}$ (each bridge's, in its shade)")
+        axes.plot([], [], **GAP_LINE, label=r"contact, $u_{jo}$ (each bridge's: its marker at "
+                  "the right)")  # fmt: skip
         axes.plot([], [], **FAILURE_LINE, label=r"failure, $u_{jo} + u_{ab}$")

@@ -9,6 +9,8 @@ import json
 from pathlib import Path
 
 import numpy as np
+from matplotlib.cm import ScalarMappable
+from matplotlib.colors import LinearSegmentedColormap, Normalize
 from matplotlib.figure import Figure
 
 from ..assessment.fragility import fragilities_of
@@ -25,6 +27,12 @@ from ..results.reading import (
 )
 from ..results.sections import IntensitySection
 from .common import check_format, save, style
+
+RAMP_LINES = 6
+"""More lines than this along one other swept field are drawn in a grey ramp (`ramp_field`)."""
+
+RAMP = LinearSegmentedColormap.from_list("rockbridge-greys", ["0.78", "0.0"])
+"""Light grey (the other field's lowest value) to black (its highest), readable in print."""
 
 
 def plot_sweep(
@@ -85,16 +93,11 @@ def plot_sweep(
         unit, factor = display_unit(units[quantity])
     sources = {source for source, _ in lines}
     one = len(sources) == 1  # the bridge named once, as the legend's title, not on each line
-    figure = Figure(figsize=(6.5 + 3.0 * (len(lines) > 1), 4.5), layout="constrained")
+    ramp = ramp_field(lines)
+    figure = Figure(figsize=(6.5 + 3.0 * (len(lines) > 1 and ramp is None), 4.5),
+                    layout="constrained")  # fmt: skip
     axes = figure.subplots()
-    for index, ((source, others), points) in enumerate(lines.items()):
-        x, middles, lows, highs = (np.array(v) for v in zip(*sorted(points), strict=True))
-        look = style(index)
-        label = ", ".join([*([] if one and others else [source]),
-                           *(f"{p} = {v:.4g}" for p, v in others)])  # fmt: skip
-        axes.plot(x, middles * factor, label=label, **look)
-        axes.fill_between(x, lows * factor, highs * factor, color=look["color"], alpha=0.12,
-                          linewidth=0)  # fmt: skip
+    _draw(figure, axes, lines, factor, ramp, units)
     what = f"capacity: {quantity.replace('_', ' ')}" if capacity else quantity
     band = "median, 90 % interval" if capacity else "median over the records, 16–84 %"
     if level is not None and intensity is not None:
@@ -105,10 +108,50 @@ def plot_sweep(
     axes.grid(True, color="0.9", linewidth=0.5)
     # beside the axes, not over the curves; and not loc="best", which matplotlib warns is slow
     # with many points (the warning reached the terminal on large sweeps)
-    figure.legend(loc="outside right upper", frameon=False, fontsize="small",
-                  title=next(iter(sources)) if one and len(lines) > 1 else None,
-                  title_fontsize="small")  # fmt: skip
+    if ramp is None:
+        figure.legend(loc="outside right upper", frameon=False, fontsize="small",
+                      title=next(iter(sources)) if one and len(lines) > 1 else None,
+                      title_fontsize="small")  # fmt: skip
+    else:
+        axes.set_title(f"{next(iter(sources))}: {band}", fontsize="medium")
     return save(figure, output)
+
+
+def _draw(figure, axes, lines: dict[tuple, list], factor: float, ramp, units: dict) -> None:
+    """The sweep's lines and bands: one style each, labelled by bridge file and the other swept
+    fields' values; or, along a ramp field (`ramp_field`), greys by its value and a colour bar."""
+    one = len({source for source, _ in lines}) == 1
+    shades = Normalize(*ramp[1]) if ramp is not None else None
+    for index, ((source, others), points) in enumerate(lines.items()):
+        x, middles, lows, highs = (np.array(v) for v in zip(*sorted(points), strict=True))
+        if shades is not None:  # one line style, a grey by the other field's value
+            look = {"color": RAMP(shades(others[0][1])), "linestyle": "-", "marker": "."}
+            label = None
+        else:
+            look = style(index)
+            label = ", ".join([*([] if one and others else [source]),
+                               *(f"{p} = {v:.4g}" for p, v in others)])  # fmt: skip
+        axes.plot(x, middles * factor, label=label, **look)
+        axes.fill_between(x, lows * factor, highs * factor, color=look["color"],
+                          alpha=0.12 if shades is None else 0.05, linewidth=0)  # fmt: skip
+    if ramp is not None and shades is not None:
+        bar = figure.colorbar(ScalarMappable(shades, RAMP), ax=axes)
+        bar.set_label(f"{ramp[0]} [{units.get(ramp[0], '-')}]")
+
+
+def ramp_field(lines: dict[tuple, list]) -> tuple[str, tuple[float, float]] | None:
+    """The other swept field and its range where the lines are those of one bridge file along
+    one other field with more than `RAMP_LINES` values (a grid's second field): told apart by
+    a grey ramp and a colour bar, not a legend entry each; None otherwise."""
+    others = [other for _, other in lines]
+    if len({source for source, _ in lines}) != 1 or len(others) <= RAMP_LINES:
+        return None
+    if any(len(other) != 1 for other in others) or len({o[0][0] for o in others}) != 1:
+        return None
+    values = [float(other[0][1]) for other in others]
+    if not all(np.isfinite(values)):
+        return None
+    return others[0][0][0], (min(values), max(values))
 
 
 def _rows(

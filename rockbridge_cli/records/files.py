@@ -43,6 +43,12 @@ UNIT_NAMES = {
 #: m/s² per unit of each canonical unit (g: standard gravity).
 UNIT_SCALES = {"g": STANDARD_GRAVITY, "m/s2": 1.0, "cm/s2": 0.01}
 
+ABSURD_PGA_G = 100.0
+"""Largest peak a record file may hold [g]: 25 times the largest recorded (about 4 g). A record
+above it is a slip of units — cm/s² or mm/s² read as g or m/s² (a 490 cm/s² record read as g
+peaks at 490 g) — refused, where a merely implausible one (`config.plausibility.RECORD_PGA_G`,
+a 36 g record of cm/s² read as m/s²) is only warned of."""
+
 #: Largest record file read [bytes] (a 3-component 200 Hz hour is ~100 MiB of text).
 MAX_RECORD_BYTES = 256 * 2**20
 
@@ -168,8 +174,9 @@ def read_record(
     Raises
     ------
     InputError
-        The file is missing, unreadable or malformed, or its units or time step are unknown or
-        contradict the arguments; the message names the line.
+        The file is missing, unreadable or malformed, its units or time step are unknown or
+        contradict the arguments (the message names the line), or it peaks above
+        `ABSURD_PGA_G`.
     TypeError
         ``path`` is not a path, ``units`` is not a name, or ``time_step`` not a number.
     """
@@ -198,6 +205,12 @@ def read_record(
     if not np.all(np.isfinite(acceleration)):
         reason = f"a value is beyond the floating-point range once in m/s² (from {resolved_units})"
         raise InputError(path, [("", reason)])
+    peak = float(np.max(np.abs(acceleration), initial=0.0)) / STANDARD_GRAVITY
+    if peak > ABSURD_PGA_G:
+        reason = (f"peak {peak:.4g} g in {resolved_units} is beyond any ground motion "
+                  f"({ABSURD_PGA_G:g} g at most; the largest recorded are about 4 g): are the "
+                  "numbers in cm/s2 or mm/s2?")  # fmt: skip
+        raise InputError(path, [("units", reason)])
     return Record(name, resolved_step, acceleration, str(path), metadata)
 
 
