@@ -10,8 +10,17 @@ the left (docs/model.md §1), and `BridgeConfig.mirrored` says so.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
-from pydantic import Field, PositiveFloat, ValidationInfo, field_validator, model_validator
+from pydantic import (
+    Field,
+    PositiveFloat,
+    SerializerFunctionWrapHandler,
+    ValidationInfo,
+    field_validator,
+    model_serializer,
+    model_validator,
+)
 
 from ..core import geometry
 from ..core.bridge import Bridge
@@ -166,6 +175,16 @@ class BridgeConfig(StrictModel):
                 f"the central span ({part.central} m) must exceed the pier width ({piers.width} m)"
             )
         return part
+
+    @model_serializer(mode="wrap")
+    def _without_no_devices(self, dump: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        """The config's fields, without ``devices`` when it lists none: a free-standing bridge's
+        stored config (and the hash a results file resumes by) stays what it was before bridges
+        had devices."""
+        fields = dump(self)
+        if not fields.get("devices"):
+            fields.pop("devices", None)
+        return fields
 
     @model_validator(mode="after")
     def _devices_fit(self) -> BridgeConfig:
