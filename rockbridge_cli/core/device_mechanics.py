@@ -27,14 +27,32 @@ from .devices import (
     TOP,
 )
 from .geometry import Model
-from .kinematics import EXACT, linkage
+from .kinematics import (
+    EXACT,
+    SLOT_THETA2,
+    SLOT_THETA_DECK,
+    Kinematics,
+    cubic,
+    linkage,
+    slope,
+    table_piece,
+)
 
 
 @jit
-def turns(model: Model, s: float, theta1: float):
+def turns(model: Model, s: float, theta1: float, kin: Kinematics):
     """How the interfaces turn in mode s at θ1 [rad]: the short pier's rotation θ2 and ψ' = ∂θ2/∂φ,
-    the deck's rotation θ_deck and θ' = ∂θ_deck/∂φ (exact linkage, docs/model.md §3), shared by
-    all the devices of a bridge [rad, -, rad, -]."""
+    the deck's rotation θ_deck and θ' = ∂θ_deck/∂φ, shared by all the devices of a bridge
+    [rad, -, rad, -]: from ``kin``'s tables where it has them and θ1 lies inside (their cubics
+    and slopes; the tables are in s·θ1), else from the exact linkage (docs/model.md §3)."""
+    piece, dx, mode = table_piece(kin, s, theta1)
+    if piece >= 0:
+        t = kin.table
+        return (
+            cubic(t, mode, piece, SLOT_THETA2, dx), s * slope(t, mode, piece, SLOT_THETA2, dx),
+            cubic(t, mode, piece, SLOT_THETA_DECK, dx),
+            s * slope(t, mode, piece, SLOT_THETA_DECK, dx),
+        )  # fmt: skip
     _, psi, theta_deck, dpsi, dtheta, _, _ = linkage(model, s, theta1, EXACT)
     theta2 = psi - (0.5 * np.pi - s * np.arctan2(model.B, model.H2))
     return theta2, dpsi, theta_deck, dtheta
@@ -63,8 +81,8 @@ def stretch(model: Model, row: np.ndarray, s: float, theta1: float, turned):
 
 @jit
 def elongation(model: Model, row: np.ndarray, s: float, theta1: float):
-    """`stretch` of one device, with the linkage solved for it [m, m/rad]."""
-    return stretch(model, row, s, theta1, turns(model, s, theta1))
+    """`stretch` of one device, with the exact linkage solved for it [m, m/rad]."""
+    return stretch(model, row, s, theta1, turns(model, s, theta1, EXACT))
 
 
 @jit
@@ -76,28 +94,29 @@ def pull(row: np.ndarray, length: float, speed: float) -> float:
     return row[DAMPING] * speed
 
 
-def restrained(force: float, devices, model: Model, s: float, theta1: float, omega: float):
+def restrained(force: float, devices, model: Model, s: float, theta1: float, omega: float, kin):
     """The generalised force on θ1 [N·m] with that of the ``devices`` (a `table`, or None) added:
-    ``force`` less Σ (T + F)·∂Δ/∂φ at (θ1, θ̇1) = (theta1, omega) [rad, rad/s] in mode s."""
+    ``force`` less Σ (T + F)·∂Δ/∂φ at (θ1, θ̇1) = (theta1, omega) [rad, rad/s] in mode s, the
+    linkage as ``kin`` computes it (`turns`)."""
     if devices is None:
         return force
-    return force - _device_moment(devices, model, s, theta1, omega)
+    return force - _device_moment(devices, model, s, theta1, omega, kin)
 
 
 @overload(restrained)
-def _compiled_restrained(force, devices, model, s, theta1, omega):
+def _compiled_restrained(force, devices, model, s, theta1, omega, kin):
     """`restrained` compiled for the type of ``devices``: without any, ``force`` itself."""
     if isinstance(devices, (types.NoneType, types.Omitted)):
-        return lambda force, devices, model, s, theta1, omega: force
-    return lambda force, devices, model, s, theta1, omega: (
-        force - _device_moment(devices, model, s, theta1, omega)
+        return lambda force, devices, model, s, theta1, omega, kin: force
+    return lambda force, devices, model, s, theta1, omega, kin: (
+        force - _device_moment(devices, model, s, theta1, omega, kin)
     )
 
 
 @jit
-def _device_moment(devices: np.ndarray, model: Model, s: float, theta1: float, omega: float):
+def _device_moment(devices: np.ndarray, model: Model, s, theta1, omega, kin: Kinematics):
     """Σ (T + F)·∂Δ/∂φ of the devices [N·m]."""
-    moment, turned = 0.0, turns(model, s, theta1)
+    moment, turned = 0.0, turns(model, s, theta1, kin)
     for i in range(devices.shape[0]):
         length, lever = stretch(model, devices[i], s, theta1, turned)
         moment += pull(devices[i], length, lever * omega) * lever
@@ -107,7 +126,7 @@ def _device_moment(devices: np.ndarray, model: Model, s: float, theta1: float, o
 @jit
 def strain_energy(devices: np.ndarray, model: Model, s: float, theta1: float) -> float:
     """Energy stored in the tendons, Σ (P0·Δ + ½k·Δ²) [J] (dampers store none)."""
-    energy, turned = 0.0, turns(model, s, theta1)
+    energy, turned = 0.0, turns(model, s, theta1, EXACT)
     for i in range(devices.shape[0]):
         if devices[i, KIND] == TENDON:
             length = stretch(model, devices[i], s, theta1, turned)[0]
@@ -145,25 +164,26 @@ def _compiled_peaks_of(devices):
     return lambda devices: np.zeros((devices.shape[0], 4))
 
 
-def tracked(devices, peaks: np.ndarray, model: Model, s: float, theta1: float, omega: float, t):
+def tracked(devices, peaks: np.ndarray, model: Model, s: float, theta1, omega, t, kin) -> None:
     """Raise the devices' ``peaks`` to their elongations and forces in mode s at (θ1, θ̇1) =
-    (theta1, omega) [rad, rad/s] and time t [s]; nothing without devices."""
+    (theta1, omega) [rad, rad/s] and time t [s], the linkage as ``kin`` computes it; nothing
+    without devices."""
     if devices is not None:
-        _tracked(devices, peaks, model, s, theta1, omega, t)
+        _tracked(devices, peaks, model, s, theta1, omega, t, kin)
 
 
 @overload(tracked)
-def _compiled_tracked(devices, peaks, model, s, theta1, omega, t):
+def _compiled_tracked(devices, peaks, model, s, theta1, omega, t, kin):
     if isinstance(devices, (types.NoneType, types.Omitted)):
-        return lambda devices, peaks, model, s, theta1, omega, t: None
-    return lambda devices, peaks, model, s, theta1, omega, t: _tracked(
-        devices, peaks, model, s, theta1, omega, t
+        return lambda devices, peaks, model, s, theta1, omega, t, kin: None
+    return lambda devices, peaks, model, s, theta1, omega, t, kin: _tracked(
+        devices, peaks, model, s, theta1, omega, t, kin
     )
 
 
 @jit
-def _tracked(devices: np.ndarray, peaks: np.ndarray, model: Model, s, theta1, omega, t) -> None:
-    turned = turns(model, s, theta1)
+def _tracked(devices: np.ndarray, peaks: np.ndarray, model: Model, s, theta1, omega, t, kin):
+    turned = turns(model, s, theta1, kin)
     for i in range(devices.shape[0]):
         length, lever = stretch(model, devices[i], s, theta1, turned)
         force = abs(pull(devices[i], length, lever * omega))

@@ -135,7 +135,7 @@ def acceleration(
     if contact:
         overlap = abs(u) - model.u_jo
         force -= model.k * overlap * np.sign(u) * du + model.c * du * du * omega
-    return restrained(force, devices, model, s, theta1, omega) / mass
+    return restrained(force, devices, model, s, theta1, omega, kin) / mass
 
 
 @jit

@@ -523,7 +523,7 @@ def integrate(
         for i in range(len(PEAK_NAMES)):
             if values[i] > peaks[i, 0]:
                 peaks[i, 0], peaks[i, 1] = values[i], t
-        tracked(devices, device_peaks, model, segment.s, step.end.theta, step.end.rate, t)
+        tracked(devices, device_peaks, model, segment.s, step.end.theta, step.end.rate, t, kin)
         motion = Motion(t, k + 1 if t >= boundary else k, step.end, g_end, sample)
         if watch < 0 or watch == WATCH_TURNING:  # nothing changes but the peaks
             continue
