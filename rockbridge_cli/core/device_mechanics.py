@@ -41,48 +41,61 @@ from .kinematics import (
 
 @jit
 def turns(model: Model, s: float, theta1: float, kin: Kinematics):
-    """How the interfaces turn in mode s at θ1 [rad]: the short pier's rotation θ2 and ψ' = ∂θ2/∂φ,
-    the deck's rotation θ_deck and θ' = ∂θ_deck/∂φ, shared by all the devices of a bridge
-    [rad, -, rad, -]: from ``kin``'s tables where it has them and θ1 lies inside (their cubics
-    and slopes; the tables are in s·θ1), else from the exact linkage (docs/model.md §3)."""
+    """How the four rocking interfaces turn in mode s at θ1 [rad], shared by all the devices of a
+    bridge: for the base and the top of each pier (base 1, top 1, base 2, top 2), the sine and
+    cosine of half its turn (θ_i, and θ_i − θ_deck at a top) and the turn's φ-derivative (1, ψ';
+    less θ' at a top) [-, -, -]. θ2, ψ', θ_deck and θ' come from ``kin``'s tables where it has
+    them and θ1 lies inside (their cubics and slopes; the tables are in s·θ1), else from the
+    exact linkage (docs/model.md §3)."""
     piece, dx, mode = table_piece(kin, s, theta1)
     if piece >= 0:
         t = kin.table
-        return (
-            cubic(t, mode, piece, SLOT_THETA2, dx), s * slope(t, mode, piece, SLOT_THETA2, dx),
+        theta2, dpsi = (
+            cubic(t, mode, piece, SLOT_THETA2, dx),
+            s * slope(t, mode, piece, SLOT_THETA2, dx),
+        )
+        deck, dtheta = (
             cubic(t, mode, piece, SLOT_THETA_DECK, dx),
             s * slope(t, mode, piece, SLOT_THETA_DECK, dx),
-        )  # fmt: skip
-    _, psi, theta_deck, dpsi, dtheta, _, _ = linkage(model, s, theta1, EXACT)
-    theta2 = psi - (0.5 * np.pi - s * np.arctan2(model.B, model.H2))
-    return theta2, dpsi, theta_deck, dtheta
+        )
+    else:
+        _, psi, deck, dpsi, dtheta, _, _ = linkage(model, s, theta1, EXACT)
+        theta2 = psi - (0.5 * np.pi - s * np.arctan2(model.B, model.H2))
+    return (
+        _half(theta1, 1.0), _half(theta1 - deck, 1.0 - dtheta),
+        _half(theta2, dpsi), _half(theta2 - deck, dpsi - dtheta),
+    )  # fmt: skip
 
 
 @jit
-def stretch(model: Model, row: np.ndarray, s: float, theta1: float, turned):
-    """Elongation Δ of one device (a row of `table`) and ∂Δ/∂φ, in mode s at θ1 [rad], with the
-    linkage's `turns` there.
+def _half(turn: float, rate: float):
+    """sin(x/2), cos(x/2) and ∂x/∂φ of an interface that turned by x [-, -, -]."""
+    return np.sin(0.5 * turn), np.cos(0.5 * turn), rate
+
+
+@jit
+def stretch(model: Model, row: np.ndarray, s: float, turned):
+    """Elongation Δ of one device (a row of `table`) and ∂Δ/∂φ in mode s, the interfaces turned
+    as `turns` says.
 
     Returns
     -------
     Δ [m], ∂Δ/∂φ [m/rad]
     """
-    theta2, dpsi, theta_deck, dtheta = turned
-    turn, dturn = (theta1, 1.0) if row[PIER] == 0.0 else (theta2, dpsi)
+    base_turn, top_turn = (turned[0], turned[1]) if row[PIER] == 0.0 else (turned[2], turned[3])
     base, top = model.B + s * row[OFFSET], model.B - s * row[OFFSET]
     # chords 2ℓ·|sin(x/2)|, with |…| = s·(…) while the interface opens in mode s
-    length = row[BASE] * 2.0 * base * s * np.sin(0.5 * turn)
-    rate = row[BASE] * base * s * np.cos(0.5 * turn) * dturn
-    top_turn = turn - theta_deck
-    length += row[TOP] * 2.0 * top * s * np.sin(0.5 * top_turn)
-    rate += row[TOP] * top * s * np.cos(0.5 * top_turn) * (dturn - dtheta)
+    length = 2.0 * s * (row[BASE] * base * base_turn[0] + row[TOP] * top * top_turn[0])
+    rate = s * (
+        row[BASE] * base * base_turn[1] * base_turn[2] + row[TOP] * top * top_turn[1] * top_turn[2]
+    )
     return length, rate
 
 
 @jit
 def elongation(model: Model, row: np.ndarray, s: float, theta1: float):
     """`stretch` of one device, with the exact linkage solved for it [m, m/rad]."""
-    return stretch(model, row, s, theta1, turns(model, s, theta1, EXACT))
+    return stretch(model, row, s, turns(model, s, theta1, EXACT))
 
 
 @jit
@@ -118,7 +131,7 @@ def _device_moment(devices: np.ndarray, model: Model, s, theta1, omega, kin: Kin
     """Σ (T + F)·∂Δ/∂φ of the devices [N·m]."""
     moment, turned = 0.0, turns(model, s, theta1, kin)
     for i in range(devices.shape[0]):
-        length, lever = stretch(model, devices[i], s, theta1, turned)
+        length, lever = stretch(model, devices[i], s, turned)
         moment += pull(devices[i], length, lever * omega) * lever
     return moment
 
@@ -129,7 +142,7 @@ def strain_energy(devices: np.ndarray, model: Model, s: float, theta1: float) ->
     energy, turned = 0.0, turns(model, s, theta1, EXACT)
     for i in range(devices.shape[0]):
         if devices[i, KIND] == TENDON:
-            length = stretch(model, devices[i], s, theta1, turned)[0]
+            length = stretch(model, devices[i], s, turned)[0]
             energy += (devices[i, PRESTRESS] + 0.5 * devices[i, STIFFNESS] * length) * length
     return energy
 
@@ -185,7 +198,7 @@ def _compiled_tracked(devices, peaks, model, s, theta1, omega, t, kin):
 def _tracked(devices: np.ndarray, peaks: np.ndarray, model: Model, s, theta1, omega, t, kin):
     turned = turns(model, s, theta1, kin)
     for i in range(devices.shape[0]):
-        length, lever = stretch(model, devices[i], s, theta1, turned)
+        length, lever = stretch(model, devices[i], s, turned)
         force = abs(pull(devices[i], length, lever * omega))
         if length > peaks[i, PEAK_LENGTH]:
             peaks[i, PEAK_LENGTH], peaks[i, PEAK_LENGTH_TIME] = length, t
