@@ -152,8 +152,12 @@ def run(
             display.close()
             journal = journal_path(resolved.output)  # removed once the results file holds its own
             kept = journal if journal.exists() else resolved.output
-            say(f"{stopped_by(stop)}: the analyses finished so far are in {kept}; run the "
-                       "same command again to resume", err=True)  # fmt: skip
+            if kept.exists():
+                say(f"{stopped_by(stop)}: the analyses finished so far are in {kept}; run the "
+                    "same command again to resume", err=True)  # fmt: skip
+            else:  # stopped before its first analysis finished (its kernels compiling?)
+                say(f"{stopped_by(stop)}: no analysis had finished, nothing to keep; run the "
+                    "same command again to start", err=True)  # fmt: skip
             ctx.exit(exit_status(stop))
     display.close()
     counts = report.statuses
