@@ -227,6 +227,7 @@ class Records(StrictModel):
             raise ValueError(f"vertical: true, but record {lacking[0]} has no vertical "
                              f"component{more}")  # fmt: skip
         return self
+
     @model_validator(mode="after")
     def _pairs(self) -> Records:
         """With an orientation, every record is a pair; without, no file gives a second."""
