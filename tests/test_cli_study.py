@@ -188,6 +188,27 @@ def test_progress_display(capsys, terminal):
         assert len(err.splitlines()) == 11 and "30/30 analyses (100%)" in err
 
 
+def test_a_plain_progress_line_comes_at_least_once_a_minute(capsys, monkeypatch):
+    """Issue 39: a spectrum's first round of a million analyses printed its first plain line
+    after a tenth of them (minutes; 10 min for a 1e7 map). On a clock that this test moves (no
+    waiting), 1000 analyses every 10 s: a line at 60 s, 120 s, … although no tenth has passed,
+    then the tenth's line at 1000 s (100 000 of 1 000 000 done)."""
+    from rockbridge_cli.cli import progress
+
+    clock = [0.0]
+    monkeypatch.setattr(progress.time, "monotonic", lambda: clock[0])
+    display = ProgressDisplay(terminal=False)
+    for step in range(1, 101):
+        clock[0] = 10.0 * step
+        done = 1000 * step
+        display(Finished(CELL, "b", f"R{done}", "ok", "", 0.01, "none", 0.0), done, 1_000_000)
+    lines = capsys.readouterr().err.splitlines()
+    assert [line.split(" analyses")[0] for line in lines] == [
+        f"{done}/1000000" for done in range(6000, 100_001, 6000)
+    ] + ["100000/1000000"]
+    assert lines[-1].startswith("100000/1000000 analyses (10%), 1000.0 s elapsed")
+
+
 @pytest.mark.parametrize("terminal", [True, False])
 def test_progress_stays_short_for_a_big_study(capsys, terminal):
     """10 000 analyses, 500 of them failing: the heading once, ten failures by name, then one

@@ -50,6 +50,7 @@ from rockbridge_cli.config.study import load_study
 from rockbridge_cli.core.dynamics import coefficients
 from rockbridge_cli.core.kinematics import EXACT
 from rockbridge_cli.errors import InputError
+from rockbridge_cli.results import read_peaks
 from rockbridge_cli.study.merge import merge_results
 from rockbridge_cli.study.run import run_study
 
@@ -249,6 +250,44 @@ def test_the_spectrum_command_refuses_its_figure_before_it_runs(tmp_path):
     ])  # fmt: skip
     assert result.exit_code == 2 and "unknown figure format '.h5'" in result.output
     assert not output.exists() and "results:" not in result.output
+
+
+def test_a_stopped_spectrum_says_where_its_map_is_and_resumes(tmp_path, monkeypatch):
+    """Issue 39: Ctrl-C in a spectrum's first round ended with one word, "interrupted", not
+    where the analyses finished were nor that the command resumes. It now says both, as
+    ``run`` does, and run again, the command completes the spectrum (3 frequencies × 4
+    amplitudes: a map of 12; stopped at its 5th call to analyze, what finished is kept)."""
+    from rockbridge_cli.core.analysis import analyze
+    from rockbridge_cli.study import kernels
+
+    kernels.prepare()  # the kernels' warm-up first: its analyses are not the spectrum's
+    bridge = tmp_path / "block.yaml"
+    bridge.write_text("name: block\npiers: {width: 0.8, heights: [2.0]}\n", encoding="utf-8")
+    output = tmp_path / "block.h5"
+    calls = []
+
+    def interrupted(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 5:
+            raise KeyboardInterrupt
+        return analyze(*args, **kwargs)
+
+    monkeypatch.setattr("rockbridge_cli.core.analysis.analyze", interrupted)
+    command = ["spectrum", "overturning", str(bridge), "--frequencies", "1:5:3", "--amplitudes",
+               "1:4:4", "-o", str(output), "--workers", "1"]  # fmt: skip
+    result = CliRunner().invoke(main, command)
+    assert result.exit_code == 130, result.output
+    assert result.output.strip().splitlines()[-1] == (
+        f"interrupted: the analyses finished so far are in {output}; run the same command "
+        "again to resume"
+    )
+    kept = read_peaks(output)[["bridge", "record"]].values.tolist()
+    assert 1 <= len(kept) < 12  # what finished before the 5th call to analyze, of the map's 12
+    monkeypatch.setattr("rockbridge_cli.core.analysis.analyze", analyze)
+    resumed = CliRunner().invoke(main, command)
+    assert resumed.exit_code == 0, resumed.output
+    final = read_peaks(output)[["bridge", "record"]].values.tolist()
+    assert all(pair in final for pair in kept) and len(final) > 12  # the map, and bisections
 
 
 def test_a_results_file_without_a_spectrum_is_refused(tmp_path):

@@ -140,6 +140,8 @@ def test_sampling_puts_the_end_midway_and_rests():
         (("cycloidal-c", 1.0, 1.0, 0.5), "has no free phase"),
         (("ricker-antisymmetric", 1.0, 1.0, 0.0, 2.0), "has no number of cycles"),
         (("cycloidal-c", 1.0, 1.0, 0.0, 1.5), "whole cycles"),
+        (("one-sine-a", 1.0, 1.0, 0.0, 0.3), "has whole or half cycles"),
+        (("cycloidal-b", 1.0, 1.0, 0.0, 1.25), "has whole or half cycles"),
         (("mavroeidis-papageorgiou", 1.0, 1.0, 0.0, 1.0), "must exceed 1"),
         (("one-sine-b", 1.0, 1.0, 0.0, -1.0), "must be positive"),
     ],
@@ -150,6 +152,23 @@ def test_bad_pulses_are_refused(arguments, message):
 
 
 BLOCK = "  - id: block\n    piers: {width: 0.4, heights: [4.0]}\n"
+
+
+def test_a_one_sine_pulse_cut_mid_cycle_is_refused(tmp_path):
+    """Issue 39: ``cycles: 0.3`` of a one-sine pulse was accepted. Its sine, a_p·sin(ω_p·t), cut
+    at 0.3·T_p ends on a step from a_p·sin(0.6π) = 0.95·a_p to 0 (under a quarter cycle it would
+    not even reach a_p): not the pulse of Makris & Roussos (2000), whose N is whole, nor
+    Housner's half-sine (N = 0.5), whose sine ends at 0. Refused, naming the file and the pulse;
+    whole and half cycles load."""
+    refused = "    - {shape: one-sine-a, amplitude_g: 0.3, period: 0.5, cycles: 0.3}\n"
+    with pytest.raises(InputError) as caught:
+        load_study(pulse_study(tmp_path, refused))
+    assert caught.value.source == str(tmp_path / "pulses.yaml")
+    ((field, reason),) = caught.value.problems
+    assert field.startswith("records.pulses.0") and "has whole or half cycles" in reason
+    for cycles in (0.5, 1.5, 2):
+        fine = f"    - {{shape: one-sine-a, amplitude_g: 0.3, period: 0.5, cycles: {cycles}}}\n"
+        assert load_study(pulse_study(tmp_path, fine)).records
 
 
 def pulse_study(tmp_path, records: str, extra: str = ""):

@@ -306,3 +306,21 @@ def test_a_probability_short_of_certainty_is_never_printed_as_100():
     assert row[5] == "> 99.9" and row[6].endswith("–> 99.9")
     certain = Risk("b", "gap_closure", "pga_g", 1.0, "", None, 0.1, 50.0)
     assert risk_table([certain], 50.0)[1][0][5] == "100"  # 1 − e^−50 is 1 in floating point
+
+
+def test_a_rate_beyond_the_age_of_the_universe_is_refused(ida, tmp_path):
+    """Issue 39: a hazard curve's rate of 1e-300 per year (a return period of 1e300 years) was
+    used without a word, and its segment's power law (297 decades of rate per decade of PGA)
+    gave λ of inf, nan and 1e103 per year, printed with a hundred digits. A rate below 1e-10 per
+    year — a return period of 1e10 years, the order of the age of the universe (1.4e10 years) —
+    is refused in one line naming the file, the line and the field; a rate of 0 stays allowed."""
+    curve = tmp_path / "tiny.csv"
+    curve.write_text("pga_g [g], annual_rate [1/year]\n0.1, 1e-3\n1.0, 1e-300\n")
+    result = invoke("risk", ida, "--hazard", curve)
+    assert result.exit_code == 2, result.output
+    assert result.output.strip().splitlines() == [
+        f"error: {curve}: line 3: annual_rate 1e-300 per year is below 1e-10: a return period "
+        "beyond the age of the universe; give annual rates (0 for none)"
+    ]
+    curve.write_text("pga_g [g], annual_rate [1/year]\n0.1, 1e-3\n1.0, 1e-10\n2.0, 0\n")
+    assert read_hazard_curve(curve).rates.tolist() == [1e-3, 1e-10]

@@ -373,3 +373,61 @@ def test_a_stopped_worker_is_named_when_the_run_stalls(tmp_path, monkeypatch):
     stalls = [line for line in said if line.startswith("no analysis has finished for")]
     assert stalls and "stopped (SIGSTOP, a debugger?); kill -CONT" in stalls[-1]  # (1 s: the
     assert stopped and all(str(pid) in stalls[-1] for pid in stopped)  # start may stall too)
+
+
+def kernels_cached(environment: dict[str, str]) -> bool:
+    """Whether numba's cache of ``environment`` holds every kernel of an analysis (a fresh
+    process loads them all without compiling one)."""
+    code = "from rockbridge_cli.study import kernels; print(kernels.prepare(compiling=False))"
+    checked = subprocess.run([sys.executable, "-c", code], env=environment, capture_output=True,
+                             text=True, check=True, timeout=300)  # fmt: skip
+    return checked.stdout.split()[-1] == "True"
+
+
+def with_cache(pid: int, cache: Path) -> bool:
+    """Whether process ``pid`` runs with ``NUMBA_CACHE_DIR=cache`` (one of the run's, not yet
+    reaped); False where its environment cannot be read (it has ended)."""
+    try:
+        environment = Path(f"/proc/{pid}/environ").read_bytes().split(b"\0")
+    except OSError:
+        return False
+    return f"NUMBA_CACHE_DIR={cache}".encode() in environment and alive(pid)
+
+
+@pytest.mark.skipif(not Path("/proc/self/environ").exists(), reason="reads /proc")
+@pytest.mark.parametrize(
+    ("workers", "how", "status"), [(1, signal.SIGTERM, 143), (2, signal.SIGINT, 130)]
+)  # fmt: skip
+def test_a_stop_while_the_first_run_compiles_does_not_wait_for_the_compile(
+    tmp_path, workers, how, status
+):
+    """Issue 39: a stopping signal while a run compiled its kernels on a cold cache waited for the
+    compile (85–133 s on a busy host; ``docker stop`` killed the run first). The compile now runs
+    where the stop can end it (a child of a one-worker run, the pool's workers), so the run ends
+    with its one line and status before the compile does: numba's cache is still cold after it,
+    where waiting would have filled it. Nothing had finished, so no results file is written, and
+    no process of the run is left. A watchdog (``timeout``) fails a regression instead of hanging
+    (the compile takes ≥ 15 s on an idle core; this test never lets it end)."""
+    cache = tmp_path / "numba-cache"  # cold: the run must compile
+    environment = {**os.environ, "NUMBA_CACHE_DIR": str(cache)}
+    path = write_study(tmp_path, extra=f"output: {{path: {tmp_path / 'out.h5'}}}\n")
+    command = [sys.executable, "-c", "from rockbridge_cli.cli import entry; entry()", "run",
+               str(path), "--workers", str(workers)]  # fmt: skip
+    said = tmp_path / "stderr.txt"
+    with open(tmp_path / "stdout.txt", "w") as out, open(said, "w") as err:
+        child = subprocess.Popen(command, cwd=tmp_path, stdout=out, stderr=err, env=environment)
+    try:
+        wait_for(lambda: "compiling the analysis kernels" in said.read_text(), timeout=120)
+        child.send_signal(how)
+        child.wait(timeout=60)
+    finally:
+        child.kill()
+        child.wait()
+    err = said.read_text()
+    assert child.returncode == status, err
+    last = err.strip().splitlines()[-1]
+    assert "no analysis had finished, nothing to keep; run the same command again to start" in last
+    assert "Traceback" not in err and not (tmp_path / "out.h5").exists()
+    own = [int(p.name) for p in Path("/proc").iterdir() if p.name.isdigit()]
+    wait_for(lambda: not any(with_cache(pid, cache) for pid in own), timeout=10)
+    assert not kernels_cached(environment)  # the compile was stopped, not waited for

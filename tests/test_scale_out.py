@@ -226,6 +226,25 @@ def test_merge_refuses_what_it_cannot_trust(small_parts, tmp_path):
         merge_results(tmp_path / "w.h5", [first, second])
 
 
+def test_a_part_whose_counts_no_run_writes_is_refused(small_parts, tmp_path):
+    """Issue 39: a part whose ``n_analyses`` was -5 was merged without a word. A run writes
+    ``n_complete`` = the rows of the part's peak table (2 here: one of two shards of four
+    analyses) and ``n_analyses`` ≥ that; a part that says otherwise is refused, named with the
+    field, and nothing is written."""
+    _, first, second = small_parts
+    for name, value in (("n_analyses", -5), ("n_complete", 3), ("n_analyses", 1.5)):
+        with h5py.File(second, "a") as file:
+            kept = file.attrs[name]
+            file.attrs[name] = value
+        refused = invoke("merge", tmp_path / "m.h5", first, second)
+        assert refused.exit_code == 2, refused.output
+        assert refused.output.startswith(f"error: {second}: {name}: {value!r} where the part's ")
+        assert not (tmp_path / "m.h5").exists()
+        with h5py.File(second, "a") as file:
+            file.attrs[name] = kept
+    assert invoke("merge", tmp_path / "m.h5", first, second).exit_code == 0
+
+
 def test_a_shard_s_output_holds_that_shard_only(small_parts):
     study, first, _ = small_parts
     other = invoke("run", study, "--shard", "2/2", "-o", first)

@@ -20,7 +20,8 @@ Two formats are read:
   −ln(1 − poe)/T, as the engine's own ``annual_frequency_of_exceedence``. Its units are the
   engine's: g for PGA and SA, cm/s for PGV, cm for PGD.
 
-Intensities are strictly increasing and positive; rates must not increase with the intensity.
+Intensities are strictly increasing and positive; rates must not increase with the intensity,
+and a two-column file's are 0 or at least `LOWEST_RATE` (1e-10 per year).
 Points with a rate of zero (OpenQuake writes poe 0 beyond its precision) or an infinite one
 (poe 1) are left out: the curve is interpolated in log-log space, where they have no place.
 
@@ -46,6 +47,12 @@ from ..paths import read_input_text
 
 MAX_BYTES = 16 * 2**20
 """Largest hazard-curve file read."""
+
+LOWEST_RATE = 1e-10
+"""Lowest annual rate a two-column curve's point may have, zero aside [1/year]: a return period
+of 1e10 years, the order of the age of the universe (1.4e10 years). A lower rate (1e-300) is
+not a site's hazard, and its segment's power law, hundreds of decades steep, makes every risk
+overflow."""
 
 UNITS = {
     "g": ("acceleration", STANDARD_GRAVITY), "m/s2": ("acceleration", 1.0),
@@ -199,6 +206,12 @@ def _two_columns(path, lines, header) -> HazardCurve:
         raise InputError(path, [(f"line {number}", reason)])
     rows = [(n, line) for n, line in lines if n > number and not line.lstrip().startswith("#")]
     values = _numbers(path, rows, 2)
+    for (row, _), rate in zip(rows, values[:, 1], strict=True):
+        if 0.0 < rate < LOWEST_RATE:
+            reason = (f"annual_rate {rate:g} per year is below {LOWEST_RATE:g}: a return "
+                      "period beyond the age of the universe; give annual rates (0 for "
+                      "none)")  # fmt: skip
+            raise InputError(path, [(f"line {row}", reason)])
     return HazardCurve(measure, unit, period, values[:, 0], values[:, 1], str(path))
 
 

@@ -15,7 +15,9 @@ class ProgressDisplay:
     """A `study.run.Progress` callback; `assembling` is an `study.run.Assembly` callback.
 
     On a terminal it redraws one line, ``[#####-----] 12/30  0:03 elapsed  0:05 left``; otherwise
-    (a log, CI) it prints a line at every tenth of the run. Analyses that did not end ``ok`` are
+    (a log, CI) it prints a line at every tenth of the run, and `PLAIN_LINE` after the last line
+    if no tenth has passed (a spectrum's first round of 1e6 analyses took minutes a tenth, issue
+    39). Analyses that did not end ``ok`` are
     reported on a line of their own in both cases. An IDA learns its analyses as it runs: the
     total grows round by round, and the tenths count from the latest total. The time left is
     the pace since the first analysis came back (the start of the workers, and compiling their
@@ -31,6 +33,8 @@ class ProgressDisplay:
 
     WIDTH = 30
     REDRAW = 0.1
+    PLAIN_LINE = 60.0
+    """Seconds after which a plain line is printed even if no tenth of the run has passed."""
     WRITING_LINE = 10.0
     """Seconds between the plain lines of a long writing of the results file."""
     """Seconds between two redraws of the bar (a study of 10 000 short analyses would otherwise
@@ -50,6 +54,7 @@ class ProgressDisplay:
         self.drawn = -math.inf  # when the bar was last drawn
         self.first: tuple[float, int] | None = None  # when the first batch came back, its count
         self.writing = 0.0  # when the writing of the results file was last reported (plain lines)
+        self.said = self.start  # when the last plain line was printed
 
     def notice(self, text: str) -> None:
         """Show a line of the run's (after the heading, before the bar)."""
@@ -84,8 +89,8 @@ class ProgressDisplay:
             return
         if total != self.total:  # the start, or a new round of an IDA
             self.total, self.shown = total, 10 * (done - 1) // total
-        if 10 * done // total > self.shown:
-            self.shown = 10 * done // total
+        if 10 * done // total > self.shown or now - self.said >= self.PLAIN_LINE:
+            self.shown, self.said = max(self.shown, 10 * done // total), now
             estimate = "" if math.isnan(left) else f", about {left:.0f} s left"
             say(
                 f"{done}/{total} analyses ({100 * done // total}%), {elapsed:.1f} s elapsed"

@@ -12,7 +12,8 @@ import yaml
 from ..core.fidelity import PRESETS
 from ..motions.pulses import SHAPES
 from . import main, plot
-from .output import figure_option, results_argument
+from .output import figure_option, results_argument, say
+from .study import stopped_line
 
 
 def _grid(text: str) -> dict[str, float]:
@@ -73,6 +74,7 @@ def overturning(
     """
     from ..config.study import study_from_data
     from ..cpus import excess_workers
+    from ..interrupts import exit_status
     from ..plots.common import check_format
     from ..plots.overturning import plot_overturning
     from ..study.run import run_study
@@ -102,8 +104,13 @@ def overturning(
         data, source, yaml.safe_dump(data, sort_keys=False), None, output, confined=False
     )
     display = ProgressDisplay(heading=f"spectrum: {len(study.records)} frequencies")
-    report = run_study(study, workers, overwrite=overwrite, progress=display,
-                       assembly=display.assembling, notice=display.notice)  # fmt: skip
+    try:
+        report = run_study(study, workers, overwrite=overwrite, progress=display,
+                           assembly=display.assembling, notice=display.notice)  # fmt: skip
+    except KeyboardInterrupt as stop:  # where the map so far is, and that it resumes
+        display.close()
+        say(stopped_line(stop, output), err=True)
+        click.get_current_context().exit(exit_status(stop))
     display.close()
     click.echo(f"results: {report.output} ({report.total} analyses, "
                f"{report.wall_time_s:.1f} s on {report.workers} worker(s))")  # fmt: skip

@@ -125,9 +125,8 @@ def run(
     stopped.
     """
     from ..cpus import excess_workers, usable_cpus
-    from ..interrupts import exit_status, stopped_by
+    from ..interrupts import exit_status
     from ..study.executors import LocalPool
-    from ..study.journal import journal_path
     from ..study.run import run_study
     from .progress import ProgressDisplay
 
@@ -150,10 +149,7 @@ def run(
             )  # fmt: skip
         except KeyboardInterrupt as stop:
             display.close()
-            journal = journal_path(resolved.output)  # removed once the results file holds its own
-            kept = journal if journal.exists() else resolved.output
-            say(f"{stopped_by(stop)}: the analyses finished so far are in {kept}; run the "
-                       "same command again to resume", err=True)  # fmt: skip
+            say(stopped_line(stop, resolved.output), err=True)
             ctx.exit(exit_status(stop))
     display.close()
     counts = report.statuses
@@ -178,6 +174,21 @@ def run(
             err=True,
         )
         ctx.exit(1)
+
+
+def stopped_line(stop: KeyboardInterrupt, output: Path) -> str:
+    """What a run stopped by a signal says last: where the analyses finished are (the journal,
+    until the results file holds them), and how to resume."""
+    from ..interrupts import stopped_by
+    from ..study.journal import journal_path
+
+    journal = journal_path(output)  # removed once the results file holds its own
+    kept = journal if journal.exists() else output
+    if not kept.exists():  # stopped before its first analysis finished (its kernels compiling?)
+        return (f"{stopped_by(stop)}: no analysis had finished, nothing to keep; run the same "
+                "command again to start")  # fmt: skip
+    return (f"{stopped_by(stop)}: the analyses finished so far are in {kept}; run the same "
+            "command again to resume")  # fmt: skip
 
 
 def _loaded(

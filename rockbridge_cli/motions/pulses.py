@@ -6,7 +6,8 @@ period T_p = 2π/ω_p [s]; some also a phase φ [rad] and a number of cycles. Ti
 the ground at rest. The waveforms, with ω_p = 2π/T_p:
 
 ``one-sine-a``  Makris & Roussos (2000), type A (one-sine): ü_g = a_p·sin(ω_p·t + φ) for
-                0 ≤ t ≤ N·T_p (N = ``cycles``, 1 by default; 0.5 is Housner's (1963) half-sine).
+                0 ≤ t ≤ N·T_p (N = ``cycles``, whole or half, 1 by default; 0.5 is Housner's
+                (1963) half-sine).
                 With φ = 0 the ground velocity, a_p/ω_p·(1 − cos ω_p·t), is one-sided: the ground
                 moves forward and stays (a "fling").
 ``one-sine-b``  Makris & Roussos (2000), type B (one-cosine): ü_g = a_p·cos(ω_p·t + φ) for
@@ -61,6 +62,11 @@ DEFAULT_CYCLES = {
 }  # fmt: skip
 """Shapes with a number of cycles, and its default (the Ricker wavelets have none)."""
 
+HALF_CYCLES = frozenset({"one-sine-a", "one-sine-b", "cycloidal-a", "cycloidal-b"})
+"""Shapes whose N is a multiple of ½: their sine, cut at N·T_p, ends where it began (whole N)
+or at its opposite (Housner's half-sine, N = 0.5). Cut elsewhere, the pulse would end on a
+step of ü_g (a_p·sin(2πN + φ) to 0) and, under a quarter cycle, never reach its a_p."""
+
 RICKER_CENTRE = {"ricker-symmetric": 1.5, "ricker-antisymmetric": 2.0}
 """Centre of each Ricker wavelet, in periods from t = 0; the wavelet is cut at twice it [-]."""
 
@@ -113,6 +119,11 @@ class Pulse:
         elif not (self.cycles > 0.0 and math.isfinite(self.cycles)):
             raise ValueError(f"the number of cycles must be positive, got {self.cycles!r}")
         cycles = self.cycles or 0.0
+        if self.shape in HALF_CYCLES and 2.0 * cycles != round(2.0 * cycles):
+            raise ValueError(
+                f"a {self.shape} pulse has whole or half cycles (0.5: Housner's half-sine), got "
+                f"{cycles!r}: cut elsewhere, its sine ends on a step of the ground acceleration"
+            )
         if self.shape == "cycloidal-c" and cycles != round(cycles):
             raise ValueError(f"a type C_n pulse has n ≥ 1 whole cycles, got {cycles!r}")
         if self.shape == "mavroeidis-papageorgiou" and not cycles > 1.0:

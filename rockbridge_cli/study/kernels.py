@@ -7,18 +7,25 @@ loads them under a lock per installation on this machine: shared while they load
 (every worker at once), exclusive where one must be compiled (one process at a time: the first
 compiles and fills the cache, the next ones load from it). A process that compiles says so, once,
 before it starts. A worker that starts before it knows whether it will run anything (its run may
-yet be refused) only loads, and compiles once given work.
+yet be refused) only loads, and compiles once given work. A process that must stop promptly on a
+signal and cannot be ended by another (a run's parent, which analyzes itself with one worker)
+compiles in a child process instead (`prepare_stoppable`): a compile cannot be stopped from inside.
 """
 
 from __future__ import annotations
 
+import ctypes
 import hashlib
 import os
+import signal
+import subprocess
 import sys
 import tempfile
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
+
+from ..interrupts import STOPPING, held
 
 COMPILE_TIME_S = 20
 """About how long compiling an analysis's kernels takes on an idle core [s] (15 s on the 2-core
@@ -95,6 +102,59 @@ def prepare(
         with _kernel_lock(exclusive=True), warmup.announced(announce):
             load()
     return True
+
+
+def prepare_stoppable(announce: Callable[[], None] | None = None, vertical: bool = False) -> None:
+    """`prepare` in a process that a stopping signal must stop within moments: kernels that
+    numba's cache holds are loaded here (the signal held meanwhile, `interrupts.held`); those it
+    does not are compiled in a child process (`_compile_child`), which a stop kills at once, and
+    then loaded here from the cache it filled (compiled here if it could not fill it).
+
+    Parameters
+    ----------
+    announce
+        Called, once, before the child compiles.
+    vertical
+        Also the kernels of an analysis with a vertical ground motion.
+
+    Raises
+    ------
+    KeyboardInterrupt
+        A stopping signal while the child compiled (the child is killed first).
+    """
+    with held():
+        if prepare(compiling=False, vertical=vertical):
+            return
+    if announce is not None:
+        announce()
+    root = str(Path(os.path.abspath(__file__)).parents[2])  # this copy (numba's cache is per path)
+    code = (f"import sys; sys.path.insert(0, {root!r}); from rockbridge_cli.study import kernels; "
+            f"kernels._compile_child({os.getpid()}, {vertical})")  # fmt: skip
+    child = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.DEVNULL,
+                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)  # fmt: skip
+    try:
+        child.wait()  # a stopping signal raises here
+    except BaseException:
+        child.kill()
+        child.wait()
+        raise
+    with held():
+        prepare(vertical=vertical)
+
+
+def _compile_child(parent: int, vertical: bool) -> None:
+    """The child process of `prepare_stoppable`: compile the kernels into numba's cache. It
+    leaves the stopping signals to its parent, which kills it, and dies with it (Linux)."""
+    for signum in STOPPING:
+        signal.signal(signum, signal.SIG_IGN)
+    if sys.platform.startswith("linux"):
+        ctypes.CDLL(None).prctl(_PR_SET_PDEATHSIG, signal.SIGKILL)
+    if os.getppid() == parent:  # else the parent died before the request took effect
+        prepare(vertical=vertical)
+
+
+_PR_SET_PDEATHSIG = 1
+"""Linux prctl(2) option: the signal a process gets when its parent dies."""
 
 
 class _Cold(Exception):

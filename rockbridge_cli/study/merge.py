@@ -19,6 +19,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import h5py
+import numpy as np
 
 from ..assessment.fragility import store as store_fragilities
 from ..assessment.limit_states import stored_verdicts
@@ -122,6 +123,8 @@ def merge_results(output: Path, parts: list[Path], overwrite: bool = False) -> M
 
 def _check(parts: list[Path], files: list[h5py.File]) -> list[str]:
     """Refuse parts that disagree on what must agree; flag what should."""
+    for path, file in zip(parts, files, strict=True):
+        _check_counts(path, file)
     first = files[0].attrs
     for path, file in zip(parts[1:], files[1:], strict=True):
         for name in MUST_AGREE:
@@ -140,6 +143,24 @@ def _check(parts: list[Path], files: list[h5py.File]) -> list[str]:
             flags.append(f"{name} differs between the parts ({', '.join(values)}): their last "
                          "digits may differ from a single run's")  # fmt: skip
     return flags
+
+
+def _check_counts(path: Path, file: h5py.File) -> None:
+    """Refuse a part whose counts are not what a run writes (`results.writing.ResultsWriter`):
+    ``n_complete`` the rows of its peak table, ``n_analyses`` a whole number at least as large
+    (a part of an older rockbridge, without them, passes)."""
+    if "n_analyses" not in file.attrs:
+        return
+    rows = len(file["peaks"]["bridge"])
+    for name, least in (("n_complete", rows), ("n_analyses", rows)):
+        value = file.attrs.get(name)
+        whole = isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
+        if not whole or value < least or (name == "n_complete" and value != rows):
+            wanted = f"{rows}, the rows of its peak table" if name == "n_complete" else (
+                f"a whole number ≥ {rows}, the analyses it holds")  # fmt: skip
+            shown = _plain(value)
+            reason = f"{shown!r} where the part's run writes {wanted}: a damaged part?"
+            raise InputError(path, [(name, reason)])
 
 
 def _study_order(

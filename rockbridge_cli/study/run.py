@@ -161,7 +161,8 @@ def run_study(
         ``shard`` is not a count, or not a shard, or ``workers`` are more than the CPUs can
         share (`cpus.excess_workers`).
     KeyboardInterrupt
-        Once the analyses finished are written (`interrupts.Terminated`: SIGTERM, SIGHUP).
+        Once the analyses finished are written (`interrupts.Terminated`: SIGTERM, SIGHUP); a
+        run stopped before any finished (while its kernels compiled) writes no file.
     """
     _check_arguments(study, workers, shard, local=scheduler is None)
     started, created = time.perf_counter(), _timestamp()
@@ -174,16 +175,19 @@ def run_study(
     plan = plan_of(study, grid, grid.cells if shard is None else grid.shard(*shard))
     with _exclusive(output), stoppable():
         journal, verdicts = _resumed(output, study, shard, resume, overwrite)
-        resumed, rounds = len(verdicts), _Rounds()
+        resumed, rounds, stopped = len(verdicts), _Rounds(), False
         try:
             try:
                 with executor(grid, journal, workers, scheduler, notice, pool) as offered:
                     rounds.run(offered, plan, grid, verdicts, progress, motions_of(study))
+            except KeyboardInterrupt:
+                stopped = True
+                raise
             finally:  # the plan as far as it got, the batches in flight included
                 ran = tuple(plan.ran(verdicts | journal.verdicts()))
                 grid = dataclasses.replace(grid, listed=ran)
                 tally = _finish(output, study, grid, shard, journal, created, assembly, rounds,
-                                plan.sized)  # fmt: skip
+                                plan.sized, stopped)  # fmt: skip
         finally:
             journal.close()
     statuses, failures = tally or _tally(output)
@@ -219,13 +223,15 @@ def _resumed(
 
 def _finish(
     output: Path, study: Study, grid: Grid, shard: tuple[int, int] | None, journal: Journal,
-    created: str, assembly: Assembly | None, rounds: _Rounds, sized: bool,
+    created: str, assembly: Assembly | None, rounds: _Rounds, sized: bool, stopped: bool = False,
 ) -> tuple[dict[str, int], int] | None:  # fmt: skip
     """Write the results file of ``grid``'s cells where the journal holds anything new (or no
-    file exists yet), then remove the journal; the statuses and failures written, None where
-    nothing was. A plan that is not ``sized`` (an IDA) is complete only if its rounds ended."""
+    file exists yet, unless a signal ``stopped`` the run: its description would need the
+    compiled kernels, whose compile the stop may have cut short), then remove the journal; the
+    statuses and failures written, None where nothing was. A plan that is not ``sized`` (an IDA)
+    is complete only if its rounds ended."""
     tally = None
-    if len(journal) or not output.exists():
+    if len(journal) or not (output.exists() or stopped):
         tally = _write(output, study, grid, shard, journal, created, assembly, rounds.numerics,
                        rounds.ended or sized)  # fmt: skip
     journal.remove()

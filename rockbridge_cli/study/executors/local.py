@@ -3,6 +3,7 @@ one worker (`local_workers`)."""
 
 from __future__ import annotations
 
+import contextlib
 import multiprocessing
 import os
 import time
@@ -20,7 +21,7 @@ from ..work import Finished, run_cells
 from . import stall
 from .interface import RESENDS, Notice, Workers, collector, journalled, saving
 from .pacing import Pace, batched
-from .worker import prepared, ready_kernels, run_batch, start_worker
+from .worker import STOP_PREPARING, prepared, run_batch, start_worker
 
 LISTEN_S = 0.2
 """How often the parent of a local pool looks for what its workers say while it waits for
@@ -76,6 +77,12 @@ class LocalPool:
                 said = kernels.compiling_message(vertical)
         return said
 
+    def stop_preparing(self) -> None:
+        """Send `STOP_PREPARING` to the workers: those loading or compiling their kernels end."""
+        for pid in getattr(self.executor, "_processes", None) or {}:
+            with contextlib.suppress(OSError):  # ended already
+                os.kill(pid, STOP_PREPARING)
+
     def close(self) -> None:
         """Let the workers end once their batches are done (those not served: at once, or once
         their kernels have loaded). Closing it again does nothing."""
@@ -114,6 +121,8 @@ def local_workers(
         yield Workers(local.run, local.call)
     except BaseException as exc:
         saving(exc, journal, notice)
+        if isinstance(exc, KeyboardInterrupt):  # no wait for a compile
+            local.stop_preparing()
         raise
     finally:  # wait for the few batches in flight
         local.close()
@@ -189,6 +198,11 @@ class _LocalWorkers:
             if unused is not None:
                 unused.close()
 
+    def stop_preparing(self) -> None:
+        for pool in (self.pool, self.started):
+            if pool is not None:
+                pool.stop_preparing()
+
     def _start(self, size: int) -> LocalPool:
         if self.started is None:
             with self.journal.released():  # no SQLite connection may cross a fork
@@ -215,10 +229,16 @@ def _in_this_process(
     grid: Grid, journal: Journal, cells: Sequence[Cell], pace: Pace, notice: Notice | None
 ) -> Iterator[list[Finished]]:
     """Run the cells in this process, a batch at a time, its kernels made ready first (``notice``
-    hears if they are compiled); a stopping signal stops the run once the batch is journalled
+    hears if they are compiled, in a child process that a stop ends at once:
+    `kernels.prepare_stoppable`); a stopping signal stops the run once the batch is journalled
     (`interrupts.held`), as it stops a pool once the batches in flight are."""
-    with held():  # compiled kernels, in this process
-        ready_kernels(notice=notice, vertical=grid.vertical)
+
+    def announce() -> None:
+        if notice is not None:
+            notice(kernels.compiling_message(grid.vertical))
+
+    with contextlib.suppress(Exception):  # a failure is left to each analysis to meet
+        kernels.prepare_stoppable(announce, grid.vertical)
     for batch in batched(cells, 1, pace):
         with held():
             outcomes = journalled(journal, run_cells(grid, batch))

@@ -15,10 +15,15 @@ from .. import kernels
 from ..grid import Cell, Grid
 from ..journal import Journal
 from ..work import Finished, run_cells
-from .interface import Notice, journalled
+from .interface import journalled
 
 _PR_SET_PDEATHSIG = 1
 """Linux prctl(2) option: the signal a process gets when its parent dies."""
+
+STOP_PREPARING = signal.SIGUSR1
+"""The signal a stopped run sends its local workers: those loading or compiling their kernels
+(`ready_kernels`, no analysis in hand) end at once, instead of making the run wait for a compile
+(85–133 s on a busy host, issue 39); the others ignore it and finish their batch."""
 
 _grid: Grid | None = None
 """The grid of the study a worker process serves (set when it starts)."""
@@ -32,12 +37,13 @@ _said: Any = None
 
 def start_worker(setups: Any, said: Any, parent: int) -> None:
     """Worker start-up: leave Ctrl-C and SIGTERM to the parent, which stops the pool and saves
-    the results; die with the parent, however it dies; load the kernels if the cache holds them;
-    then take the study (its grid, and the journal, a connection of its own) when the parent
-    gives it."""
+    the results (and `STOP_PREPARING`, but while the kernels load); die with the parent, however
+    it dies; load the kernels if the cache holds them; then take the study (its grid, and the
+    journal, a connection of its own) when the parent gives it."""
     global _grid, _journal, _said
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    signal.signal(STOP_PREPARING, signal.SIG_IGN)  # but while its kernels load (`ready_kernels`)
     if sys.platform.startswith("linux"):
         ctypes.CDLL(None).prctl(_PR_SET_PDEATHSIG, signal.SIGKILL)
     if os.getppid() != parent:  # the parent died before the request took effect
@@ -57,21 +63,26 @@ def run_batch(cells: list[Cell]) -> list[Finished]:
     return journalled(_journal, run_cells(_grid, cells))
 
 
-def ready_kernels(
-    compiling: bool = True, notice: Notice | None = None, vertical: bool = False
-) -> None:
-    """`kernels.prepare` in a worker, which tells its parent (a local pool's, or ``notice`` in
-    this process) that it compiles them; a failure is left to each analysis to meet and record
-    with its message. ``vertical``: those of an analysis with a vertical ground motion too."""
+def ready_kernels(compiling: bool = True, vertical: bool = False) -> None:
+    """`kernels.prepare` in a worker, which tells its parent (a local pool's) that it compiles
+    them; a failure is left to each analysis to meet and record with its message. ``vertical``:
+    those of an analysis with a vertical ground motion too. A local pool's worker dies at once
+    of `STOP_PREPARING` meanwhile (a compile cannot be stopped from inside; the worker has no
+    analysis in hand), and ignores it otherwise."""
 
     def announce() -> None:
-        if notice is not None:
-            notice(kernels.compiling_message(vertical))
-        elif _said is not None:
+        if _said is not None:
             _said.put("compiling vertical" if vertical else "compiling")
 
-    with contextlib.suppress(Exception):
-        kernels.prepare(announce, compiling, vertical)
+    local = _said is not None  # a Dask worker's signals are left alone
+    if local:
+        signal.signal(STOP_PREPARING, signal.SIG_DFL)  # the default action: end the process
+    try:
+        with contextlib.suppress(Exception):
+            kernels.prepare(announce, compiling, vertical)
+    finally:
+        if local:
+            signal.signal(STOP_PREPARING, signal.SIG_IGN)
 
 
 def prepared(function: Callable, *args: Any) -> Any:
