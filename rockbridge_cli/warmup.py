@@ -31,6 +31,7 @@ import numpy as np
 from .core import geometry
 from .core.analysis import analyze
 from .core.bridge import Bridge
+from .core.devices import Damper, Tendon
 from .core.fidelity import PRESETS
 from .motions import matching, spectra
 
@@ -79,12 +80,26 @@ def vertical_kernels() -> None:
         analyze(Bridge(studied_bridge()), motion, TIME_STEP, preset, vertical=0.2 * motion)
 
 
+def device_kernels() -> None:
+    """Call every kernel an analysis of a bridge with tendons and dampers uses (compiled for them
+    of their own, `core.device_mechanics`): the studied bridge with one of each under a short
+    pulse at every fidelity preset, without and with a vertical ground motion."""
+    motion = pulse(duration=1.0)
+    restrained = Bridge(
+        studied_bridge(), devices=(Tendon(0, 0.0, 4.0e6, 4.0e7), Damper(1, 0.5, 1.0e7))
+    )
+    for preset in PRESETS:
+        analyze(restrained, motion, TIME_STEP, preset)
+        analyze(restrained, motion, TIME_STEP, preset, vertical=0.2 * motion)
+
+
 def compile_kernels() -> None:
     """Call every compiled kernel once (compiling it, or loading it from the disk cache); the
-    kernels of an analysis with a vertical ground motion too, compiled for it of their own
-    (`core.schemes.VerticalGround`)."""
+    kernels of an analysis with a vertical ground motion and of a bridge with devices too,
+    compiled for them of their own (`core.schemes.VerticalGround`, `core.device_mechanics`)."""
     analysis_kernels()
     vertical_kernels()
+    device_kernels()
     ground = pulse()
     periods = matching.compute_matching_periods((0.1, 1.0), 10, TIME_STEP)
     spectra.compute_psa(ground, TIME_STEP, periods, 0.05)

@@ -318,7 +318,7 @@ def test_an_event_is_located_just_past_it_within_the_tolerance(preset, watch):
     τ), found here independently by 200 bisections."""
     block = single_block(B=1.0, H=5.0, density=2500.0, g=G)
     settings = fidelity.resolve(preset).settings()
-    segment, ground = Segment(block, 1.0, False), Ground(np.zeros(3), 1.0)
+    segment, ground = Segment(block, 1.0, False, None), Ground(np.zeros(3), 1.0)
     y, w, h = (0.01, -0.5, 0.2) if watch == WATCH_IMPACT else (0.01, 0.05, 0.2)
     start = State(y, w, acceleration(block, 1.0, y, w, 0.0, False, EXACT))
 

@@ -187,11 +187,23 @@ def _units(data: dict) -> dict[str, str]:
     """The unit of each number of ``analyze --json`` (SI)."""
     from ..results.layout import PEAK_COLUMNS
 
-    extra = {"setup_time_s": "s", "record_pga": "m/s2"}
+    extra = {"setup_time_s": "s", "record_pga": "m/s2", **_device_units(data)}
     return {
         key: extra.get(key) or PEAK_COLUMNS[key][0]
         for key, value in data.items()
         if (key in extra or key in PEAK_COLUMNS) and not isinstance(value, str)
+    }
+
+
+def _device_units(summary: dict) -> dict[str, str]:
+    """The units of a summary's device peaks (`core.analysis.device_peak_names`): elongations
+    [m] and forces [N], by their ``…_max`` keys."""
+    units = {"_elongation_max": "m", "_force_max": "N"}
+    return {
+        key: unit
+        for key in summary
+        for suffix, unit in units.items()
+        if key.endswith(suffix) and key.startswith(("tendon", "damper"))
     }
 
 
@@ -226,6 +238,9 @@ def _rows(bridge: str, record: str, s: dict) -> list[tuple[str, str]]:
         if math.isnan(peak) and s["status"] == "ok":  # a part the model has not (a block's deck)
             continue
         rows.append((f"max {name}", f"{peak:.5g} {unit} at {s[name + '_time']:.3f} s"))
+    for key, unit in _device_units(s).items():  # a bridge's tendons and dampers, if any
+        name = key.removesuffix("_max")
+        rows.append((f"max {name}", f"{shown(s[key]):.5g} {unit} at {s[name + '_time']:.3f} s"))
     rows += [
         (
             "impacts (significant) / poundings",

@@ -10,8 +10,17 @@ the left (docs/model.md §1), and `BridgeConfig.mirrored` says so.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
-from pydantic import Field, PositiveFloat, ValidationInfo, field_validator, model_validator
+from pydantic import (
+    Field,
+    PositiveFloat,
+    SerializerFunctionWrapHandler,
+    ValidationInfo,
+    field_validator,
+    model_serializer,
+    model_validator,
+)
 
 from ..core import geometry
 from ..core.bridge import Bridge
@@ -19,6 +28,7 @@ from ..core.geometry import Model
 from ..errors import check_path_argument
 from ..kinds import expecting
 from . import loading
+from .devices import DeviceConfig, check_devices, core_devices
 from .loading import StrictModel
 
 MAX_DASHPOT_RATE = 1e5
@@ -135,6 +145,11 @@ class BridgeConfig(StrictModel):
     abutments: Abutments | None = Field(None, description="Absent: a rocking frame")
     density: PositiveFloat = Field(2500.0, description="Density of piers and deck ρ [kg/m³]")
     gravity: PositiveFloat = Field(9.81, description="Acceleration of gravity g [m/s²]")
+    devices: list[DeviceConfig] = Field(
+        default_factory=list,
+        description="Post-tensioned tendons and viscous dampers on the piers (docs/model.md §13); "
+        "none: the paper's free-standing piers",
+    )
     rocking_restitution: float | None = Field(
         None,
         gt=0.0,
@@ -160,6 +175,21 @@ class BridgeConfig(StrictModel):
                 f"the central span ({part.central} m) must exceed the pier width ({piers.width} m)"
             )
         return part
+
+    @model_serializer(mode="wrap")
+    def _without_no_devices(self, dump: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        """The config's fields, without ``devices`` when it lists none: a free-standing bridge's
+        stored config (and the hash a results file resumes by) stays what it was before bridges
+        had devices."""
+        fields = dump(self)
+        if not fields.get("devices"):
+            fields.pop("devices", None)
+        return fields
+
+    @model_validator(mode="after")
+    def _devices_fit(self) -> BridgeConfig:
+        check_devices(self.devices, self.piers.width, len(self.piers.heights))
+        return self
 
     @model_validator(mode="after")
     def _dashpot_within_reach(self) -> BridgeConfig:
@@ -194,8 +224,13 @@ class BridgeConfig(StrictModel):
 
     def to_bridge(self) -> Bridge:
         """The bridge as the core analyses it: the model (tall pier first, SI units), whether it
-        is mirrored, and the restitution override."""
-        return Bridge(self._model(), mirrored=self.mirrored, restitution=self.rocking_restitution)
+        is mirrored, the restitution override and the devices (in the core's frame)."""
+        return Bridge(
+            self._model(),
+            mirrored=self.mirrored,
+            restitution=self.rocking_restitution,
+            devices=core_devices(self.devices, self.piers.heights, self.mirrored),
+        )
 
     def _model(self) -> Model:
         B = 0.5 * self.piers.width

@@ -74,6 +74,15 @@ SCALE_FACTORS = (0.01, 100.0)
 probably wrong [-]."""
 
 
+TENDON_STRENGTH_PA = 1860e6
+"""Ultimate strength of seven-wire prestressing strand (EN 10138-3, Y1860) [Pa]: a tendon's
+prestress over its area beyond this is a slip of units."""
+
+TENDON_LEAST_SHARE = 0.01
+"""A tendon's prestress below this share of its pier's weight changes nothing a designer would
+prestress for [-]."""
+
+
 def bridge_warnings(config: BridgeConfig) -> list[str]:
     """Implausible values of a bridge config, as ``field: reason`` texts."""
     found = []
@@ -102,7 +111,27 @@ def bridge_warnings(config: BridgeConfig) -> list[str]:
         if config.deck.depth > DECK_DEPTH_SHARE * shortest:
             found.append(f"deck.depth: a {config.deck.depth:g} m deep deck on a {shortest:g} m "
                          "pier is not a bridge's: cm typed as m?")  # fmt: skip
-    return found + _outside_ranges(config)
+    return found + _outside_ranges(config) + _device_warnings(config)
+
+
+def _device_warnings(config: BridgeConfig) -> list[str]:
+    """Tendons stressed beyond prestressing steel's strength, or prestressed by a force that the
+    pier's own weight dwarfs (kN typed as N)."""
+    found = []
+    weight = config.density * config.gravity * config.piers.width**2 * min(config.piers.heights)
+    for index, device in enumerate(config.devices):
+        if device.kind != "tendon":
+            continue
+        stress = device.prestress / device.area
+        if stress > TENDON_STRENGTH_PA:
+            strength = TENDON_STRENGTH_PA / 1e6
+            found.append(f"devices.{index}.prestress: {stress / 1e6:.4g} MPa on its area is more "
+                         f"than prestressing steel takes ({strength:g} MPa)")  # fmt: skip
+        if 0.0 < device.prestress < TENDON_LEAST_SHARE * weight:
+            found.append(f"devices.{index}.prestress: {device.prestress:g} N is less than "
+                         f"{TENDON_LEAST_SHARE:.0%} of the shorter pier's weight "
+                         f"({weight:.3g} N): kN typed as N?")  # fmt: skip
+    return found
 
 
 def _outside_ranges(config: BridgeConfig) -> list[str]:

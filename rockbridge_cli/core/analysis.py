@@ -66,7 +66,9 @@ class Response:
     events : dict of arrays: ``time`` [s], ``kind`` (name), ``mode`` after (+1, −1, 0 at rest),
         ``rate_before``, ``rate_after`` (θ̇1 [rad/s])
     peaks : name → (peak value, time [s]); units in `PEAK_UNITS`; NaN for the parts a model
-        does not have (a single block has no deck and no pier 2)
+        does not have (a single block has no deck and no pier 2); for each device, its largest
+        elongation [m] and force [N] as ``<kind><n>_elongation`` and ``<kind><n>_force``
+        (`device_peak_names`)
     t_onset : time of the first onset of rocking, NaN if the bridge never rocks [s]
     n_impacts, n_poundings : counts of impacts at the rocking interfaces and on the backwall [-]
     failure_mode : `quantities.NO_FAILURE` or one of `quantities.FAILURE_MODES`
@@ -207,7 +209,11 @@ def analyze(
         sign * float(initial[0]), sign * float(initial[1]),
     )  # fmt: skip
     # the vertical motion is the same in the mirror image
-    result = integrate(*arguments) if up is None else integrate(*arguments, up)
+    devices = bridge.device_table()
+    if devices is not None:  # kernels compiled for devices, only for a bridge with some
+        result = integrate(*arguments, up, devices)
+    else:
+        result = integrate(*arguments) if up is None else integrate(*arguments, up)
     solve_time = time.perf_counter() - start
     if flight is not None:
         result = _before_flight(result, flight, samples, time_step, knobs["output_step"])
@@ -251,7 +257,10 @@ def _response(
             "rate_before": sign * events[:, EVENT_RATE_BEFORE],
             "rate_after": sign * events[:, EVENT_RATE_AFTER],
         },
-        peaks={name: (float(peaks[i, 0]), float(peaks[i, 1])) for i, name in enumerate(PEAK_NAMES)},
+        peaks={
+            **{name: (float(peaks[i, 0]), float(peaks[i, 1])) for i, name in enumerate(PEAK_NAMES)},
+            **_device_peaks(bridge, result),
+        },
         t_onset=float(onsets[0]) if onsets.size else float("nan"),
         n_impacts=int(np.sum(impacts_at)),
         n_impacts_significant=int(
@@ -267,6 +276,31 @@ def _response(
         steps=int(result.steps),
         rejected_steps=int(result.rejected),
     )
+
+
+def device_peak_names(bridge: Bridge) -> list[tuple[str, str]]:
+    """Each device's names in a `Response`'s peaks, (elongation, force): ``tendon1``, ``damper1``,
+    … numbered by kind in the bridge's order."""
+    names, counts = [], {"Tendon": 0, "Damper": 0}
+    for device in bridge.devices:
+        kind_ = type(device).__name__
+        counts[kind_] += 1
+        stem = f"{kind_.lower()}{counts[kind_]}"
+        names.append((f"{stem}_elongation", f"{stem}_force"))
+    return names
+
+
+def _device_peaks(bridge: Bridge, result: Integration) -> dict[str, tuple[float, float]]:
+    """The devices' peaks of an integration, by name (`device_peak_names`); NaN where the
+    integrator stopped early."""
+    rows = result.device_peaks
+    if result.error != NO_ERROR:  # the integrator stopped early: no peak of the record is known
+        rows = np.full_like(rows, np.nan)
+    out = {}
+    for (length, force), row in zip(device_peak_names(bridge), rows, strict=True):
+        out[length] = (float(row[0]), float(row[1]))
+        out[force] = (float(row[2]), float(row[3]))
+    return out
 
 
 def _integrated(

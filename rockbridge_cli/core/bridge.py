@@ -13,6 +13,9 @@ import functools
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+import numpy as np
+
+from .devices import Device, table
 from .geometry import Model, pounding_ratio
 
 if TYPE_CHECKING:
@@ -31,11 +34,14 @@ class Bridge:
         user's drawing
     restitution : η of the rocking interfaces in both directions, overriding the impact law
         (for example a measured value); None uses Eqs. 21–29 [-]
+    devices : the piers' tendons and dampers (`devices.Tendon`, `devices.Damper`), in the
+        core's frame; none for the paper's free-standing piers
     """
 
     model: Model
     mirrored: bool = False
     restitution: float | None = None
+    devices: tuple[Device, ...] = ()
 
     def __post_init__(self) -> None:
         if not isinstance(self.model, Model):
@@ -49,6 +55,10 @@ class Bridge:
     def user_modes(self) -> tuple[float, float]:
         """The core's modes behind the user's p and n (swapped when mirrored)."""
         return (self.sign, -self.sign)
+
+    def device_table(self) -> np.ndarray | None:
+        """The devices as the compiled kernels take them (`devices.table`), None without any."""
+        return table(self.devices) if self.devices else None
 
     def eta(self, s: float) -> float:
         """Restitution of the impact that ends the core's mode s: the override, or the law [-]."""
@@ -82,9 +92,10 @@ def _laws(bridge: Bridge) -> Laws:
             "rocking would not reverse smoothly (the paper's assumption); set "
             "rocking_restitution in the bridge config"
         )
+    devices = bridge.device_table()
     return Laws(
-        onset_p=impacts.onset_threshold(bridge.model, 1.0),
-        onset_n=impacts.onset_threshold(bridge.model, -1.0),
+        onset_p=impacts.onset_threshold(bridge.model, 1.0, devices),
+        onset_n=impacts.onset_threshold(bridge.model, -1.0, devices),
         eta_p=eta_p,
         eta_n=eta_n,
         pounding=pounding_ratio(bridge.model),

@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._jit import inlined, jit
+from .device_mechanics import restrained
 from .geometry import Model
 from .kinematics import (
     SLOT_DMASS,
@@ -104,6 +105,7 @@ def acceleration(
     contact: bool,
     kin: Kinematics,
     lift: float = 1.0,
+    devices: np.ndarray | None = None,
 ) -> float:
     """Angular acceleration θ̈1 of the tall pier.
 
@@ -120,6 +122,9 @@ def acceleration(
     lift
         (g + ü_v)/g, the factor on gravity of a vertical ground acceleration ü_v, positive up;
         1 without one [-].
+    devices
+        The bridge's tendons and dampers (`devices.table`), or None without any: the kernels
+        are then compiled without them.
 
     Returns
     -------
@@ -130,7 +135,7 @@ def acceleration(
     if contact:
         overlap = abs(u) - model.u_jo
         force -= model.k * overlap * np.sign(u) * du + model.c * du * du * omega
-    return force / mass
+    return restrained(force, devices, model, s, theta1, omega, kin) / mass
 
 
 @jit

@@ -19,21 +19,25 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
+from .device_mechanics import prestress_moment
 from .dynamics import coefficients
 from .geometry import Model
 from .kinematics import EXACT, centres, displacements
 from .quantities import ABUTMENT, PIER1_OVERTURNING, PIER2_OVERTURNING
 
 
-def onset_threshold(model: Model, s: float) -> float:
+def onset_threshold(model: Model, s: float, devices: np.ndarray | None = None) -> float:
     """Ground acceleration at which rocking starts in mode s (Eq. 8) [m/s²].
 
     The virtual work of the ground's inertia forces equals that of gravity at rest:
     ü_g,min = g·Σ m_i·∂z_i/∂φ / (−Σ m_i·∂x_i/∂φ). Positive for mode p, negative for mode n;
-    rocking in mode s starts when s·ü_g > s·ü_g,min.
+    rocking in mode s starts when s·ü_g > s·ü_g,min. Tendons (``devices``, a
+    `devices.table`) add the moment of their prestress to gravity's (`devices.prestress_moment`).
     """
     _, _, gravity, inertia, _, _ = coefficients(model, s, 0.0, EXACT)
-    return gravity / -inertia
+    if devices is None:
+        return gravity / -inertia
+    return (gravity + prestress_moment(model, devices, s)) / -inertia
 
 
 def restitution(model: Model, s: float, abutment_seats: bool = True) -> float:

@@ -275,6 +275,14 @@ def cubic(table: np.ndarray, mode: int, piece: int, slot: int, dx: float) -> flo
     ) * dx + table[mode, piece, slot, 3]
 
 
+@inlined
+def slope(table: np.ndarray, mode: int, piece: int, slot: int, dx: float) -> float:
+    """The derivative of `cubic` with respect to s·θ1 [unit of the slot per rad]."""
+    return (
+        3.0 * table[mode, piece, slot, 0] * dx + 2.0 * table[mode, piece, slot, 1]
+    ) * dx + table[mode, piece, slot, 2]
+
+
 def simplified(model: Model) -> Kinematics:
     """The paper's simplified kinematics for a bridge (`simplified_fits`)."""
     return EXACT._replace(fits=simplified_fits(model))

@@ -36,11 +36,14 @@ class Segment(NamedTuple):
     model : the bridge (core frame)
     s : rocking mode, +1 or −1 (0 at rest, where no step is taken) [-]
     contact : whether the end gap is closed (the abutment's spring–dashpot on)
+    devices : the piers' tendons and dampers (`devices.table`), or None without any (the
+        kernels are compiled for each, so that a free-standing bridge runs the paper's code)
     """
 
     model: Model
     s: float
     contact: bool
+    devices: np.ndarray | None
 
 
 class Ground(NamedTuple):
@@ -147,9 +150,10 @@ def _compiled_lift_at(ground, g, k, t):
 @inlined
 def _accel_at(segment: Segment, kin: Kinematics, ground, k: int, t: float, y, w) -> float:
     """θ̈1 at (θ1, θ̇1) = (y, w) and time t [s] in sample interval k (`dynamics.acceleration`)."""
-    model, s, contact = segment
+    model, s, contact, devices = segment
     a_g = ground_at(ground.acc, ground.dt, k, t)
-    return acceleration(model, s, y, w, a_g, contact, kin, lift_at(ground, model.g, k, t))
+    lift = lift_at(ground, model.g, k, t)
+    return acceleration(model, s, y, w, a_g, contact, kin, lift, devices)
 
 
 @jit

@@ -38,6 +38,7 @@ import numpy as np
 
 from . import quantities
 from ._jit import inlined, jit
+from .device_mechanics import peaks_of, tracked
 from .dynamics import acceleration
 from .events import (
     WATCH_ABUTMENT,
@@ -157,6 +158,7 @@ class Integration(NamedTuple):
         `NOT_FAILED`
     steps, rejected : steps taken and rejected by the error control [-]
     error : `NO_ERROR` or why the integrator stopped early (`SOLVER_ERRORS`)
+    device_peaks : one row per device (`devices.PEAK_LENGTH` …), none without devices
     """
 
     theta1: np.ndarray
@@ -169,6 +171,7 @@ class Integration(NamedTuple):
     steps: int
     rejected: int
     error: int
+    device_peaks: np.ndarray
 
 
 class Problem(NamedTuple):
@@ -180,6 +183,7 @@ class Problem(NamedTuple):
     kin: Kinematics
     ground: Ground
     settings: Settings
+    devices: np.ndarray | None
 
 
 class Motion(NamedTuple):
@@ -229,9 +233,10 @@ def _refreshed(segment: Segment, kin: Kinematics, ground: Ground, motion: Motion
     t, k, (theta, rate, _), _, sample = motion
     if segment.s == 0.0 or k >= ground.acc.size - 1:
         return motion
-    model, s, contact = segment
+    model, s, contact, devices = segment
     a_g = ground_at(ground.acc, ground.dt, k, t)
-    accel = acceleration(model, s, theta, rate, a_g, contact, kin, lift_at(ground, model.g, k, t))
+    lift = lift_at(ground, model.g, k, t)
+    accel = acceleration(model, s, theta, rate, a_g, contact, kin, lift, devices)
     g = watched(segment, kin, theta, rate)[0]
     return Motion(t, k, State(theta, rate, accel), g, sample)
 
@@ -278,7 +283,7 @@ def _started(problem: Problem, theta0: float, omega0: float):
     log = Log(np.zeros((min(_EVENT_ROWS, settings.max_events), 5)), 0)
     s = np.sign(theta0) if theta0 != 0.0 else np.sign(omega0)
     deck = displacements(model, s, theta0, problem.kin).u_deck
-    segment = Segment(model, s, model.u_jo <= 0.0 or abs(deck) > model.u_jo)
+    segment = Segment(model, s, model.u_jo <= 0.0 or abs(deck) > model.u_jo, problem.devices)
     histories.theta1[0], histories.rate[0], histories.mode[0] = theta0, omega0, np.int8(s)
     if s != 0.0:
         log = _logged(log, 0.0, ONSET, s, 0.0, omega0)
@@ -321,7 +326,7 @@ def _onset(problem: Problem, motion: Motion, log: Log, samples: int):
     the record ends, the segment at rest and the motion in the record's last interval."""
     dt = problem.ground.dt
     s, t, k = _next_onset(problem.ground, problem.model.g, problem.laws, motion.k, motion.t)
-    segment = Segment(problem.model, s, problem.model.u_jo <= 0.0)
+    segment = Segment(problem.model, s, problem.model.u_jo <= 0.0, problem.devices)
     if s == 0.0:
         return segment, Motion(t, k, motion.state, motion.g, motion.sample), log
     log = _logged(log, t, ONSET, s, 0.0, 0.0)
@@ -443,7 +448,7 @@ def _applied(problem: Problem, segment: Segment, motion: Motion, log: Log, watch
     else:  # a failure ends the analysis
         failure = _failure_event(watch)
         return segment, motion, _logged(log, t, failure, s, w, w), failure
-    segment = Segment(problem.model, s, contact)
+    segment = Segment(problem.model, s, contact, problem.devices)
     motion = Motion(t, motion.k, State(theta, w, np.nan), _AT_REST, motion.sample)
     return segment, _refreshed(segment, problem.kin, problem.ground, motion), log, NOT_FAILED
 
@@ -459,6 +464,7 @@ def integrate(
     theta0: float = 0.0,
     omega0: float = 0.0,
     vertical: np.ndarray | None = None,
+    devices: np.ndarray | None = None,
 ) -> Integration:
     """Integrate one ground motion.
 
@@ -478,14 +484,18 @@ def integrate(
         Vertical ground acceleration at the same samples, positive up, with g + ü_v > 0 [m/s²];
         None without one (the kernels are then compiled for a `Ground`, else for a
         `VerticalGround`).
+    devices
+        The piers' tendons and dampers (`devices.table`), or None without any (the kernels are
+        then compiled without them).
 
     Returns
     -------
     `Integration`
     """
     ground = ground_of(acc, dt, vertical)
-    problem = Problem(model, laws, kin, ground, settings)
+    problem = Problem(model, laws, kin, ground, settings, devices)
     histories, peaks, segment, motion, log = _started(problem, theta0, omega0)
+    device_peaks = peaks_of(devices)
     count = WATCH_TURNING + 1 if settings.turning_points else WATCH_TURNING  # watched functions
     h, steps, rejected, error, failure = settings.step, 0, 0, NO_ERROR, NOT_FAILED
     while motion.k < acc.size - 1:
@@ -513,6 +523,7 @@ def integrate(
         for i in range(len(PEAK_NAMES)):
             if values[i] > peaks[i, 0]:
                 peaks[i, 0], peaks[i, 1] = values[i], t
+        tracked(devices, device_peaks, model, segment.s, step.end.theta, step.end.rate, t, kin)
         motion = Motion(t, k + 1 if t >= boundary else k, step.end, g_end, sample)
         if watch < 0 or watch == WATCH_TURNING:  # nothing changes but the peaks
             continue
@@ -527,4 +538,6 @@ def integrate(
         theta1[motion.sample :] = np.nan
         rate[motion.sample :] = np.nan
     events = log.rows[: log.written].copy()
-    return Integration(theta1, rate, mode, events, peaks, motion.t, failure, steps, rejected, error)
+    return Integration(
+        theta1, rate, mode, events, peaks, motion.t, failure, steps, rejected, error, device_peaks
+    )

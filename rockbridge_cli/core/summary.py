@@ -63,7 +63,7 @@ def summarize(bridge: Bridge) -> dict[str, object]:
 
     model, mirrored = bridge.model, bridge.mirrored
     modes = bridge.user_modes()
-    onset = [abs(impacts.onset_threshold(model, s)) for s in modes]
+    onset = [abs(impacts.onset_threshold(model, s, bridge.device_table())) for s in modes]
     caps = impacts.failure_rotations(model)
     governing = impacts.governing_failure(model, caps)
     if mirrored:
