@@ -334,3 +334,18 @@ def test_the_tables_turns_are_the_linkages(h_bar):
             np.testing.assert_allclose(
                 turns(model, s, s * x, kin), turns(model, s, s * x, EXACT), rtol=2e-8, atol=0
             )
+
+
+def test_the_bundled_restrained_bridges_carry_the_devices_their_comments_state():
+    """studied-hbar1.25-tendons.yaml: a tendon through each pier, P0 = 0.5·1860 MPa × 5040 mm²
+    = 4.6872 MN, k = 195 GPa × 5040 mm² / 2H (26 and 20.8 m); -dampers.yaml: 20 MN·s/m at ±1.0 m
+    across each pier's base."""
+    bridges = REPO / "configs" / "bridges"
+    tendons = load_bridge(bridges / "studied-hbar1.25-tendons.yaml").to_bridge().devices
+    area = 5.04e-3
+    assert tendons == (
+        Tendon(0, 0.0, 0.5 * 1860e6 * area, 195e9 * area / 26.0),
+        Tendon(1, 0.0, 0.5 * 1860e6 * area, 195e9 * area / 20.8),
+    )
+    dampers = load_bridge(bridges / "studied-hbar1.25-dampers.yaml").to_bridge().devices
+    assert dampers == tuple(Damper(p, d, 20e6) for p in (0, 1) for d in (-1.0, 1.0))
