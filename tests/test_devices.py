@@ -111,6 +111,7 @@ def _block_rhs(block, d: float, prestress: float, stiffness: float, a_g: float):
     return rhs
 
 
+@pytest.mark.slow  # compiles the kernels of a bridge with devices (about 1–3 min cold)
 def test_free_rocking_of_a_post_tensioned_block_matches_an_independent_integration():
     """Free rocking from θ1 = 0.05 rad: the times of the first six impacts and the rates after
     them, against scipy's DOP853 on the block's own equation (`_block_rhs`) with its impacts
@@ -143,6 +144,7 @@ def test_free_rocking_of_a_post_tensioned_block_matches_an_independent_integrati
     np.testing.assert_allclose(rates[:6], expected_[:, 1], rtol=1e-7)
 
 
+@pytest.mark.slow  # compiles the kernels of a bridge with devices (about 1–3 min cold)
 @pytest.mark.parametrize("h_bar", [1.0, 1.25, 2.0])
 def test_energy_with_tendons_is_conserved_between_impacts(h_bar):
     """Free rocking of a frame with a tendon in each pier (no ground motion): the energy
@@ -179,6 +181,7 @@ def test_energy_with_tendons_is_conserved_between_impacts(h_bar):
     np.testing.assert_allclose(total, start, rtol=1e-8)
 
 
+@pytest.mark.slow  # compiles the kernels of a bridge with devices (about 1–3 min cold)
 def test_a_damper_takes_the_energy_it_dissipates():
     """A symmetric frame with a viscous damper at a pier's base, rocking freely with η = 1 (so
     that no impact takes energy): the energy lost by each impact, ½M·(θ̇_before² of the next −
@@ -249,6 +252,7 @@ def test_a_configs_tendon_is_the_cores_with_its_stiffness_from_e_a_and_the_pier_
     assert tendon == Tendon(0, 0.3, 4.0e6, 195e9 * 5.0e-3 / 26.0, top=True)
 
 
+@pytest.mark.slow  # compiles the kernels of a bridge with devices (about 1–3 min cold)
 def test_a_mirrored_bridges_devices_are_mirrored_with_it(tmp_path):
     """The user's bridge with its tall pier on the right, a tendon in it at +0.3 m and a damper
     in the short pier at −0.5 m: the core's tall pier is pier 0, offsets change sign; and its
@@ -302,6 +306,7 @@ def test_a_tendon_stressed_beyond_strand_strength_is_warned_of(tmp_path):
     assert any(w.startswith("devices.0.prestress: 4000 MPa") for w in warnings)
 
 
+@pytest.mark.slow  # compiles the kernels of a bridge with devices (about 1–3 min cold)
 def test_analyze_lists_each_devices_peaks_with_their_units(tmp_path):
     """`rockbridge analyze --json` of the bundled bridge with tendons: each tendon's largest force
     (in N) and elongation (in m), as the library gives them; the force is P0 + k·Δ at the largest
