@@ -427,7 +427,7 @@ def test_a_vertical_run_says_it_compiles_the_vertical_kernels_once(tmp_path, mon
                      "records:\n  vertical: true\n"))  # fmt: skip
     for workers in ("1", "2"):
         kernels.prepare()  # the horizontal kernels, loaded from the cache
-        monkeypatch.setattr(kernels, "_ready", {False})
+        monkeypatch.setattr(kernels, "_ready", {"horizontal"})
         result = invoke("run", study, "--workers", workers, "--overwrite")
         assert result.exit_code == 0, result.output
         assert result.output.count("compiling") == 1, result.output

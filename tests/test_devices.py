@@ -354,3 +354,35 @@ def test_the_bundled_restrained_bridges_carry_the_devices_their_comments_state()
     )
     dampers = load_bridge(bridges / "studied-hbar1.25-dampers.yaml").to_bridge().devices
     assert dampers == tuple(Damper(p, d, 20e6) for p in (0, 1) for d in (-1.0, 1.0))
+
+
+def test_a_study_with_devices_makes_their_kernels_ready_and_says_so_once(tmp_path, monkeypatch):
+    """The kernels of a bridge with devices are compiled for them of their own: a study whose
+    grid has such a bridge makes them ready before its first analysis (one process at a time),
+    saying so once with `COMPILING_DEVICES`; a worker's word for it reads back as that message.
+    (A function numba compiles afresh stands for the kernels.)"""
+    import numba
+
+    from rockbridge_cli import warmup
+    from rockbridge_cli.study import kernels
+    from rockbridge_cli.study.executors.worker import compiling_said
+    from rockbridge_cli.study.grid import BridgeCase, Grid
+
+    def compile_a_kernel(vertical=None):
+        numba.njit(lambda x: x + 3.0)(1.0)
+
+    monkeypatch.setattr(warmup, "device_kernels", compile_a_kernel)
+    monkeypatch.setattr(kernels, "_ready", {"horizontal"})
+    said: list[int] = []
+    assert kernels.prepare(lambda: said.append(1), devices=True)
+    assert said == [1] and kernels._ready == {"horizontal", "devices"}
+    assert kernels.prepare(lambda: said.append(1), devices=True) and said == [1]  # once
+    told = compiling_said(False, True)
+    assert kernels.compiling_message("vertical" in told, "devices" in told) == (
+        kernels.COMPILING_DEVICES
+    )
+    restrained = load_bridge(REPO / "configs" / "bridges" / "studied-hbar1.25-tendons.yaml")
+    free = load_bridge(REPO / "configs" / "bridges" / "studied-hbar1.25.yaml")
+    for cases, expected in (([free], False), ([free, restrained], True)):
+        bridges = tuple(BridgeCase(f"b{i}", c.to_bridge()) for i, c in enumerate(cases))
+        assert Grid(bridges, (), fidelity.resolve("fast"), (), "").devices is expected

@@ -144,7 +144,8 @@ def _inputs(bridge: Path, record: Path, units, time_step, vertical, fidelity: st
 
 def _set_up(bridge, motion, fidelity: str) -> float:
     """What an analysis costs once per process, before its solve: loading the compiled kernels
-    (those of a vertical ground motion too, where the record has one; compiling them, and saying
+    (those of a vertical ground motion too, where the record has one, and of a bridge's devices,
+    where it has some; compiling them, and saying
     so, where numba's cache does not hold them) and building the bridge's tables, timed by
     analyzing two samples of rest [s]."""
     import time
@@ -157,7 +158,8 @@ def _set_up(bridge, motion, fidelity: str) -> float:
 
     vertical = motion.vertical is not None
     started = time.perf_counter()
-    with held(), announced(lambda: click.echo(compiling_message(vertical), err=True)):
+    devices = bool(bridge.devices)
+    with held(), announced(lambda: click.echo(compiling_message(vertical, devices), err=True)):
         run_analysis(bridge, np.zeros(2), motion.time_step, fidelity,
                      vertical=np.zeros(2) if vertical else None)  # fmt: skip
     return time.perf_counter() - started

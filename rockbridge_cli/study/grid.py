@@ -116,6 +116,11 @@ class Grid:
         return any(record.vertical is not None for record in self.records)
 
     @property
+    def devices(self) -> bool:
+        """Whether a bridge has tendons or dampers (its analyses need kernels of their own)."""
+        return any(case.bridge.devices for case in self.bridges)
+
+    @property
     def cells(self) -> list[Cell]:
         """Every analysis in the order of the results: those listed, or bridge by bridge,
         record by record."""

@@ -50,21 +50,39 @@ COMPILING_VERTICAL = (
 )
 """What a run with vertical ground motions says when its kernels are being compiled."""
 
-_ready: set[bool] = set()
-"""The kernels this process has: False for those of a horizontal motion, True for a vertical."""
+DEVICES_COMPILE_TIME_S = 60
+"""The same for the kernels of a bridge with tendons or dampers, compiled for them of their own
+(`core.device_mechanics`), with and without a vertical ground motion [s]: 4 min in a test run
+that compiled them at two fidelities while four other jobs kept a 2-core host busy (issue 41)."""
+
+COMPILING_DEVICES = (
+    "compiling the analysis kernels for bridges with tendons or dampers, once for this "
+    f"installation (about {DEVICES_COMPILE_TIME_S} s on an idle core; later runs load them from "
+    "numba's cache; 'python -m rockbridge_cli.warmup' compiles them ahead)"
+)
+"""What a run with a bridge that has devices says when their kernels are being compiled."""
+
+_ready: set[str] = set()
+"""The kernels this process has: ``horizontal``, ``vertical`` (a vertical ground motion's),
+``devices`` (a bridge's with tendons or dampers), ``devices vertical`` (both)."""
 
 
-def compiling_message(vertical: bool) -> str:
-    """`COMPILING_VERTICAL` or `COMPILING`."""
+def compiling_message(vertical: bool, devices: bool = False) -> str:
+    """`COMPILING_DEVICES`, `COMPILING_VERTICAL` or `COMPILING`."""
+    if devices:
+        return COMPILING_DEVICES
     return COMPILING_VERTICAL if vertical else COMPILING
 
 
 def prepare(
-    announce: Callable[[], None] | None = None, compiling: bool = True, vertical: bool = False
+    announce: Callable[[], None] | None = None,
+    compiling: bool = True,
+    vertical: bool = False,
+    devices: bool = False,
 ) -> bool:
-    """Load the kernels of an analysis into this process (`warmup.analysis_kernels`, and with
-    ``vertical`` `warmup.vertical_kernels` too), compiling those numba's cache does not hold, one
-    process of this installation at a time.
+    """Load the kernels of an analysis into this process (`warmup.analysis_kernels`, with
+    ``vertical`` `warmup.vertical_kernels` too, with ``devices`` `warmup.device_kernels` too),
+    compiling those numba's cache does not hold, one process of this installation at a time.
 
     Parameters
     ----------
@@ -75,23 +93,31 @@ def prepare(
         it will run anything), else leave them for a later call.
     vertical
         Also the kernels of an analysis with a vertical ground motion.
+    devices
+        Also the kernels of a bridge with tendons or dampers.
 
     Returns
     -------
     Whether this process has its kernels.
     """
-    wanted = {False, vertical}
+    wanted = {"horizontal"} | ({"vertical"} if vertical else set())
+    if devices:
+        wanted.add("devices vertical" if vertical else "devices")
     if wanted <= _ready:
         return True
     from .. import warmup  # the compiled kernels: a worker's, not the parent's
 
+    loaders = {
+        "horizontal": lambda: warmup.analysis_kernels((warmup.studied_bridge(),)),
+        "vertical": warmup.vertical_kernels,
+        "devices": lambda: warmup.device_kernels(vertical=False),
+        "devices vertical": lambda: warmup.device_kernels(vertical=True),
+    }
+
     def load() -> None:
-        if False not in _ready:
-            warmup.analysis_kernels((warmup.studied_bridge(),))
-            _ready.add(False)
-        if vertical:
-            warmup.vertical_kernels()
-            _ready.add(True)
+        for variant in sorted(wanted - _ready):
+            loaders[variant]()
+            _ready.add(variant)
 
     try:
         with _kernel_lock(exclusive=False), warmup.announced(_refuse):
@@ -104,7 +130,9 @@ def prepare(
     return True
 
 
-def prepare_stoppable(announce: Callable[[], None] | None = None, vertical: bool = False) -> None:
+def prepare_stoppable(
+    announce: Callable[[], None] | None = None, vertical: bool = False, devices: bool = False
+) -> None:
     """`prepare` in a process that a stopping signal must stop within moments: kernels that
     numba's cache holds are loaded here (the signal held meanwhile, `interrupts.held`); those it
     does not are compiled in a child process (`_compile_child`), which a stop kills at once, and
@@ -114,8 +142,8 @@ def prepare_stoppable(announce: Callable[[], None] | None = None, vertical: bool
     ----------
     announce
         Called, once, before the child compiles.
-    vertical
-        Also the kernels of an analysis with a vertical ground motion.
+    vertical, devices
+        Also the kernels of an analysis with a vertical ground motion, of a bridge with devices.
 
     Raises
     ------
@@ -123,13 +151,13 @@ def prepare_stoppable(announce: Callable[[], None] | None = None, vertical: bool
         A stopping signal while the child compiled (the child is killed first).
     """
     with held():
-        if prepare(compiling=False, vertical=vertical):
+        if prepare(compiling=False, vertical=vertical, devices=devices):
             return
     if announce is not None:
         announce()
     root = str(Path(os.path.abspath(__file__)).parents[2])  # this copy (numba's cache is per path)
     code = (f"import sys; sys.path.insert(0, {root!r}); from rockbridge_cli.study import kernels; "
-            f"kernels._compile_child({os.getpid()}, {vertical})")  # fmt: skip
+            f"kernels._compile_child({os.getpid()}, {vertical}, {devices})")  # fmt: skip
     child = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.DEVNULL,
                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)  # fmt: skip
     try:
@@ -139,10 +167,10 @@ def prepare_stoppable(announce: Callable[[], None] | None = None, vertical: bool
         child.wait()
         raise
     with held():
-        prepare(vertical=vertical)
+        prepare(vertical=vertical, devices=devices)
 
 
-def _compile_child(parent: int, vertical: bool) -> None:
+def _compile_child(parent: int, vertical: bool, devices: bool) -> None:
     """The child process of `prepare_stoppable`: compile the kernels into numba's cache. It
     leaves the stopping signals to its parent, which kills it, and dies with it (Linux)."""
     for signum in STOPPING:
@@ -150,7 +178,7 @@ def _compile_child(parent: int, vertical: bool) -> None:
     if sys.platform.startswith("linux"):
         ctypes.CDLL(None).prctl(_PR_SET_PDEATHSIG, signal.SIGKILL)
     if os.getppid() == parent:  # else the parent died before the request took effect
-        prepare(vertical=vertical)
+        prepare(vertical=vertical, devices=devices)
 
 
 _PR_SET_PDEATHSIG = 1

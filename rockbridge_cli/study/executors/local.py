@@ -46,7 +46,9 @@ class LocalPool:
         self._said: Any = context.SimpleQueue()  # what the workers say: that one compiles
         self._setups: Any = context.SimpleQueue()  # a study for each worker, None for none
         self._served = self._closed = False
-        self.compiling: set[bool] = set()  # which kernels a worker has said it compiles (vertical)
+        self.compiling: set[str] = (
+            set()
+        )  # what the workers have said they compile (`compiling_said`)
         self.executor = ProcessPoolExecutor(
             size, mp_context=context, initializer=start_worker,
             initargs=(self._setups, self._said, os.getpid()),
@@ -71,10 +73,10 @@ class LocalPool:
         (`kernels.compiling_message`), else ""."""
         said = ""
         while not self._said.empty():
-            vertical = self._said.get() == "compiling vertical"
-            if vertical not in self.compiling:
-                self.compiling.add(vertical)
-                said = kernels.compiling_message(vertical)
+            told = self._said.get()
+            if told not in self.compiling:
+                self.compiling.add(told)
+                said = kernels.compiling_message("vertical" in told, "devices" in told)
         return said
 
     def stop_preparing(self) -> None:
@@ -235,10 +237,10 @@ def _in_this_process(
 
     def announce() -> None:
         if notice is not None:
-            notice(kernels.compiling_message(grid.vertical))
+            notice(kernels.compiling_message(grid.vertical, grid.devices))
 
     with contextlib.suppress(Exception):  # a failure is left to each analysis to meet
-        kernels.prepare_stoppable(announce, grid.vertical)
+        kernels.prepare_stoppable(announce, grid.vertical, grid.devices)
     for batch in batched(cells, 1, pace):
         with held():
             outcomes = journalled(journal, run_cells(grid, batch))

@@ -59,34 +59,44 @@ def start_worker(setups: Any, said: Any, parent: int) -> None:
 
 def run_batch(cells: list[Cell]) -> list[Finished]:
     assert _grid is not None and _journal is not None, "a worker runs cells after start_worker"
-    ready_kernels(vertical=_grid.vertical)
+    ready_kernels(vertical=_grid.vertical, devices=_grid.devices)
     return journalled(_journal, run_cells(_grid, cells))
 
 
-def ready_kernels(compiling: bool = True, vertical: bool = False) -> None:
+def ready_kernels(compiling: bool = True, vertical: bool = False, devices: bool = False) -> None:
     """`kernels.prepare` in a worker, which tells its parent (a local pool's) that it compiles
     them; a failure is left to each analysis to meet and record with its message. ``vertical``:
-    those of an analysis with a vertical ground motion too. A local pool's worker dies at once
+    those of an analysis with a vertical ground motion too; ``devices``: those of a bridge with
+    tendons or dampers too. A local pool's worker dies at once
     of `STOP_PREPARING` meanwhile (a compile cannot be stopped from inside; the worker has no
     analysis in hand), and ignores it otherwise."""
 
     def announce() -> None:
         if _said is not None:
-            _said.put("compiling vertical" if vertical else "compiling")
+            _said.put(compiling_said(vertical, devices))
 
     local = _said is not None  # a Dask worker's signals are left alone
     if local:
         signal.signal(STOP_PREPARING, signal.SIG_DFL)  # the default action: end the process
     try:
         with contextlib.suppress(Exception):
-            kernels.prepare(announce, compiling, vertical)
+            kernels.prepare(announce, compiling, vertical, devices)
     finally:
         if local:
             signal.signal(STOP_PREPARING, signal.SIG_IGN)
 
 
+def compiling_said(vertical: bool, devices: bool) -> str:
+    """What a local worker tells its parent when it compiles kernels: ``compiling``, with
+    `` vertical`` and `` devices`` for those kernels (`LocalPool.listen` reads it back)."""
+    return "compiling" + (" vertical" if vertical else "") + (" devices" if devices else "")
+
+
 def prepared(function: Callable, *args: Any) -> Any:
     """``function(*args)`` on a worker, its kernels made ready first (`kernels.prepare`; those
     of a vertical ground motion where a grid among ``args`` has one)."""
-    ready_kernels(vertical=any(isinstance(arg, Grid) and arg.vertical for arg in args))
+    grids = [arg for arg in args if isinstance(arg, Grid)]
+    ready_kernels(
+        vertical=any(grid.vertical for grid in grids), devices=any(grid.devices for grid in grids)
+    )
     return function(*args)
