@@ -65,7 +65,8 @@ def fields(root: dict, model: dict, prefix: str, seen: tuple[str, ...]):
     whose value is a model (alone, in a list, as a mapping's values or among the forms it may
     take) is followed by that model's fields."""
     required = set(model.get("required", ()))
-    for name, field in model.get("properties", {}).items():
+    for name, wrapped in model.get("properties", {}).items():
+        field = unwrapped(wrapped)
         path = f"{prefix}{name}"
         yield path, field, name in required
         for suffix, ref in nested(field):
@@ -77,11 +78,19 @@ def fields(root: dict, model: dict, prefix: str, seen: tuple[str, ...]):
             yield from fields(root, target, f"{path}{suffix}{label}.", (*seen, ref))
 
 
+def unwrapped(field: dict) -> dict:
+    """A field's schema with a lone ``allOf`` merged into it: pydantic before 2.9 wraps a model
+    field's ``$ref`` so, beside its default and description (later versions do not)."""
+    if len(field.get("allOf", ())) != 1:
+        return field
+    return {**{k: v for k, v in field.items() if k != "allOf"}, **field["allOf"][0]}
+
+
 def nested(field: dict) -> list[tuple[str, str]]:
     """(path suffix, model name) of each model a field's value may be: ``""`` for the field
     itself, ``[]`` for a list's entries, ``.<key>`` for a mapping's values."""
     found = []
-    for option in field.get("anyOf", field.get("oneOf", [field])):
+    for option in map(unwrapped, field.get("anyOf", field.get("oneOf", [field]))):
         if "$ref" in option:
             found.append(("", ref_name(option)))
         elif option.get("type") == "array" and "$ref" in option.get("items", {}):
@@ -99,6 +108,7 @@ def ref_name(option: dict) -> str:
 
 def type_of(root: dict, field: dict) -> str:
     """A short type: ``number``, ``list of string``, ``one of a, b``, a model's name, …"""
+    field = unwrapped(field)
     if "$ref" in field:
         return ref_name(field)
     if "const" in field:
