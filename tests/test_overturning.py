@@ -22,6 +22,7 @@ piecewise-linear interpolant lowers the crest by ~5e-7).
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import h5py
 import numpy as np
@@ -202,7 +203,9 @@ def test_a_spectrum_shards_and_merges_to_the_same_file(tmp_path):
         assert got[name] == expected[name], name
 
 
-def test_the_spectrum_command_runs_and_draws(tmp_path):
+def _small_block_spectrum(tmp_path) -> Path:
+    """`spectrum overturning` of a 0.8 m × 2 m block under cycloidal-C pulses, 3 × 4 cells; the
+    results file's path."""
     bridge = tmp_path / "block.yaml"
     bridge.write_text("name: block\npiers: {width: 0.8, heights: [2.0]}\n", encoding="utf-8")
     output = tmp_path / "block.h5"
@@ -211,6 +214,11 @@ def test_the_spectrum_command_runs_and_draws(tmp_path):
         "1:5:3", "--amplitudes", "1:4:4", "-o", str(output), "--workers", "1",
     ])  # fmt: skip
     assert result.exit_code == 0, result.output
+    return output
+
+
+def test_the_spectrum_command_runs_and_draws(tmp_path):
+    output = _small_block_spectrum(tmp_path)
     assert output.with_suffix(".png").stat().st_size > 10_000
     drawn = CliRunner().invoke(main, ["plot", "overturning", str(output)])
     assert drawn.exit_code == 0 and (tmp_path / "block-overturning.png").exists()
@@ -354,14 +362,7 @@ def test_the_spectrum_figure_is_grey_and_labelled_in_the_fields_symbols(tmp_path
 
     from rockbridge_cli.plots import overturning
 
-    bridge = tmp_path / "block.yaml"
-    bridge.write_text("name: block\npiers: {width: 0.8, heights: [2.0]}\n", encoding="utf-8")
-    output = tmp_path / "block.h5"
-    result = CliRunner().invoke(main, [
-        "spectrum", "overturning", str(bridge), "--pulse", "cycloidal-c", "--frequencies",
-        "1:5:3", "--amplitudes", "1:4:4", "-o", str(output), "--workers", "1",
-    ])  # fmt: skip
-    assert result.exit_code == 0, result.output
+    output = _small_block_spectrum(tmp_path)
     drawn = []
     monkeypatch.setattr(overturning, "save", lambda figure, path: drawn.append(figure) or path)
     overturning.plot_overturning(output, tmp_path / "map.png")
