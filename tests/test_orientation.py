@@ -15,7 +15,12 @@ import pytest
 from click.testing import CliRunner
 from studies import TIME_STEP, burst, write_records, write_study
 
-from rockbridge_cli.assessment.orientation import orientation_summary, summary_of
+from rockbridge_cli.assessment.orientation import (
+    across_pairs,
+    orientation_summary,
+    summary_of,
+    with_angles,
+)
 from rockbridge_cli.cli import main
 from rockbridge_cli.config.orientation import Orientation
 from rockbridge_cli.config.study import load_study
@@ -30,6 +35,7 @@ from rockbridge_cli.motions.orientation import (
 from rockbridge_cli.motions.spectra import compute_psa
 from rockbridge_cli.records.components import fema_pairs, oriented, with_second
 from rockbridge_cli.records.files import Record, read_record, write_record
+from rockbridge_cli.report import write_report
 
 PERIODS = np.array([0.0, 0.2, 0.5, 1.0, 2.0])
 SINE = np.sin(2.0 * np.pi * np.arange(0.0, 4.0, 0.01) / 0.5)  # 0.5-s sine, 4 s at 0.01 s
@@ -197,6 +203,7 @@ def test_a_sweep_at_0_and_90_degrees_gives_each_component_results_bit_for_bit(tm
     summary = summary_of(tmp_path / "pair.h5", ["theta1_max"])
     (row,) = summary.itertuples()  # one bridge, one pair, no levels
     assert (row.bridge, row.pair, row.angles) == ("studied-hbar2.00", "P", "3/3")
+    assert row.first == theta[0]  # P+0deg: R1 alone
     assert row.median == np.median(theta) and row.worst == theta.max()
     assert row.critical_angle_deg == [0.0, 90.0, 45.0][int(np.argmax(theta))]
     shown = runner.invoke(main, ["peaks", str(tmp_path / "pair.h5"), "--orientation", "--json"])
@@ -204,8 +211,59 @@ def test_a_sweep_at_0_and_90_degrees_gives_each_component_results_bit_for_bit(tm
     assert data["units"]["theta1_max"] == "rad"
     first = data["rows"][0]
     assert (first["quantity"], first["worst"]) == ("theta1_max", theta.max())
+    (suite,) = (r for r in data["across_pairs"] if r["quantity"] == "theta1_max")
+    assert suite["pairs"] == 1 and suite["worst_over_first_max"] == theta.max() / theta[0]
     refused = runner.invoke(main, ["peaks", str(tmp_path / "single.h5"), "--orientation"])
     assert refused.exit_code == 2 and "no orientation section" in refused.output
+    assert_the_angles_are_shown(tmp_path / "pair.h5", tmp_path / "single.h5")
+
+
+def assert_the_angles_are_shown(pair, single):
+    """The peak table (text, --json) and the report give each projection's pair and angle (as
+    the study stated them: P+0deg, P+90deg, P+45deg) and the report the summary over angles; a
+    study without an orientation shows neither."""
+    runner = CliRunner()
+    rows = json.loads(runner.invoke(main, ["peaks", str(pair), "--json"]).output)["rows"]
+    assert [(r["record"], r["pair"], r["angle_deg"]) for r in rows] == [
+        ("P+0deg", "P", 0.0), ("P+90deg", "P", 90.0), ("P+45deg", "P", 45.0)
+    ]  # fmt: skip
+    text = runner.invoke(main, ["peaks", str(pair)]).output.splitlines()
+    assert text[0].split()[:5] == ["bridge", "record", "pair", "angle", "[deg]"]
+    assert text[3].split()[1:4] == ["P+45deg", "P", "45"]
+    table = runner.invoke(main, ["peaks", str(pair), "--csv", "-"]).output
+    assert table.startswith("bridge,record,pair,angle_deg,")
+    given = json.loads(runner.invoke(main, ["peaks", str(single), "--json"]).output)
+    assert "angle_deg" not in given["rows"][0] and "angle_deg" not in given["units"]
+    assert "angle" not in runner.invoke(main, ["peaks", str(single)]).output
+    page = write_report(pair, pair.with_suffix(".html")).read_text(encoding="utf-8")
+    assert "<h2>Orientation</h2>" in page and "<th>angle_deg [deg]</th>" in page
+    page = write_report(single, single.with_suffix(".html")).read_text(encoding="utf-8")
+    assert "Orientation" not in page and "angle_deg" not in page
+
+
+def test_the_angles_join_the_peak_table_after_the_record():
+    columns = {"bridge": np.array(["B", "B"]), "record": np.array(["P+30deg", "R9"]),
+               "theta1_max": np.array([1.0, 2.0])}  # fmt: skip
+    assert with_angles(columns, {}) is columns  # no orientation: the table as it is
+    joined = with_angles(columns, {"P+30deg": ("P", 30.0)})
+    assert list(joined) == ["bridge", "record", "pair", "angle_deg", "theta1_max"]
+    assert list(joined["pair"]) == ["P", ""]  # R9 analysed as given
+    assert joined["angle_deg"][0] == 30.0 and math.isnan(joined["angle_deg"][1])
+
+
+def test_across_pairs_takes_medians_over_the_pairs_and_the_worst_over_the_first():
+    """Three pairs of one bridge: first 1, 2, 4; median 1, 3, 4; worst 2, 3, 8 (by hand: the
+    medians 2, 3, 3; worst/first 2, 1.5, 2, so median 2 and largest 2)."""
+    import pandas as pd
+
+    summary = pd.DataFrame({
+        "bridge": ["B"] * 3, "pair": ["P1", "P2", "P3"], "intensity": [math.nan] * 3,
+        "quantity": ["theta1_max"] * 3, "first": [1.0, 2.0, 4.0], "median": [1.0, 3.0, 4.0],
+        "worst": [2.0, 3.0, 8.0],
+    })  # fmt: skip
+    (row,) = across_pairs(summary).itertuples(index=False)
+    assert (row.pairs, row.first, row.median, row.worst) == (3, 2.0, 3.0, 3.0)
+    assert (row.worst_over_first_median, row.worst_over_first_max) == (2.0, 2.0)
 
 
 def test_orientation_summary_groups_by_bridge_pair_and_level():
@@ -222,8 +280,8 @@ def test_orientation_summary_groups_by_bridge_pair_and_level():
               "P+0deg+0.6g": ("P", 0.0), "P+90deg+0.6g": ("P", 90.0)}  # fmt: skip
     summary = orientation_summary(peaks, angles, ["theta1_max"])
     assert summary[
-        ["intensity", "median", "worst", "critical_angle_deg", "angles"]
-    ].values.tolist() == [[0.3, 2.0, 3.0, 90.0, "2/2"], [0.6, 5.0, 5.0, 0.0, "1/2"]]
+        ["intensity", "first", "median", "worst", "critical_angle_deg", "angles"]
+    ].values.tolist() == [[0.3, 1.0, 2.0, 3.0, 90.0, "2/2"], [0.6, 5.0, 5.0, 5.0, 0.0, "1/2"]]
 
 
 def test_stripes_scale_each_projection_by_its_own_measure(tmp_path):
