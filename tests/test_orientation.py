@@ -15,9 +15,12 @@ import pytest
 from click.testing import CliRunner
 from studies import TIME_STEP, burst, write_records, write_study
 
+from rockbridge_cli.assessment.fragility import _by_pair, _pairs, fragilities_of
 from rockbridge_cli.assessment.orientation import (
     across_pairs,
     orientation_summary,
+    pair_capacities,
+    pairs_reached,
     summary_of,
     with_angles,
 )
@@ -36,6 +39,7 @@ from rockbridge_cli.motions.spectra import compute_psa
 from rockbridge_cli.records.components import fema_pairs, oriented, with_second
 from rockbridge_cli.records.files import Record, read_record, write_record
 from rockbridge_cli.report import write_report
+from rockbridge_cli.results.sections import IntensitySection
 
 PERIODS = np.array([0.0, 0.2, 0.5, 1.0, 2.0])
 SINE = np.sin(2.0 * np.pi * np.arange(0.0, 4.0, 0.01) / 0.5)  # 0.5-s sine, 4 s at 0.01 s
@@ -318,3 +322,92 @@ def test_fema_pairs_in_a_study_are_a_at_0_and_b_at_90_degrees(tmp_path):
     along_b = study.records[1].record.acceleration
     assert np.array_equal(along_b[: b.acceleration.size], b.acceleration)
     assert along_b.size == a.acceleration.size and not along_b[b.acceleration.size :].any()
+
+
+def test_a_pair_reaches_a_stripe_where_half_its_angles_or_any_angle_does():
+    """Pair A, three angles (reached at levels 1, 2, 3: 1 0 0 / 1 1 0 / 0 0 0): its median
+    reaches the state where 2 of 3 do (level 2 only), its worst where any does (1 and 2); pair
+    B, two angles with one not analysed at level 3: half of the analysed suffices."""
+    table = np.array([[1, 1, 0], [0, 1, 0], [0, 0, 0], [1, 0, np.nan], [0, 0, 1]], dtype=float)
+    groups = {"A": [0, 1, 2], "B": [3, 4]}
+    median = pairs_reached(table, groups, "median")
+    assert median.tolist() == [[0.0, 1.0, 0.0], [1.0, 0.0, 1.0]]
+    assert pairs_reached(table, groups, "worst").tolist() == [[1.0, 1.0, 0.0], [1.0, 0.0, 1.0]]
+    assert np.isnan(pairs_reached(np.full((1, 1), np.nan), {"C": [0]}, "worst")).all()
+
+
+def test_a_pair_capacity_is_its_angles_smallest_or_median_with_their_censoring():
+    """Rows (capacity, first level, last level) by hand. Exact 0.5, 0.3, 0.8: worst 0.3, median
+    (2nd of 3) 0.5. Reached at the first level 0.1 (coded 0), 0.4, never up to 2 (+inf): the
+    worst is at most 0.1 (censored there), the median exactly 0.4. 0.6 and a curve a failure
+    ended at 0.5 (+inf, top 0.5): the worst is above 0.5, known no better (censored at 0.5)."""
+    exact = np.array([[0.5, 0.1, 2.0], [0.3, 0.1, 2.0], [0.8, 0.1, 2.0]])
+    rows, sources = pair_capacities(exact, {"P": [0, 1, 2]}, "worst")
+    assert rows.tolist() == [[0.3, 0.1, 2.0]] and sources == [1]
+    assert pair_capacities(exact, {"P": [0, 1, 2]}, "median")[0].tolist() == [[0.5, 0.1, 2.0]]
+    censored = np.array([[0.0, 0.1, 2.0], [0.4, 0.1, 2.0], [np.inf, 0.1, 2.0]])
+    assert pair_capacities(censored, {"P": [0, 1, 2]}, "worst")[0].tolist() == [[0.0, 0.1, 2.0]]
+    assert pair_capacities(censored, {"P": [0, 1, 2]}, "median")[0].tolist() == [[0.4, 0.1, 2.0]]
+    ended = np.array([[0.6, 0.1, 4.0], [np.inf, 0.1, 0.5]])
+    rows, sources = pair_capacities(ended, {"P": [0, 1]}, "worst")
+    assert rows.tolist() == [[np.inf, 0.1, 0.5]] and sources == [1]
+    data, capacities, unreachable = _by_pair(
+        ended, ["P+0deg", "P+90deg"], {"P+90deg": ("abutment_failure", 0.5)}, ({}, "worst")
+    )
+    assert capacities == {"P+0deg": 0.6, "P+90deg": None}  # no pairs given: each its own
+    data, capacities, unreachable = _by_pair(
+        ended, ["P+0deg", "P+90deg"], {"P+90deg": ("abutment_failure", 0.5)},
+        ({"P+0deg": "P", "P+90deg": "P"}, "worst"),
+    )  # fmt: skip
+    assert capacities == {"P": None} and unreachable == {"P": ("abutment_failure", 0.5)}
+
+
+def stripes_of(capacities: dict[str, float]) -> dict[str, np.ndarray]:
+    """A stripe study's peak table: each record reaches gap closure at and above its capacity
+    [g] (``dcr_backfill`` 1 there, else 0), never a failure."""
+    rows = [(r, x, float(x >= c)) for r, c in capacities.items() for x in LEVELS]
+    return {
+        "bridge": np.array(["b"] * len(rows)), "status": np.array(["ok"] * len(rows)),
+        "base_record": np.array([r for r, _, _ in rows]),
+        "record": np.array([f"{r}+{x:g}g" for r, x, _ in rows]),
+        "intensity": np.array([x for _, x, _ in rows]),
+        "dcr_backfill": np.array([d for _, _, d in rows]),
+        "failure_mode": np.array(["none"] * len(rows)),
+    }  # fmt: skip
+
+
+LEVELS = (0.3, 0.6, 0.9, 1.2, 1.6, 2.0, 2.6, 3.4)
+"""Stripes of the synthetic stripe study [g]."""
+
+
+def test_a_stripe_fragility_on_pairs_is_the_fit_of_their_median_or_worst_angle():
+    """Four pairs of three angles: the fit on the pairs' worst equals the fit of four records
+    whose capacities are each pair's smallest (by hand), on their median that of the middle
+    ones: a pair reaches a level where its worst (median) angle does."""
+    angles = {
+        "A": (0.5, 0.9, 1.7), "B": (0.4, 1.1, 3.0), "C": (1.3, 0.7, 2.2), "D": (2.4, 1.0, 0.8),
+    }  # fmt: skip
+    swept = {f"{p}+{15 * i}deg": c for p, cs in angles.items() for i, c in enumerate(cs)}
+    pairs = {record: record.split("+")[0] for record in swept}
+    section = IntensitySection.of({"measure": "pga_g", "levels": list(LEVELS)})
+    for combine, chosen in (("worst", {"A": 0.5, "B": 0.4, "C": 0.7, "D": 0.8}),
+                            ("median", {"A": 0.9, "B": 1.1, "C": 1.3, "D": 1.0})):  # fmt: skip
+        on_pairs = fragilities_of(stripes_of(swept), section, 20, 3, None, pairs, combine)
+        by_hand = fragilities_of(stripes_of(chosen), section, 20, 3)
+        for got, want in zip(on_pairs, by_hand, strict=True):
+            assert (got.limit_state, got.median, got.beta) == (
+                want.limit_state,
+                want.median,
+                want.beta,
+            )
+            assert got.capacities == want.capacities and got.fractions == want.fractions
+
+
+def test_a_fit_on_pairs_needs_a_file_with_an_orientation(tmp_path):
+    with h5py.File(tmp_path / "plain.h5", "w") as file:
+        file.create_group("records/R1")
+        columns = {"record": np.array(["R1+0.3g"]), "base_record": np.array(["R1"])}
+        with pytest.raises(InputError, match="no orientation section"):
+            _pairs(file, tmp_path / "plain.h5", columns, "median")
+        with pytest.raises(ValueError, match="orientation must be one of"):
+            _pairs(file, tmp_path / "plain.h5", columns, "mean")

@@ -50,6 +50,16 @@ def record_angles(path: str | Path) -> dict[str, tuple[str, float]]:
         return angles_in(file)
 
 
+def angle_keys(columns: Any, angles: dict[str, tuple[str, float]]) -> list[str]:
+    """Each row's key in ``angles``: its record, or its base record where an IDA stores its
+    records unscaled (``/records/<base>``); the record where neither is in ``angles``."""
+    records = [str(r) for r in columns["record"]]
+    if "base_record" not in columns:
+        return records
+    bases = [str(b) for b in columns["base_record"]]
+    return [r if r in angles or b not in angles else b for r, b in zip(records, bases, strict=True)]
+
+
 def with_angles(columns: dict[str, Any], angles: dict[str, tuple[str, float]]) -> dict[str, Any]:
     """The peak table's columns with each row's ``pair`` and ``angle_deg`` [deg] right after
     ``record`` ("" and NaN for a record analysed as given); the columns themselves, unchanged,
@@ -64,7 +74,7 @@ def with_angles(columns: dict[str, Any], angles: dict[str, tuple[str, float]]) -
     """
     if not angles:
         return columns
-    found = [angles.get(str(record), ("", math.nan)) for record in columns["record"]]
+    found = [angles.get(key, ("", math.nan)) for key in angle_keys(columns, angles)]
     added = {
         "pair": np.array([pair for pair, _ in found], dtype=object),
         "angle_deg": np.array([angle for _, angle in found], dtype=float),
@@ -104,10 +114,11 @@ def orientation_summary(
     """
     import pandas as pd
 
-    kept = peaks[peaks["record"].isin(angles)]
+    keys = pd.Series(angle_keys(peaks, angles), index=peaks.index)
+    kept = peaks[keys.isin(angles)]
     level = kept["intensity"] if "intensity" in kept else pd.Series(math.nan, index=kept.index)
-    pairs = kept["record"].map(lambda r: angles[r][0])
-    degrees = kept["record"].map(lambda r: angles[r][1])
+    pairs = keys[kept.index].map(lambda r: angles[r][0])
+    degrees = keys[kept.index].map(lambda r: angles[r][1])
     rows = []
     keys = pd.DataFrame({"bridge": kept["bridge"], "pair": pairs, "intensity": level})
     for (bridge, pair, intensity), group in keys.groupby(
@@ -172,3 +183,87 @@ def _median(values: np.ndarray) -> float:
     """The median of the finite values, NaN if none."""
     finite = values[np.isfinite(values)]
     return float(np.median(finite)) if finite.size else math.nan
+
+
+COMBINES = ("median", "worst")
+"""How a fragility takes a pair's angles as one record (`pairs_reached`, `pair_capacities`): the
+state is reached when the quantity's median over the angles reaches it (at least half of the
+angles do: RotD50's counterpart) or its worst does (any angle: RotD100's)."""
+
+
+def pairs_of(columns: dict[str, Any], angles: dict[str, tuple[str, float]]) -> dict[str, str]:
+    """The pair of each base record (``base_record``, the record before an intensity section
+    scaled it) analysed along an angle, from a peak table's columns and `angles_in` (keyed by
+    record, or by base record where an IDA stores its records unscaled)."""
+    found = {}
+    for key, base in zip(angle_keys(columns, angles), columns["base_record"], strict=True):
+        if key in angles:
+            found[str(base)] = angles[key][0]
+    return found
+
+
+def groups_of(names: Sequence[str], pairs: dict[str, str]) -> dict[str, list[int]]:
+    """The indices in ``names`` (base records) of each pair's angles, pairs in order of first
+    appearance; a name without a pair is a group of its own."""
+    groups: dict[str, list[int]] = {}
+    for index, name in enumerate(names):
+        groups.setdefault(pairs.get(name, name), []).append(index)
+    return groups
+
+
+def pairs_reached(table: np.ndarray, groups: dict[str, list[int]], combine: str) -> np.ndarray:
+    """Stripes' outcomes of each angle (records × levels: 1 reached, 0 not, NaN not analysed)
+    as one row per pair: 1 where the pair's median over its analysed angles reaches the state
+    (at least half of them reach it) or its worst does (``combine`` "worst": any angle), NaN
+    where no angle was analysed."""
+    out = np.full((len(groups), table.shape[1]), np.nan)
+    for row, indices in enumerate(groups.values()):
+        part = table[indices]
+        analysed, hits = np.sum(~np.isnan(part), axis=0), np.nansum(part, axis=0)
+        needed = analysed / 2.0 if combine == "median" else np.ones_like(hits)
+        out[row] = np.where(analysed > 0, (hits >= needed) & (hits > 0), np.nan)
+    return out
+
+
+def pair_capacities(
+    data: np.ndarray, groups: dict[str, list[int]], combine: str
+) -> tuple[np.ndarray, list[int]]:
+    """An IDA's capacities of each angle as one per pair: the worst angle's (the smallest, so the
+    largest demand over the angles first reaches the state there) or the median over the angles
+    (the ⌈n/2⌉-th smallest of n, where at least half of the angles have reached it).
+
+    Parameters
+    ----------
+    data
+        rows (capacity, start, top) per angle, as `assessment.fragility.fit_capacities` takes
+        them: 0 where the state is reached at ``start`` already, +inf where not up to ``top``.
+    groups
+        each pair's rows (`groups_of`).
+    combine
+        "median" or "worst".
+
+    Returns
+    -------
+    (rows, sources)
+        one row per pair, as ``data``'s; and the row of ``data`` whose bound or capacity is the
+        pair's. A pair whose order statistic lies between one angle's capacity and another's
+        censoring bound (a curve a failure ended below another angle's capacity) is censored
+        at the lower bound: known to exceed it.
+    """
+    rows, sources = [], []
+    for indices in groups.values():
+        part = data[indices]
+        capacity, start, top = part[:, 0], part[:, 1], part[:, 2]
+        lower = np.where(capacity == 0.0, 0.0, np.where(np.isinf(capacity), top, capacity))
+        upper = np.where(capacity == 0.0, start, capacity)
+        k = 0 if combine == "worst" else math.ceil(len(indices) / 2) - 1
+        order = np.argsort(lower, kind="stable")
+        low, high = float(lower[order[k]]), float(np.sort(upper)[k])
+        sources.append(indices[int(order[k])])
+        if low == 0.0:  # at least k + 1 angles reach the state at their first level
+            rows.append((0.0, high, float(top.max())))
+        elif low == high:
+            rows.append((low, float(start.min()), float(top.max())))
+        else:  # not reached up to low by at least n − k angles
+            rows.append((math.inf, float(start.min()), low))
+    return np.array(rows, dtype=float).reshape(-1, 3), sources
