@@ -175,12 +175,11 @@ def test_a_second_component_needs_an_orientation_and_an_orientation_needs_pairs(
         load_study(pair_study(tmp_path, "{angle: 30}", second=False))
 
 
-def test_a_sweep_at_0_and_90_degrees_gives_each_component_results_bit_for_bit(tmp_path):
-    """The pair (R1, R2) at 0° and 90° is R1 and R2: the peak table's rows equal those of the
-    study of the two files as given, every column, bit for bit; each projection holds its pair
-    and angle; the summary over angles, by hand, and `peaks --orientation --json`. (About 8 s:
-    not marked slow, it guards the issue's "0° and 90° give the single components bit for
-    bit".)"""
+@pytest.fixture(scope="module")
+def swept(tmp_path_factory):
+    """The results of the h̄ = 2 bridge under R1 and R2 as given (``single.h5``) and under
+    the pair (R1, R2) at 0°, 90° and 45° (``pair.h5``), in one folder."""
+    tmp_path = tmp_path_factory.mktemp("swept")
     runner = CliRunner()
     single = tmp_path / "single"
     single.mkdir()
@@ -191,6 +190,16 @@ def test_a_sweep_at_0_and_90_degrees_gives_each_component_results_bit_for_bit(tm
     study = pair_study(paired, "{angles: [0, 90, 45]}")
     result = runner.invoke(main, ["run", str(study), "-o", str(tmp_path / "pair.h5")])
     assert result.exit_code == 0, result.output
+    return tmp_path
+
+
+def test_a_sweep_at_0_and_90_degrees_gives_each_component_results_bit_for_bit(swept):
+    """The pair (R1, R2) at 0° and 90° is R1 and R2: the peak table's rows equal those of the
+    study of the two files as given, every column, bit for bit; each projection holds its pair
+    and angle; the summary over angles, by hand, and `peaks --orientation --json`. (Its two
+    runs, a fixture the next test shares, take about 8 s: not marked slow, it guards the issue's
+    "0° and 90° give the single components bit for bit".)"""
+    runner, tmp_path = CliRunner(), swept
     with h5py.File(tmp_path / "single.h5") as one, h5py.File(tmp_path / "pair.h5") as two:
         ids = list(two["peaks/record"].asstr()[()])
         assert ids == ["P+0deg", "P+90deg", "P+45deg"]
@@ -219,14 +228,13 @@ def test_a_sweep_at_0_and_90_degrees_gives_each_component_results_bit_for_bit(tm
     assert suite["pairs"] == 1 and suite["worst_over_first_max"] == theta.max() / theta[0]
     refused = runner.invoke(main, ["peaks", str(tmp_path / "single.h5"), "--orientation"])
     assert refused.exit_code == 2 and "no orientation section" in refused.output
-    assert_the_angles_are_shown(tmp_path / "pair.h5", tmp_path / "single.h5")
 
 
-def assert_the_angles_are_shown(pair, single):
-    """The peak table (text, --json) and the report give each projection's pair and angle (as
-    the study stated them: P+0deg, P+90deg, P+45deg) and the report the summary over angles; a
-    study without an orientation shows neither."""
-    runner = CliRunner()
+def test_the_angles_are_shown_only_for_a_study_with_an_orientation(swept):
+    """The peak table (text, --json, --csv) gives each projection's pair and angle (as the
+    study stated them: P+0deg, P+90deg, P+45deg); a study without an orientation's table is as
+    before, without them."""
+    runner, pair, single = CliRunner(), swept / "pair.h5", swept / "single.h5"
     rows = json.loads(runner.invoke(main, ["peaks", str(pair), "--json"]).output)["rows"]
     assert [(r["record"], r["pair"], r["angle_deg"]) for r in rows] == [
         ("P+0deg", "P", 0.0), ("P+90deg", "P", 90.0), ("P+45deg", "P", 45.0)
@@ -239,6 +247,14 @@ def assert_the_angles_are_shown(pair, single):
     given = json.loads(runner.invoke(main, ["peaks", str(single), "--json"]).output)
     assert "angle_deg" not in given["rows"][0] and "angle_deg" not in given["units"]
     assert "angle" not in runner.invoke(main, ["peaks", str(single)]).output
+
+
+@pytest.mark.slow
+def test_the_report_shows_the_angles_only_for_a_study_with_an_orientation(swept):
+    """The report's peak table gives each projection's angle and its Orientation section the
+    summary over angles; a study without an orientation has neither. (Two reports with their
+    figures: about 20 s under a load of 6.)"""
+    pair, single = swept / "pair.h5", swept / "single.h5"
     page = write_report(pair, pair.with_suffix(".html")).read_text(encoding="utf-8")
     assert "<h2>Orientation</h2>" in page and "<th>angle_deg [deg]</th>" in page
     page = write_report(single, single.with_suffix(".html")).read_text(encoding="utf-8")
