@@ -15,7 +15,15 @@ import pytest
 from click.testing import CliRunner
 from studies import TIME_STEP, burst, write_records, write_study
 
-from rockbridge_cli.assessment.orientation import orientation_summary, summary_of
+from rockbridge_cli.assessment.fragility import _by_pair, _pairs, fragilities_of
+from rockbridge_cli.assessment.orientation import (
+    across_pairs,
+    orientation_summary,
+    pair_capacities,
+    pairs_reached,
+    summary_of,
+    with_angles,
+)
 from rockbridge_cli.cli import main
 from rockbridge_cli.config.orientation import Orientation
 from rockbridge_cli.config.study import load_study
@@ -30,6 +38,8 @@ from rockbridge_cli.motions.orientation import (
 from rockbridge_cli.motions.spectra import compute_psa
 from rockbridge_cli.records.components import fema_pairs, oriented, with_second
 from rockbridge_cli.records.files import Record, read_record, write_record
+from rockbridge_cli.report import write_report
+from rockbridge_cli.results.sections import IntensitySection
 
 PERIODS = np.array([0.0, 0.2, 0.5, 1.0, 2.0])
 SINE = np.sin(2.0 * np.pi * np.arange(0.0, 4.0, 0.01) / 0.5)  # 0.5-s sine, 4 s at 0.01 s
@@ -165,12 +175,11 @@ def test_a_second_component_needs_an_orientation_and_an_orientation_needs_pairs(
         load_study(pair_study(tmp_path, "{angle: 30}", second=False))
 
 
-def test_a_sweep_at_0_and_90_degrees_gives_each_component_results_bit_for_bit(tmp_path):
-    """The pair (R1, R2) at 0° and 90° is R1 and R2: the peak table's rows equal those of the
-    study of the two files as given, every column, bit for bit; each projection holds its pair
-    and angle; the summary over angles, by hand, and `peaks --orientation --json`. (About 8 s:
-    not marked slow, it guards the issue's "0° and 90° give the single components bit for
-    bit".)"""
+@pytest.fixture(scope="module")
+def swept(tmp_path_factory):
+    """The results of the h̄ = 2 bridge under R1 and R2 as given (``single.h5``) and under
+    the pair (R1, R2) at 0°, 90° and 45° (``pair.h5``), in one folder."""
+    tmp_path = tmp_path_factory.mktemp("swept")
     runner = CliRunner()
     single = tmp_path / "single"
     single.mkdir()
@@ -181,6 +190,16 @@ def test_a_sweep_at_0_and_90_degrees_gives_each_component_results_bit_for_bit(tm
     study = pair_study(paired, "{angles: [0, 90, 45]}")
     result = runner.invoke(main, ["run", str(study), "-o", str(tmp_path / "pair.h5")])
     assert result.exit_code == 0, result.output
+    return tmp_path
+
+
+def test_a_sweep_at_0_and_90_degrees_gives_each_component_results_bit_for_bit(swept):
+    """The pair (R1, R2) at 0° and 90° is R1 and R2: the peak table's rows equal those of the
+    study of the two files as given, every column, bit for bit; each projection holds its pair
+    and angle; the summary over angles, by hand, and `peaks --orientation --json`. (Its two
+    runs, a fixture the next test shares, take about 8 s: not marked slow, it guards the issue's
+    "0° and 90° give the single components bit for bit".)"""
+    runner, tmp_path = CliRunner(), swept
     with h5py.File(tmp_path / "single.h5") as one, h5py.File(tmp_path / "pair.h5") as two:
         ids = list(two["peaks/record"].asstr()[()])
         assert ids == ["P+0deg", "P+90deg", "P+45deg"]
@@ -197,6 +216,7 @@ def test_a_sweep_at_0_and_90_degrees_gives_each_component_results_bit_for_bit(tm
     summary = summary_of(tmp_path / "pair.h5", ["theta1_max"])
     (row,) = summary.itertuples()  # one bridge, one pair, no levels
     assert (row.bridge, row.pair, row.angles) == ("studied-hbar2.00", "P", "3/3")
+    assert row.first == theta[0]  # P+0deg: R1 alone
     assert row.median == np.median(theta) and row.worst == theta.max()
     assert row.critical_angle_deg == [0.0, 90.0, 45.0][int(np.argmax(theta))]
     shown = runner.invoke(main, ["peaks", str(tmp_path / "pair.h5"), "--orientation", "--json"])
@@ -204,8 +224,66 @@ def test_a_sweep_at_0_and_90_degrees_gives_each_component_results_bit_for_bit(tm
     assert data["units"]["theta1_max"] == "rad"
     first = data["rows"][0]
     assert (first["quantity"], first["worst"]) == ("theta1_max", theta.max())
+    (suite,) = (r for r in data["across_pairs"] if r["quantity"] == "theta1_max")
+    assert suite["pairs"] == 1 and suite["worst_over_first_max"] == theta.max() / theta[0]
     refused = runner.invoke(main, ["peaks", str(tmp_path / "single.h5"), "--orientation"])
     assert refused.exit_code == 2 and "no orientation section" in refused.output
+
+
+def test_the_angles_are_shown_only_for_a_study_with_an_orientation(swept):
+    """The peak table (text, --json, --csv) gives each projection's pair and angle (as the
+    study stated them: P+0deg, P+90deg, P+45deg); a study without an orientation's table is as
+    before, without them."""
+    runner, pair, single = CliRunner(), swept / "pair.h5", swept / "single.h5"
+    rows = json.loads(runner.invoke(main, ["peaks", str(pair), "--json"]).output)["rows"]
+    assert [(r["record"], r["pair"], r["angle_deg"]) for r in rows] == [
+        ("P+0deg", "P", 0.0), ("P+90deg", "P", 90.0), ("P+45deg", "P", 45.0)
+    ]  # fmt: skip
+    text = runner.invoke(main, ["peaks", str(pair)]).output.splitlines()
+    assert text[0].split()[:5] == ["bridge", "record", "pair", "angle", "[deg]"]
+    assert text[3].split()[1:4] == ["P+45deg", "P", "45"]
+    table = runner.invoke(main, ["peaks", str(pair), "--csv", "-"]).output
+    assert table.startswith("bridge,record,pair,angle_deg,")
+    given = json.loads(runner.invoke(main, ["peaks", str(single), "--json"]).output)
+    assert "angle_deg" not in given["rows"][0] and "angle_deg" not in given["units"]
+    assert "angle" not in runner.invoke(main, ["peaks", str(single)]).output
+
+
+@pytest.mark.slow
+def test_the_report_shows_the_angles_only_for_a_study_with_an_orientation(swept):
+    """The report's peak table gives each projection's angle and its Orientation section the
+    summary over angles; a study without an orientation has neither. (Two reports with their
+    figures: about 20 s under a load of 6.)"""
+    pair, single = swept / "pair.h5", swept / "single.h5"
+    page = write_report(pair, pair.with_suffix(".html")).read_text(encoding="utf-8")
+    assert "<h2>Orientation</h2>" in page and "<th>angle_deg [deg]</th>" in page
+    page = write_report(single, single.with_suffix(".html")).read_text(encoding="utf-8")
+    assert "Orientation" not in page and "angle_deg" not in page
+
+
+def test_the_angles_join_the_peak_table_after_the_record():
+    columns = {"bridge": np.array(["B", "B"]), "record": np.array(["P+30deg", "R9"]),
+               "theta1_max": np.array([1.0, 2.0])}  # fmt: skip
+    assert with_angles(columns, {}) is columns  # no orientation: the table as it is
+    joined = with_angles(columns, {"P+30deg": ("P", 30.0)})
+    assert list(joined) == ["bridge", "record", "pair", "angle_deg", "theta1_max"]
+    assert list(joined["pair"]) == ["P", ""]  # R9 analysed as given
+    assert joined["angle_deg"][0] == 30.0 and math.isnan(joined["angle_deg"][1])
+
+
+def test_across_pairs_takes_medians_over_the_pairs_and_the_worst_over_the_first():
+    """Three pairs of one bridge: first 1, 2, 4; median 1, 3, 4; worst 2, 3, 8 (by hand: the
+    medians 2, 3, 3; worst/first 2, 1.5, 2, so median 2 and largest 2)."""
+    import pandas as pd
+
+    summary = pd.DataFrame({
+        "bridge": ["B"] * 3, "pair": ["P1", "P2", "P3"], "intensity": [math.nan] * 3,
+        "quantity": ["theta1_max"] * 3, "first": [1.0, 2.0, 4.0], "median": [1.0, 3.0, 4.0],
+        "worst": [2.0, 3.0, 8.0],
+    })  # fmt: skip
+    (row,) = across_pairs(summary).itertuples(index=False)
+    assert (row.pairs, row.first, row.median, row.worst) == (3, 2.0, 3.0, 3.0)
+    assert (row.worst_over_first_median, row.worst_over_first_max) == (2.0, 2.0)
 
 
 def test_orientation_summary_groups_by_bridge_pair_and_level():
@@ -222,8 +300,8 @@ def test_orientation_summary_groups_by_bridge_pair_and_level():
               "P+0deg+0.6g": ("P", 0.0), "P+90deg+0.6g": ("P", 90.0)}  # fmt: skip
     summary = orientation_summary(peaks, angles, ["theta1_max"])
     assert summary[
-        ["intensity", "median", "worst", "critical_angle_deg", "angles"]
-    ].values.tolist() == [[0.3, 2.0, 3.0, 90.0, "2/2"], [0.6, 5.0, 5.0, 0.0, "1/2"]]
+        ["intensity", "first", "median", "worst", "critical_angle_deg", "angles"]
+    ].values.tolist() == [[0.3, 1.0, 2.0, 3.0, 90.0, "2/2"], [0.6, 5.0, 5.0, 5.0, 0.0, "1/2"]]
 
 
 def test_stripes_scale_each_projection_by_its_own_measure(tmp_path):
@@ -260,3 +338,92 @@ def test_fema_pairs_in_a_study_are_a_at_0_and_b_at_90_degrees(tmp_path):
     along_b = study.records[1].record.acceleration
     assert np.array_equal(along_b[: b.acceleration.size], b.acceleration)
     assert along_b.size == a.acceleration.size and not along_b[b.acceleration.size :].any()
+
+
+def test_a_pair_reaches_a_stripe_where_half_its_angles_or_any_angle_does():
+    """Pair A, three angles (reached at levels 1, 2, 3: 1 0 0 / 1 1 0 / 0 0 0): its median
+    reaches the state where 2 of 3 do (level 2 only), its worst where any does (1 and 2); pair
+    B, two angles with one not analysed at level 3: half of the analysed suffices."""
+    table = np.array([[1, 1, 0], [0, 1, 0], [0, 0, 0], [1, 0, np.nan], [0, 0, 1]], dtype=float)
+    groups = {"A": [0, 1, 2], "B": [3, 4]}
+    median = pairs_reached(table, groups, "median")
+    assert median.tolist() == [[0.0, 1.0, 0.0], [1.0, 0.0, 1.0]]
+    assert pairs_reached(table, groups, "worst").tolist() == [[1.0, 1.0, 0.0], [1.0, 0.0, 1.0]]
+    assert np.isnan(pairs_reached(np.full((1, 1), np.nan), {"C": [0]}, "worst")).all()
+
+
+def test_a_pair_capacity_is_its_angles_smallest_or_median_with_their_censoring():
+    """Rows (capacity, first level, last level) by hand. Exact 0.5, 0.3, 0.8: worst 0.3, median
+    (2nd of 3) 0.5. Reached at the first level 0.1 (coded 0), 0.4, never up to 2 (+inf): the
+    worst is at most 0.1 (censored there), the median exactly 0.4. 0.6 and a curve a failure
+    ended at 0.5 (+inf, top 0.5): the worst is above 0.5, known no better (censored at 0.5)."""
+    exact = np.array([[0.5, 0.1, 2.0], [0.3, 0.1, 2.0], [0.8, 0.1, 2.0]])
+    rows, sources = pair_capacities(exact, {"P": [0, 1, 2]}, "worst")
+    assert rows.tolist() == [[0.3, 0.1, 2.0]] and sources == [1]
+    assert pair_capacities(exact, {"P": [0, 1, 2]}, "median")[0].tolist() == [[0.5, 0.1, 2.0]]
+    censored = np.array([[0.0, 0.1, 2.0], [0.4, 0.1, 2.0], [np.inf, 0.1, 2.0]])
+    assert pair_capacities(censored, {"P": [0, 1, 2]}, "worst")[0].tolist() == [[0.0, 0.1, 2.0]]
+    assert pair_capacities(censored, {"P": [0, 1, 2]}, "median")[0].tolist() == [[0.4, 0.1, 2.0]]
+    ended = np.array([[0.6, 0.1, 4.0], [np.inf, 0.1, 0.5]])
+    rows, sources = pair_capacities(ended, {"P": [0, 1]}, "worst")
+    assert rows.tolist() == [[np.inf, 0.1, 0.5]] and sources == [1]
+    data, capacities, unreachable = _by_pair(
+        ended, ["P+0deg", "P+90deg"], {"P+90deg": ("abutment_failure", 0.5)}, ({}, "worst")
+    )
+    assert capacities == {"P+0deg": 0.6, "P+90deg": None}  # no pairs given: each its own
+    data, capacities, unreachable = _by_pair(
+        ended, ["P+0deg", "P+90deg"], {"P+90deg": ("abutment_failure", 0.5)},
+        ({"P+0deg": "P", "P+90deg": "P"}, "worst"),
+    )  # fmt: skip
+    assert capacities == {"P": None} and unreachable == {"P": ("abutment_failure", 0.5)}
+
+
+def stripes_of(capacities: dict[str, float]) -> dict[str, np.ndarray]:
+    """A stripe study's peak table: each record reaches gap closure at and above its capacity
+    [g] (``dcr_backfill`` 1 there, else 0), never a failure."""
+    rows = [(r, x, float(x >= c)) for r, c in capacities.items() for x in LEVELS]
+    return {
+        "bridge": np.array(["b"] * len(rows)), "status": np.array(["ok"] * len(rows)),
+        "base_record": np.array([r for r, _, _ in rows]),
+        "record": np.array([f"{r}+{x:g}g" for r, x, _ in rows]),
+        "intensity": np.array([x for _, x, _ in rows]),
+        "dcr_backfill": np.array([d for _, _, d in rows]),
+        "failure_mode": np.array(["none"] * len(rows)),
+    }  # fmt: skip
+
+
+LEVELS = (0.3, 0.6, 0.9, 1.2, 1.6, 2.0, 2.6, 3.4)
+"""Stripes of the synthetic stripe study [g]."""
+
+
+def test_a_stripe_fragility_on_pairs_is_the_fit_of_their_median_or_worst_angle():
+    """Four pairs of three angles: the fit on the pairs' worst equals the fit of four records
+    whose capacities are each pair's smallest (by hand), on their median that of the middle
+    ones: a pair reaches a level where its worst (median) angle does."""
+    angles = {
+        "A": (0.5, 0.9, 1.7), "B": (0.4, 1.1, 3.0), "C": (1.3, 0.7, 2.2), "D": (2.4, 1.0, 0.8),
+    }  # fmt: skip
+    swept = {f"{p}+{15 * i}deg": c for p, cs in angles.items() for i, c in enumerate(cs)}
+    pairs = {record: record.split("+")[0] for record in swept}
+    section = IntensitySection.of({"measure": "pga_g", "levels": list(LEVELS)})
+    for combine, chosen in (("worst", {"A": 0.5, "B": 0.4, "C": 0.7, "D": 0.8}),
+                            ("median", {"A": 0.9, "B": 1.1, "C": 1.3, "D": 1.0})):  # fmt: skip
+        on_pairs = fragilities_of(stripes_of(swept), section, 20, 3, None, pairs, combine)
+        by_hand = fragilities_of(stripes_of(chosen), section, 20, 3)
+        for got, want in zip(on_pairs, by_hand, strict=True):
+            assert (got.limit_state, got.median, got.beta) == (
+                want.limit_state,
+                want.median,
+                want.beta,
+            )
+            assert got.capacities == want.capacities and got.fractions == want.fractions
+
+
+def test_a_fit_on_pairs_needs_a_file_with_an_orientation(tmp_path):
+    with h5py.File(tmp_path / "plain.h5", "w") as file:
+        file.create_group("records/R1")
+        columns = {"record": np.array(["R1+0.3g"]), "base_record": np.array(["R1"])}
+        with pytest.raises(InputError, match="no orientation section"):
+            _pairs(file, tmp_path / "plain.h5", columns, "median")
+        with pytest.raises(ValueError, match="orientation must be one of"):
+            _pairs(file, tmp_path / "plain.h5", columns, "mean")

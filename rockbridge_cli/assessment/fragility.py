@@ -15,9 +15,15 @@ overturned) is censored at the level where its curve ended, as a competing risk;
 can reach has no fit. Both fits are one likelihood, maximised by Newton's method
 (`assessment.lognormal`).
 
+For a study whose records section sweeps an orientation, the fit may take each pair of
+horizontal components as one record (``orientation``): it reaches a state where the median of its
+angles' responses does (at least half of the angles) or the worst does (any angle), so an IDA's
+pair capacity is the median or the smallest of its angles' (`assessment.orientation`).
+
 The uncertainty of θ and β is a bootstrap over the records (the same record at every level is
-one draw; `fragility_intervals`). A run stores the fits in its results file (`/fragility`,
-`store`); `fragilities` computes them from the peak table and never changes the file.
+one draw; a pair's angles are one draw; `fragility_intervals`). A run stores the fits in its
+results file (`/fragility`, `store`); `fragilities` computes them from the peak table and never
+changes the file.
 """
 
 from __future__ import annotations
@@ -40,6 +46,7 @@ from . import limit_states, lognormal
 from .fragility_intervals import Resampling, beta_interval
 from .ida import Rule, Walk
 from .limit_states import Verdict
+from .orientation import COMBINES, angles_in, groups_of, pair_capacities, pairs_of, pairs_reached
 from .spectrum import store as store_spectrum
 
 if TYPE_CHECKING:
@@ -200,6 +207,7 @@ def fragilities(
     measure: str | None = None,
     period: float | None = None,
     period_range: tuple[float, float] | None = None,
+    orientation: str | None = None,
 ) -> list[Fragility]:
     """Every bridge's fragility for every limit state, from a results file with an intensity
     section (stripes or IDA). Analyses that could not run are left out.
@@ -210,12 +218,17 @@ def fragilities(
         Fit in another intensity measure than the study's (`motions.intensity.MEASURES`; Sa's
         period [s], AvgSa's range [s]): an IDA's capacities converted record by record
         (`assessment.measures`), without running anything.
+    orientation
+        "median" or "worst": each pair of horizontal components is one record, reaching a
+        state where the median over its angles or the worst angle does (a study whose records
+        section sweeps an orientation); None: each angle is a record.
 
     Raises
     ------
     InputError
-        The file's study has no intensity section (nothing to fit), or another measure is asked
-        of stripes or cannot be computed from the file.
+        The file's study has no intensity section (nothing to fit), another measure is asked
+        of stripes or cannot be computed from the file, or an orientation is asked of a file
+        without one.
     """
     with open_results(path) as file:
         intensity = read_intensity(file)
@@ -230,7 +243,19 @@ def fragilities(
             from .measures import Conversion
 
             conversion = Conversion.of(file, path, measure, period, period_range)
-    return fragilities_of(columns, intensity, bootstrap, seed, conversion)
+        pairs = None if orientation is None else _pairs(file, path, columns, orientation)
+    return fragilities_of(columns, intensity, bootstrap, seed, conversion, pairs, orientation)
+
+
+def _pairs(file: h5py.File, path: str | Path, columns: dict, orientation: str) -> dict[str, str]:
+    """Each base record's pair, for a fit on the pairs' ``orientation`` (`fragilities`)."""
+    if orientation not in COMBINES:
+        raise ValueError(f"orientation must be one of {COMBINES}, not {orientation!r}")
+    pairs = pairs_of(columns, angles_in(file))
+    if not pairs:
+        why = "no record was analysed along an angle: the study has no orientation section"
+        raise InputError(path, [("records", why)])
+    return pairs
 
 
 def design_level(path: str | Path) -> tuple[str, float] | None:
@@ -248,9 +273,13 @@ def fragilities_of(
     bootstrap: int = BOOTSTRAP,
     seed: int = 0,
     conversion: Conversion | None = None,
+    pairs: dict[str, str] | None = None,
+    orientation: str | None = None,
 ) -> list[Fragility]:
     """`fragilities` of a peak table's columns and the study's intensity section, in the study's
-    measure or converted to another (an IDA's)."""
+    measure or converted to another (an IDA's); with ``pairs`` (base record → its pair) each
+    pair one record, by its ``orientation`` ("median" or "worst" over its angles)."""
+    by_pair = None if pairs is None else (pairs, orientation or "median")
     ok = columns["status"] != "error"
     columns = {name: values[ok] for name, values in columns.items()}
     rng = np.random.default_rng(seed)
@@ -261,24 +290,28 @@ def fragilities_of(
         rows = order[np.searchsorted(ordered, bridge) : np.searchsorted(ordered, bridge, "right")]
         mine = {name: values[rows] for name, values in columns.items()}
         if intensity.ida is not None:
-            found += _ida_fragility(bridge, mine, intensity, rng, bootstrap, conversion)
+            found += _ida_fragility(bridge, mine, intensity, rng, bootstrap, conversion, by_pair)
         else:
-            found += _stripe_fragility(bridge, mine, intensity, rng, bootstrap)
+            found += _stripe_fragility(bridge, mine, intensity, rng, bootstrap, by_pair)
     return found
 
 
-def _stripe_fragility(bridge, mine, intensity, rng, bootstrap) -> list[Fragility]:
+def _stripe_fragility(bridge, mine, intensity, rng, bootstrap, by_pair) -> list[Fragility]:
     levels = np.array(sorted(set(mine["intensity"].tolist())))
     records = list(dict.fromkeys(mine["base_record"]))
+    groups = None if by_pair is None else groups_of(records, by_pair[0])
+    names = records if groups is None else list(groups)
     found = []
     for state in LIMIT_STATES:
         table = _reached(mine, limit_states.reached(state, mine), records, levels)
+        if groups is not None:  # each pair one row, its angles combined
+            table = pairs_reached(table, groups, by_pair[1])
         counts = _counts(table)  # records × levels above, NaN where not analyzed
         fit = fit_lognormal(levels, *counts)
         draws = _bootstrap(fit, table, rng, bootstrap, lambda t: fit_lognormal(levels, *_counts(t)))
         reached_at = {
             record: next((float(x) for x, r in zip(levels, row, strict=True) if r == 1), None)
-            for record, row in zip(records, table, strict=True)
+            for record, row in zip(names, table, strict=True)
         }
         median, beta = fit or (None, None)
         found.append(Fragility(
@@ -290,7 +323,7 @@ def _stripe_fragility(bridge, mine, intensity, rng, bootstrap) -> list[Fragility
     return found
 
 
-def _ida_fragility(bridge, mine, intensity, rng, bootstrap, conversion) -> list[Fragility]:
+def _ida_fragility(bridge, mine, intensity, rng, bootstrap, conversion, by_pair) -> list[Fragility]:
     rule = Rule.of(intensity)
     lattice, states = rule.lattice, rule.states
     verdicts = {
@@ -336,11 +369,13 @@ def _ida_fragility(bridge, mine, intensity, rng, bootstrap, conversion) -> list[
             ]
         ).reshape(-1, 2)  # a record never reaching the state is censored where its curve ends
         data = np.hstack([coded, bounds])  # a record's capacity with its bounds
+        if by_pair is not None:
+            data, capacities, unreachable = _by_pair(data, list(walks), unreachable, by_pair)
         fit = _fit_capacities(data)
         draws = _bootstrap(fit, data, rng, bootstrap, _fit_capacities)
         reached = np.array([c for c in capacities.values() if c is not None])
         levels = sorted(set(reached.tolist()))
-        fractions = [float(np.sum(reached <= level)) / len(coded) for level in levels]
+        fractions = [float(np.sum(reached <= level)) / len(data) for level in levels]
         median, beta = fit or (None, None)
         found.append(Fragility(
             bridge, state, intensity.measure if conversion is None else conversion.measure,
@@ -348,6 +383,25 @@ def _ida_fragility(bridge, mine, intensity, rng, bootstrap, conversion) -> list[
             Resampling.of_capacities(data, _fit_capacities),
         ))  # fmt: skip
     return found
+
+
+def _by_pair(
+    data: np.ndarray, bases: list[str], unreachable: dict, by_pair: tuple[dict[str, str], str]
+) -> tuple[np.ndarray, dict[str, float | None], dict[str, tuple[str, float]]]:
+    """An IDA's rows (capacity, start, top) per angle (``bases``) as rows per pair
+    (`assessment.orientation.pair_capacities`), with each pair's capacity (None where censored
+    above; its bound where reached at the first level) and, where a failure that ended an
+    angle's curve bounds the pair, that failure and level."""
+    groups = groups_of(bases, by_pair[0])
+    rows, sources = pair_capacities(data, groups, by_pair[1])
+    capacities: dict[str, float | None] = {}
+    ended: dict[str, tuple[str, float]] = {}
+    for pair, (capacity, start, top), source in zip(groups, rows, sources, strict=True):
+        capacities[pair] = None if math.isinf(capacity) else start if capacity == 0.0 else capacity
+        cause = unreachable.get(bases[source])
+        if math.isinf(capacity) and cause is not None and cause[1] == top:
+            ended[pair] = cause
+    return rows, capacities, ended
 
 
 FAILURE_PHRASES = {"abutment_failure": "the abutment fails", "overturning": "a pier overturns"}

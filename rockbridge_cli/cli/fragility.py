@@ -48,6 +48,12 @@ from .output import echo_json, export_csv, figure_option, results_argument, tabl
     help="With --records-needed: subsets of n records drawn at each n below the study's count.",
 )  # fmt: skip
 @click.option(
+    "--orientation", type=click.Choice(["median", "worst"]), default=None,
+    help="Of a study whose records section sweeps an orientation: each pair of horizontal "
+    "components as one record, reaching a state where the median over its angles does (at "
+    "least half of them) or the worst angle does [default: each angle a record].",
+)  # fmt: skip
+@click.option(
     "--fold-samples", is_flag=True,
     help="Of a sampled study (uncertainty section): per bridge file, the fragility over every "
     "sample × record, beside β_RTR, β_U and the shortcut √(β_RTR² + β_U²).",
@@ -62,6 +68,7 @@ def fragility(
     compare_measures: bool,
     records_needed: bool,
     subsets: int,
+    orientation: str | None,
     fold_samples: bool,
 ) -> None:
     """Fit a lognormal fragility per bridge and limit state to RESULTS, the file of a study with
@@ -71,8 +78,12 @@ def fragility(
     the records. The run stores the fits in RESULTS (/fragility). An IDA's capacities convert
     exactly to any other intensity measure (--measure): nothing is run again. --records-needed
     shows how the intervals narrow with the number of records; --fold-samples folds a sampled
-    study's parameter uncertainty in."""
+    study's parameter uncertainty in; --orientation fits a swept orientation's pairs."""
     from ..assessment.fragility import design_level, fragilities, unreachable_note
+
+    if orientation is not None and (fold_samples or compare_measures):
+        raise click.UsageError("--orientation fits the fragilities, not with --fold-samples or "
+                               "--compare-measures")  # fmt: skip
 
     if fold_samples:
         _folded(results, as_json, csv_file)
@@ -80,7 +91,9 @@ def fragility(
     if compare_measures:
         _compare(results, period or 1.0, period_range or (0.2, 3.0), as_json, csv_file)
         return
-    found = fragilities(results, measure=measure, period=period, period_range=period_range)
+    found = fragilities(
+        results, measure=measure, period=period, period_range=period_range, orientation=orientation
+    )
     if records_needed:
         _records_needed(found, results, as_json, csv_file, subsets)
         return

@@ -11,7 +11,7 @@ from pathlib import Path
 import click
 
 from ..core.fidelity import PRESETS
-from ..core.quantities import SHOWN
+from ..core.quantities import SHOWN, display_unit
 from ..errors import InputError
 from ..motions.intensity import MEASURES
 from . import main, plot
@@ -232,7 +232,9 @@ def _loaded(
 )  # fmt: skip
 def peaks(results: Path, csv_file: str | None, as_json: bool, orientation: bool) -> None:
     """Print the peak table of RESULTS (an HDF5 file written by 'rockbridge run'); --json also
-    says whether the file is complete (complete, n_complete of n_analyses)."""
+    says whether the file is complete (complete, n_complete of n_analyses). A study whose records
+    section has an orientation gives each row's pair and angle after its record."""
+    from ..assessment.orientation import ANGLE_UNITS, angles_in, with_angles
     from ..results.reading import open_results, peak_columns, peak_units
 
     if orientation:
@@ -242,7 +244,9 @@ def peaks(results: Path, csv_file: str | None, as_json: bool, orientation: bool)
         return
 
     with open_results(results) as file:
-        columns, units = _with_missing_counts(peak_columns(file)), peak_units(file)
+        angles = angles_in(file)
+        columns = with_angles(_with_missing_counts(peak_columns(file)), angles)
+        units = {**peak_units(file), **(ANGLE_UNITS if angles else {})}
         counts = {key: file.attrs.get(key) for key in ("complete", "n_complete", "n_analyses")}
     if csv_file is not None:
         export_csv(csv_file, columns, results)
@@ -251,7 +255,8 @@ def peaks(results: Path, csv_file: str | None, as_json: bool, orientation: bool)
         rows = [dict(zip(columns, row, strict=True)) for row in zip(*columns.values(), strict=True)]
         echo_json({"units": units, **counts, "rows": rows})
         return
-    shown = [("bridge", "bridge", 1), ("record", "record", 1), *_DISPLAY,
+    along = [("pair", "pair", 1), ("angle_deg", "angle [deg]", 1)] if angles else []
+    shown = [("bridge", "bridge", 1), ("record", "record", 1), *along, *_DISPLAY,
              ("t_onset", "onset [s]", 1), ("n_impacts_significant", "significant impacts", 1),
              ("n_poundings", "poundings", 1), ("failure_mode", "failure", 1),
              ("dcr_backfill", "backfill d/c", 1), ("status", "status", 1)]  # fmt: skip
@@ -260,22 +265,45 @@ def peaks(results: Path, csv_file: str | None, as_json: bool, orientation: bool)
 
 
 def _orientation_table(results: Path, as_json: bool) -> None:
-    """`peaks --orientation`: the summary over angles (`assessment.orientation.summary_of`)."""
-    from ..assessment.orientation import summary_of
+    """`peaks --orientation`: the summary over angles of each pair and over the pairs
+    (`assessment.orientation.summary_of`, `across_pairs`)."""
+    from ..assessment.orientation import across_pairs, summary_of
     from ..results.reading import open_results, peak_units
 
     summary = summary_of(results)
     if summary.empty:
         why = "no record was analysed along an angle: the study has no orientation section"
         raise InputError(results, [("records", why)])
+    suite = across_pairs(summary)
+    with open_results(results) as file:
+        units = {name: peak_units(file)[name] for name in summary["quantity"].unique()}
     if as_json:
-        with open_results(results) as file:
-            units = {name: peak_units(file)[name] for name in summary["quantity"].unique()}
-        rows = summary.to_dict("records")
-        echo_json({"units": {**units, "critical_angle_deg": "deg"}, "rows": rows})
+        units = {**units, "critical_angle_deg": "deg", "worst_over_first_median": "-",
+                 "worst_over_first_max": "-"}  # fmt: skip
+        pairs, over = summary.to_dict("records"), suite.to_dict("records")
+        echo_json({"units": units, "rows": pairs, "across_pairs": over})
         return
-    headers = ["bridge", "pair", "level", "quantity", "median", "worst", "critical [deg]", "angles"]
-    click.echo(table_text(headers, summary.itertuples(index=False)))
+    headers = ["bridge", "pair", "level", "quantity", "0° (first)", "median", "worst",
+               "critical [deg]", "angles"]  # fmt: skip
+    click.echo(table_text(headers, _shown_in_units(summary, units)))
+    click.echo("\nOver the pairs (medians; worst/first: how much the worst angle raises a pair's "
+               "first component alone):")  # fmt: skip
+    headers = ["bridge", "level", "quantity", "pairs", "0° (first)", "median", "worst",
+               "worst/first, median", "worst/first, max"]  # fmt: skip
+    click.echo(table_text(headers, _shown_in_units(suite, units)))
+
+
+def _shown_in_units(table, units: dict[str, str]) -> list[list]:
+    """An orientation table's rows for display: each quantity's values (first, median, worst) in
+    its shown unit (`core.quantities.display_unit`), the unit after its name."""
+    rows = []
+    for row in table.to_dict("records"):
+        unit, scale = display_unit(units[row["quantity"]])
+        for key in ("first", "median", "worst"):
+            row[key] = shown(row[key] * scale)
+        row["quantity"] += "" if unit in ("-", "") else f" [{unit}]"
+        rows.append(list(row.values()))
+    return rows
 
 
 def _analyses(study, part: tuple[int, int] | None) -> int:

@@ -2,9 +2,10 @@
 with what (provenance), the demand/capacity summary, the paper's Figs. 9 and 10, the peak table
 with units, the failures with their messages, the record set's EN 1998-1 compliance and, for a
 study with an intensity section, the IDA and fragility curves and, given a site's hazard curve,
-the annual frequency of each limit state there; for a sampled study, which field matters. Its
-inputs' sections are `inputs`', its tables' markup `markup`'s, a sampled study's section
-`sampled`'s.
+the annual frequency of each limit state there; for a sampled study, which field matters; for
+a study with an orientation, each row's angle and the summary over angles. Its inputs' sections
+are `inputs`', its tables' markup `markup`'s, a sampled study's section `sampled`'s, an
+orientation's `orientation`'s.
 
 Figures are PNG images embedded as data URIs and the style sheet is inline, so the one file can be
 mailed, archived or opened offline; the layout reflows to a phone's width and prints on A4.
@@ -24,6 +25,7 @@ import numpy as np
 
 from .. import __version__
 from ..assessment.levels import IDA_POINTER, record_count, summary_groups
+from ..assessment.orientation import ANGLE_UNITS, angles_in, with_angles
 from ..core.quantities import NO_FAILURE, display_unit
 from ..errors import InputError, nearest
 from ..motions.intensity import MEASURES
@@ -40,16 +42,20 @@ from ..results.reading import (
 from ..results.sections import IntensitySection
 from .inputs import record_sets, records_table
 from .markup import MAX_ROWS, cell, escaped, number, table_html
+from .orientation import orientation_section
 from .sampled import sampled_section
 
 if TYPE_CHECKING:
     from ..assessment.hazard import HazardCurve
 
 TABLE_COLUMNS = (
-    "bridge", "record", "u_deck_max", "v_deck_max", "theta_deck_max", "theta1_max", "theta2_max",
-    "t_onset", "n_impacts_significant", "n_poundings", "failure_mode", "dcr_backfill", "status",
+    "bridge", "record", "pair", "angle_deg", "u_deck_max", "v_deck_max", "theta_deck_max",
+    "theta1_max", "theta2_max", "t_onset", "n_impacts_significant", "n_poundings",
+    "failure_mode", "dcr_backfill", "status",
 )  # fmt: skip
-"""The peak table's columns the page shows (all of them are in the results file)."""
+"""The peak table's columns the page shows (all of them are in the results file; a pair and its
+angle, from each record's group, only for a study with an orientation: `assessment.orientation.
+with_angles`)."""
 
 STYLE = """
 body { font: 16px/1.45 system-ui, -apple-system, "Segoe UI", Roboto, sans-serif; color: #111;
@@ -106,8 +112,9 @@ def write_report(
     output = checked_output(output, what="a report rockbridge wrote")
     with open_results(results) as file:
         attributes = {key: _plain(value) for key, value in file.attrs.items()}
-        columns, bridges = peak_columns(file), bridge_attributes(file)
-        units = peak_units(file)
+        angles = angles_in(file)
+        columns, bridges = with_angles(peak_columns(file), angles), bridge_attributes(file)
+        units = {**peak_units(file), **(ANGLE_UNITS if angles else {})}
         sources = {
             name: str(file["records"][name].attrs.get("source", "")) for name in file["records"]
         }
@@ -134,6 +141,7 @@ def write_report(
         _provenance(attributes),
         inputs,
         _summary(columns, bridges, intensity),
+        orientation_section(results, units) if angles else "",
     ]
     with tempfile.TemporaryDirectory() as folder:
         figure = _figure_maker(Path(folder))
