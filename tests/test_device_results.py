@@ -1,0 +1,168 @@
+"""The devices in a study's results (issue 41; docs/results.md, "The device table"): the rows
+each analysis packs, the ``/devices`` table written only where a bridge has devices, read back
+for a resumed run, the journal that carries them, and the tendons' limit states
+(``tendon_yield``, ``tendon_rupture``) they decide."""
+
+from __future__ import annotations
+
+import math
+
+import h5py
+import numpy as np
+import pytest
+
+from rockbridge_cli.assessment.limit_states import Verdict, reached, stored_verdicts
+from rockbridge_cli.core.devices import Damper, Tendon
+from rockbridge_cli.core.quantities import check_limit_state
+from rockbridge_cli.results.packing import (
+    DEVICE_RECORD,
+    AnalysisResult,
+    device_rows,
+    device_states,
+)
+from rockbridge_cli.results.reading import device_tables, peak_columns, stored_results
+from rockbridge_cli.results.writing import ResultsWriter
+from rockbridge_cli.study.grid import Cell
+from rockbridge_cli.study.journal import Journal
+from rockbridge_cli.study.work import Finished
+
+# a tendon P0 = 4 MN, k = 100 MN/m, E·A = 1 GN (ε0 = 0.004), F_y = 5 MN, ε_u = 0.0055
+LIMITED = Tendon(0, 0.2, 4.0e6, 1.0e8, yield_force=5.0e6, rupture_strain=0.0055, rigidity=1e9)
+PLAIN = Tendon(1, 0.0, 4.0e6, 1.0e8)  # no limits, no rigidity
+DAMPER = Damper(0, 0.5, 1.0e7)
+
+
+def _peaks(stretch: float) -> dict[str, tuple[float, float]]:
+    """Peaks of the three devices as `core.analysis.Response.peaks` names them, the tendons
+    stretched by ``stretch`` [m] at 3 s (force P0 + k·Δ), the damper's 0.5 MN at 2 s."""
+    force = 4.0e6 + 1.0e8 * stretch
+    return {
+        "tendon1_elongation": (stretch, 3.0), "tendon1_force": (force, 3.0),
+        "tendon2_elongation": (stretch, 3.0), "tendon2_force": (force, 3.0),
+        "damper1_elongation": (0.01, 2.5), "damper1_force": (5.0e5, 2.0),
+    }  # fmt: skip
+
+
+def test_a_devices_row_judges_a_tendon_against_its_limits():
+    """Δ = 0.02 m: T = 4 + 0.1·20 = 6 MN ≥ F_y = 5 MN, ε = T/(E·A) = 0.006 ≥ 0.0055: both
+    reached. Δ = 0.012 m: T = 5.2 MN ≥ 5 MN, ε = 0.0052 < 0.0055: yield only. Δ = 0.005 m:
+    T = 4.5 MN, neither. The tendon without limits and the damper state none (−1)."""
+    devices = (LIMITED, PLAIN, DAMPER)
+    for stretch, yielded, ruptured in ((0.02, 1, 1), (0.012, 1, 0), (0.005, 0, 0)):
+        rows = device_rows(devices, _peaks(stretch))
+        assert [name.decode() for name in rows["device"]] == ["tendon1", "tendon2", "damper1"]
+        force = 4.0e6 + 1.0e8 * stretch
+        assert rows["force_max"][0] == force and rows["elongation_max"][0] == stretch
+        assert rows["strain_max"][0] == pytest.approx(force / 1e9, rel=1e-15)
+        assert list(rows["yielded"]) == [yielded, -1, -1]
+        assert list(rows["ruptured"]) == [ruptured, -1, -1]
+        assert np.isnan(rows["strain_max"][1:]).all()
+        assert (rows["force_max"][2], rows["force_time"][2]) == (5.0e5, 2.0)
+        assert device_states(rows) == {"tendon_yield": yielded, "tendon_rupture": ruptured}
+    states = device_states(device_rows((PLAIN, DAMPER), {**_peaks(0.02)}))
+    assert all(math.isnan(value) for value in states.values())  # no limit stated
+    assert all(math.isnan(value) for value in device_states(np.zeros(0, DEVICE_RECORD)).values())
+
+
+def test_the_tendons_limit_states_are_reached_where_their_column_says():
+    assert check_limit_state("tendon_yield") == "tendon_yield"
+    assert check_limit_state("tendon_rupture") == "tendon_rupture"
+    columns = {
+        "dcr_backfill": np.array([0.5, 0.0, 1.0]),
+        "failure_mode": np.array(["none", "none", "abutment"]),
+        "tendon_yield": np.array([1.0, 0.0, np.nan]),
+    }
+    assert list(reached("tendon_yield", columns)) == [True, False, False]
+    assert list(reached("tendon_rupture", columns)) == [False] * 3  # no column: never
+    verdict = Verdict("ok", "none", 0.2, tendon_yield=1.0, tendon_rupture=0.0)
+    assert verdict.reaches(["tendon_yield", "tendon_rupture", "gap_closure"]) == {
+        "tendon_yield", "gap_closure"
+    }  # fmt: skip
+    assert Verdict("ok", "none", 0.2).reaches(["tendon_yield"]) == frozenset()
+    assert Verdict("error", "", math.nan, 1.0, 1.0).reaches(["tendon_yield"]) == frozenset()
+
+
+def _result(bridge: str, record: str, devices=(), stretch: float = 0.02) -> AnalysisResult:
+    """An analysis that ran (every peak-table value missing but its status), with the rows of
+    ``devices`` at ``stretch``."""
+    values = AnalysisResult.failed(bridge, record, "").values
+    values.update(status="ok", failure_mode="none", dcr_backfill=0.25, n_events=0)
+    events = {name: np.zeros(0) for name in ("time", "mode", "rate_before", "rate_after")}
+    return AnalysisResult(
+        bridge, record, values, events={**events, "kind": np.zeros(0, dtype=str)},
+        devices=device_rows(devices, _peaks(stretch)),
+    )  # fmt: skip
+
+
+def _write(path, results) -> None:
+    with h5py.File(path, "w") as file:
+        file.create_group("bridges")
+        writer = ResultsWriter(file, len(results))
+        writer.add(result.pack() for result in results)
+        writer.close("now")
+
+
+def test_the_device_table_is_written_only_with_devices_and_read_back_as_written(tmp_path):
+    """A file of a free-standing bridge's analyses has no /devices (it is the file devices did
+    not exist for); a file with a restrained bridge's has one row per device of each of its
+    analyses, which a resumed run reads back (`stored_results`) exactly, and the peak table's
+    readers give each analysis its tendons' states (NaN for the free bridge)."""
+    free = [_result("free", "r1"), _result("free", "r2")]
+    _write(tmp_path / "free.h5", free)
+    with h5py.File(tmp_path / "free.h5", "r") as file:
+        assert "devices" not in file and device_tables(file) == {}
+        assert "tendon_yield" not in peak_columns(file)
+
+    mixed = [
+        _result("free", "r1"),
+        _result("tied", "r1", (LIMITED, PLAIN, DAMPER), 0.02),
+        _result("tied", "r2", (LIMITED, PLAIN, DAMPER), 0.005),
+    ]
+    _write(tmp_path / "mixed.h5", mixed)
+    with h5py.File(tmp_path / "mixed.h5", "r") as file:
+        table = file["devices"]
+        assert list(table["bridge"].asstr()[()]) == ["tied"] * 6
+        assert list(table["record"].asstr()[()]) == ["r1"] * 3 + ["r2"] * 3
+        assert list(table["device"].asstr()[()]) == ["tendon1", "tendon2", "damper1"] * 2
+        assert table["force_max"].attrs["units"] == "N" and table["yielded"].dtype == np.int8
+        assert list(table["yielded"][()]) == [1, -1, -1, 0, -1, -1]
+        back = list(stored_results(file))
+        for read, written in zip(back, mixed, strict=True):
+            assert read.devices.tobytes() == written.devices.tobytes()
+        columns = peak_columns(file)
+        np.testing.assert_array_equal(columns["tendon_yield"], [np.nan, 1.0, 0.0])
+        np.testing.assert_array_equal(columns["tendon_rupture"], [np.nan, 1.0, 0.0])
+        verdicts = stored_verdicts(file)
+        assert verdicts[("tied", "r1")].reaches(["tendon_rupture"]) == {"tendon_rupture"}
+        assert math.isnan(verdicts[("free", "r1")].tendon_yield)
+    _write(tmp_path / "again.h5", back)  # a resumed run writes its file from the stored ones
+    with h5py.File(tmp_path / "mixed.h5", "r") as a, h5py.File(tmp_path / "again.h5", "r") as b:
+        for name in a["devices"]:
+            np.testing.assert_array_equal(a["devices"][name][()], b["devices"][name][()])
+
+
+def test_the_journal_carries_the_device_rows_and_their_verdict(tmp_path):
+    """What a worker journals comes back for the results file (`Journal.packed`) and for the IDA
+    rule (`Journal.verdicts`), the tendons' states with it."""
+    journal = Journal(tmp_path / "out.h5", "hash")
+    tied = _result("tied", "r1", (LIMITED, DAMPER), 0.012)
+    packed = tied.pack()
+    states = device_states(tied.devices)
+    finished = Finished(Cell(0, 0, 0), "tied", "r1", "ok", "", 1.0, "none", 0.25, 0.1,
+                        *states.values())  # fmt: skip
+    journal.add(
+        [
+            (finished, packed),
+            (
+                Finished(Cell(1, 1, 0), "free", "r1", "ok", "", 1.0, "none", 0.0),
+                _result("free", "r1").pack(),
+            ),
+        ]
+    )
+    (_, first), (_, second) = journal.packed()
+    assert first == packed and second.devices == b""
+    verdicts = journal.verdicts()
+    assert verdicts[("tied", "r1")] == finished.verdict
+    assert verdicts[("tied", "r1")].reaches(["tendon_yield", "tendon_rupture"]) == {"tendon_yield"}
+    assert math.isnan(verdicts[("free", "r1")].tendon_yield)
+    journal.close()
