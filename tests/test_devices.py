@@ -247,9 +247,16 @@ def _config(tmp_path, left=26.0, right=20.8, devices=ONE_TENDON):
 
 
 def test_a_configs_tendon_is_the_cores_with_its_stiffness_from_e_a_and_the_pier_height(tmp_path):
-    """k = E·A/L_free with the default E = 195 GPa and L_free = the pier's height 2H = 26 m."""
+    """k = E·A/L_free with the default E = 195 GPa and L_free = the pier's height 2H = 26 m; no
+    yield force or rupture strain unless stated (inf), its rigidity E·A for its strains."""
     (tendon,) = _config(tmp_path).to_bridge().devices
-    assert tendon == Tendon(0, 0.3, 4.0e6, 195e9 * 5.0e-3 / 26.0, top=True)
+    assert tendon == Tendon(0, 0.3, 4.0e6, 195e9 * 5.0e-3 / 26.0, top=True,
+                            rigidity=195e9 * 5.0e-3)  # fmt: skip
+    assert math.isinf(tendon.yield_force) and math.isinf(tendon.rupture_strain)
+    limited = TENDON.format(pier=1, offset=0.3).replace("}", ", yield_force: 6.0e+6, "
+                                                       "rupture_strain: 0.02}")  # fmt: skip
+    (tendon,) = _config(tmp_path, devices=limited).to_bridge().devices
+    assert (tendon.yield_force, tendon.rupture_strain) == (6.0e6, 0.02)
 
 
 @pytest.mark.slow  # compiles the kernels of a bridge with devices (about 1–3 min cold)
@@ -288,6 +295,28 @@ def test_impossible_devices_are_refused_naming_the_field(tmp_path, devices, mess
     with pytest.raises(InputError) as info:
         _config(tmp_path, devices=devices)
     assert message in str(info.value)
+
+
+@pytest.mark.parametrize(
+    ("limit", "message"),
+    [
+        ("yield_force: 4.0e+6", "devices.0.yield_force: 4e+06 N does not exceed the prestress"),
+        ("yield_force: 3.0e+6", "devices.0.yield_force: 3e+06 N does not exceed the prestress"),
+        # ε0 = P0/(E·A) = 4 MN / (195 GPa × 5000 mm²) = 0.0041026
+        ("rupture_strain: 0.0041", "devices.0.rupture_strain: 0.0041 does not exceed the strain "
+         "at prestress P0/(E·A) = 0.004103"),
+        ("rupture_strain: -0.01", "devices.0.tendon.rupture_strain"),
+    ],
+)  # fmt: skip
+def test_a_tendon_past_its_limits_at_rest_is_refused_naming_the_field(tmp_path, limit, message):
+    """A yield force not above the prestress, a rupture strain not above the strain at
+    prestress: the tendon would reach the limit at rest. One line naming the field."""
+    devices = TENDON.format(pier=1, offset=0.3).replace("}", f", {limit}}}")
+    with pytest.raises(InputError) as info:
+        _config(tmp_path, devices=devices)
+    assert message in str(info.value) and "\n" not in str(info.value).strip()
+    accepted = "rupture_strain: 0.0042" if "rupture" in limit else "yield_force: 4.1e+6"
+    _config(tmp_path, devices=TENDON.format(pier=1, offset=0.3).replace("}", f", {accepted}}}"))
 
 
 def test_a_single_block_has_no_top_interface_for_a_damper(tmp_path):
@@ -343,14 +372,17 @@ def test_the_tables_turns_are_the_linkages(h_bar):
 
 def test_the_bundled_restrained_bridges_carry_the_devices_their_comments_state():
     """studied-hbar1.25-tendons.yaml: a tendon through each pier, P0 = 0.5·1860 MPa × 5040 mm²
-    = 4.6872 MN, k = 195 GPa × 5040 mm² / 2H (26 and 20.8 m); -dampers.yaml: 20 MN·s/m at ±1.0 m
-    across each pier's base."""
+    = 4.6872 MN, k = 195 GPa × 5040 mm² / 2H (26 and 20.8 m), F_y = 0.9·1860 MPa × 5040 mm²,
+    ε_u = 3.5 % (EN 10138-3's A_gt); -dampers.yaml: 20 MN·s/m at ±1.0 m across each pier's
+    base."""
     bridges = REPO / "configs" / "bridges"
     tendons = load_bridge(bridges / "studied-hbar1.25-tendons.yaml").to_bridge().devices
     area = 5.04e-3
+    limits = {"yield_force": 0.9 * 1860e6 * area, "rupture_strain": 0.035,
+              "rigidity": 195e9 * area}  # fmt: skip
     assert tendons == (
-        Tendon(0, 0.0, 0.5 * 1860e6 * area, 195e9 * area / 26.0),
-        Tendon(1, 0.0, 0.5 * 1860e6 * area, 195e9 * area / 20.8),
+        Tendon(0, 0.0, 0.5 * 1860e6 * area, 195e9 * area / 26.0, **limits),
+        Tendon(1, 0.0, 0.5 * 1860e6 * area, 195e9 * area / 20.8, **limits),
     )
     dampers = load_bridge(bridges / "studied-hbar1.25-dampers.yaml").to_bridge().devices
     assert dampers == tuple(Damper(p, d, 20e6) for p in (0, 1) for d in (-1.0, 1.0))
