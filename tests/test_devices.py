@@ -22,7 +22,7 @@ from rockbridge_cli.config.plausibility import bridge_warnings
 from rockbridge_cli.core import fidelity, impacts
 from rockbridge_cli.core.analysis import analyze
 from rockbridge_cli.core.bridge import Bridge
-from rockbridge_cli.core.device_mechanics import elongation, strain_energy, turns
+from rockbridge_cli.core.device_mechanics import elongation, restrained, strain_energy, turns
 from rockbridge_cli.core.devices import Damper, Tendon, table
 from rockbridge_cli.core.dynamics import coefficients, energy
 from rockbridge_cli.core.geometry import single_block
@@ -86,6 +86,44 @@ def test_a_tendon_through_a_symmetric_frames_pier_stretches_4B_sin_half_theta():
             assert elongation(model, row, s, theta)[0] == pytest.approx(
                 4 * model.B * math.sin(0.01), rel=1e-12
             )
+
+
+@pytest.mark.parametrize("s", [1.0, -1.0])
+def test_the_push_over_curve_of_a_post_tensioned_block_is_its_closed_form(s):
+    """The static moment–rotation curve of a rigid block 2B × 2H on its pivot, with a tendon at
+    offset d (ℓ = B + s·d from the pivot), in the tendon's elastic range 0 < |θ| ≤ θ_y: the
+    restoring moment the code's generalised forces give (gravity's ∂V/∂φ from `coefficients`,
+    the tendon's through `restrained` at θ̇ = 0) against the block's statics,
+
+        M(θ) = m·g·R·sin(α − |θ|) + (P0 + 2k·ℓ·sin(|θ|/2))·ℓ·cos(|θ|/2),
+
+    weight about the pivot and the tendon's tension times the distance from the pivot to its
+    chord (the isosceles triangle of the pivot, the anchor and the opened duct); θ_y where
+    P0 + 2k·ℓ·sin(θ_y/2) = F_y. Its slope at rest is −m·g·H + k·ℓ² (the linear push-over's
+    stiffness: the tendon's k·ℓ² against the P-Δ softening of the weight)."""
+    m, B, H = BLOCK.m1, BLOCK.B, BLOCK.H1
+    R, alpha = math.hypot(B, H), math.atan2(B, H)
+    d, prestress, stiffness, yield_force = 0.2, 3.0e5, 2.0e8, 1.5e6
+    tendon = Tendon(0, d, prestress, stiffness, top=False, yield_force=yield_force)
+    rows = table((tendon,))
+    ell = B + s * d
+    yield_rotation = 2 * math.asin((yield_force - prestress) / (2 * stiffness * ell))
+    for x in np.linspace(yield_rotation / 50, yield_rotation, 50):
+        theta = s * x
+        gravity = coefficients(BLOCK, s, theta, EXACT)[2]
+        code = -s * restrained(-gravity, rows, BLOCK, s, theta, 0.0, EXACT)
+        tension = prestress + 2 * stiffness * ell * math.sin(x / 2)
+        closed = m * G * R * math.sin(alpha - x) + tension * ell * math.cos(x / 2)
+        assert code == pytest.approx(closed, rel=1e-12)
+    assert tension == pytest.approx(yield_force, rel=1e-12)  # the last point is the yield
+    h = 1e-7  # the slope at rest by a one-sided difference (error ~ h·M'' ~ 1e-7 relative)
+    moments = [
+        -s * restrained(-coefficients(BLOCK, s, s * x, EXACT)[2], rows, BLOCK, s, s * x, 0.0,
+                        EXACT)
+        for x in (0.0, h)
+    ]  # fmt: skip
+    slope = (moments[1] - moments[0]) / h
+    assert slope == pytest.approx(-m * G * H + stiffness * ell**2, rel=1e-6)
 
 
 def _block_rhs(block, d: float, prestress: float, stiffness: float, a_g: float):
