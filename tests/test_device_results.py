@@ -10,6 +10,7 @@ import math
 import h5py
 import numpy as np
 import pytest
+from studies import BRIDGES
 
 from rockbridge_cli.assessment.limit_states import Verdict, reached, stored_verdicts
 from rockbridge_cli.core.devices import Damper, Tendon
@@ -166,3 +167,82 @@ def test_the_journal_carries_the_device_rows_and_their_verdict(tmp_path):
     assert verdicts[("tied", "r1")].reaches(["tendon_yield", "tendon_rupture"]) == {"tendon_yield"}
     assert math.isnan(verdicts[("free", "r1")].tendon_yield)
     journal.close()
+
+
+@pytest.mark.slow  # compiles the kernels of a bridge with devices (about 1–3 min cold)
+def test_a_studys_device_table_is_its_analyses_peaks_and_a_resumed_run_gives_it_again(
+    tmp_path, monkeypatch
+):
+    """A study of the free bridge of h̄ = 1 and the bundled bridge with tendons (its yield force
+    lowered to 5 MN, 0.31 MN above the prestress: about 8 mm of stretch) × two records: /devices
+    holds the restrained bridge's two tendons for each record, their peaks those of `analyze`
+    run here on the same record and bridge, their flags the limits applied to them; a run
+    interrupted after its first analysis and resumed writes the same file."""
+    from studies import contents, write_study
+
+    from rockbridge_cli.config.bridge import load_bridge
+    from rockbridge_cli.config.study import load_study
+    from rockbridge_cli.core.analysis import analyze
+    from rockbridge_cli.records.files import read_record
+    from rockbridge_cli.results import read_peaks
+    from rockbridge_cli.study.run import run_study
+
+    monkeypatch.chdir(tmp_path)
+    bundled = BRIDGES / "studied-hbar1.25-tendons.yaml"
+    tied = tmp_path / "tied.yaml"
+    tied.write_text(bundled.read_text(encoding="utf-8").replace("yield_force: 8.43696e6",
+                                                                "yield_force: 5.0e6"),
+                    encoding="utf-8")  # fmt: skip
+    path = write_study(tmp_path, bridges=("studied-hbar1.00",), bridge_files=(tied,),
+                       extra="fidelity: {preset: fast}\noutput: {path: out.h5}\n")  # fmt: skip
+    study = load_study(path)
+    run_study(study, workers=1)
+    expected = contents(study.output)
+    bridge = load_bridge(tied).to_bridge()
+    with h5py.File(study.output, "r") as file:
+        table = {name: file["devices"][name][()] for name in file["devices"]}
+    assert [b.decode() for b in table["bridge"]] == ["tied"] * 4
+    assert [r.decode() for r in table["record"]] == ["R1", "R1", "R2", "R2"]
+    for i, record in enumerate(("R1", "R1", "R2", "R2")):
+        motion = read_record(tmp_path / f"{record}.txt")
+        peaks = analyze(bridge, motion.acceleration, motion.time_step, "fast").peaks
+        name = f"tendon{i % 2 + 1}"
+        assert (table["elongation_max"][i], table["elongation_time"][i]) == peaks[
+            f"{name}_elongation"
+        ]
+        force = peaks[f"{name}_force"][0]
+        assert table["force_max"][i] == force
+        assert table["strain_max"][i] == pytest.approx(force / (195e9 * 5.04e-3), rel=1e-15)
+        assert table["yielded"][i] == int(force >= 5.0e6)
+        assert table["ruptured"][i] == int(force / (195e9 * 5.04e-3) >= 0.035)
+    assert table["yielded"].max() == 1  # the lowered yield force is reached
+    peaks = read_peaks(study.output)
+    assert peaks["tendon_yield"].isna().tolist() == [True, True, False, False]
+
+    study.output.unlink()
+    with pytest.raises(KeyboardInterrupt):
+        run_study(study, workers=1, progress=_stop_after_one)
+    run_study(study, workers=1)
+    assert contents(study.output) == expected
+
+
+def _stop_after_one(item, done, total):
+    if done == 1:
+        raise KeyboardInterrupt
+
+
+def test_a_tendons_limit_state_is_asked_only_of_a_study_with_such_a_tendon(tmp_path):
+    """An IDA for ``tendon_yield`` of free-standing bridges could never find it: refused naming
+    the field; with the bundled tendons (which state F_y and ε_u) it loads."""
+    from studies import write_study
+
+    from rockbridge_cli.config.study import load_study
+    from rockbridge_cli.errors import InputError
+
+    ida = ("intensity: {measure: pga_g, ida: {start: 0.1, step: 0.4, max: 2.5, "
+           "limit_states: [abutment_failure, tendon_yield, tendon_rupture]}}\n")  # fmt: skip
+    with pytest.raises(InputError, match="tendon_yield: no bridge has a tendon with a yield_force"):
+        load_study(write_study(tmp_path, extra=ida))
+    tied = (BRIDGES / "studied-hbar1.25-tendons.yaml",)
+    study = load_study(write_study(tmp_path, extra=ida, bridge_files=tied))
+    assert study.intensity is not None

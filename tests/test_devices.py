@@ -23,7 +23,7 @@ from rockbridge_cli.core import fidelity, impacts
 from rockbridge_cli.core.analysis import analyze
 from rockbridge_cli.core.bridge import Bridge
 from rockbridge_cli.core.device_mechanics import elongation, restrained, strain_energy, turns
-from rockbridge_cli.core.devices import Damper, Tendon, table
+from rockbridge_cli.core.devices import DAMPING, Damper, Tendon, table
 from rockbridge_cli.core.dynamics import coefficients, energy
 from rockbridge_cli.core.geometry import single_block
 from rockbridge_cli.core.kinematics import EXACT
@@ -456,3 +456,94 @@ def test_a_study_with_devices_makes_their_kernels_ready_and_says_so_once(tmp_pat
     for cases, expected in (([free], False), ([free, restrained], True)):
         bridges = tuple(BridgeCase(f"b{i}", c.to_bridge()) for i, c in enumerate(cases))
         assert Grid(bridges, (), fidelity.resolve("fast"), (), "").devices is expected
+
+
+# ------------------------------------------------------------ energy balance under ground motion
+
+
+def _crossing(model, s, times, theta, when):
+    """θ1 where |u_deck| = u_jo at an event at ``when`` [s] in mode s: bracketed by the two
+    history samples around it (the same mode) and solved on the exact kinematics."""
+    from scipy.optimize import brentq
+
+    i = np.searchsorted(times, when)
+    return brentq(
+        lambda y: abs(coefficients(model, s, y, EXACT)[4]) - model.u_jo, theta[i - 1], theta[i],
+        xtol=1e-16, rtol=4 * np.finfo(float).eps,
+    )  # fmt: skip
+
+
+def _powers(model, rows, damper, s, theta, rate, ground, contact):
+    """At the nodes (θ1, θ̇1) of a stretch in mode s: the ground's input power −ü_g·Σm·∂x/∂φ·θ̇,
+    the damper's c·Δ̇² and the backfill dashpot's c_b·(∂u/∂φ·θ̇)² (in contact) [W]; written
+    here from §4 and §13's generalised forces."""
+    out = np.zeros((3, theta.size))
+    for j, (y, w, a) in enumerate(zip(theta, rate, ground, strict=True)):
+        _, _, _, inertia, _, du = coefficients(model, s, y, EXACT)
+        lever = elongation(model, rows[damper], s, y)[1]
+        out[:, j] = (-a * inertia * w, rows[damper, DAMPING] * (lever * w) ** 2,
+                     model.c * (du * w) ** 2 if contact else 0.0)  # fmt: skip
+    return out
+
+
+@pytest.mark.slow  # compiles the kernels of a bridge with devices (about 1–3 min cold)
+def test_energy_balances_the_input_work_under_ground_motion_with_devices():
+    """The bridge of h̄ = 1.25 with a tendon through each pier and a damper across the tall
+    pier's base, under a 0.45 g sine of 1.2 s for 4 s (its deck closes the gaps): at the end of
+    the analysis, kinetic + potential (gravity, backfill spring) + tendon strain energy + the
+    damper's and backfill dashpot's work + the losses at interface impacts and poundings equals
+    the input work of the ground, ∫ −ü_g·Σm_i·∂x_i/∂φ·θ̇1 dt, integrated here on the history
+    (reference fidelity, 1e-4 s samples, Simpson's rule on each stretch between two events with
+    the events' own states as its ends, so that no jump is integrated across)."""
+    model = studied_bridge(1.25)
+    devices = (Tendon(0, 0.0, 4.6872e6, 3.78e7), Tendon(1, 0.0, 4.6872e6, 4.73e7),
+               Damper(0, 1.0, 2.0e7))  # fmt: skip
+    rows, damper = table(devices), 2
+    step = 1e-4
+    t_record = np.arange(0.0, 8.0, DT)
+    acc = 0.45 * G * np.sin(2 * np.pi * t_record / 1.2) * (t_record < 4.0)
+    response = analyze(Bridge(model, devices=devices), acc, DT, "reference", output_step=step)
+    assert response.status == "ok" and response.failure_mode == "none"
+    kinds = list(response.events["kind"])
+    assert kinds.count("pounding") >= 1 and kinds.count("impact") >= 4
+    times, theta = response.time, response.histories["theta1"]
+    rate, mode = response.histories["theta1_rate"], response.histories["mode"]
+
+    def ground(t):
+        return np.interp(t, t_record, acc, right=0.0)  # linear between samples, as the solver
+
+    events = response.events
+    work = np.zeros(3)  # input, damper, backfill dashpot
+    lost, contact = 0.0, False
+    start = (0.0, 0.0, 0.0, 0.0)  # time, θ1, θ̇1, mode after the last event
+    ends = [*zip(events["time"], events["kind"], events["mode"], events["rate_before"],
+                 events["rate_after"], strict=True), (times[-1], "end", mode[-1], rate[-1],
+                                                      rate[-1])]  # fmt: skip
+    for when, kind, after, before, rate_after in ends:
+        t0, y0, w0, s = start
+        y1 = 0.0 if kind in ("onset", "impact", "rest") else (
+            theta[-1] if kind == "end" else _crossing(model, s, times, theta, when))  # fmt: skip
+        if s != 0.0:
+            inside = (times > t0) & (times < when)
+            t = np.concatenate([[t0], times[inside], [when]])
+            y = np.concatenate([[y0], theta[inside], [y1]])
+            w = np.concatenate([[w0], rate[inside], [before]])
+            powers = _powers(model, rows, damper, s, y, w, ground(t), contact)
+            work += simpson(powers, x=t, axis=1)
+        mass = coefficients(model, s or after, y1, EXACT)[0]
+        if kind == "impact":  # at θ1 = 0 every Δ and the potential vanish: the kinetic change
+            lost += 0.5 * mass * before**2 - 0.5 * coefficients(model, after, 0.0, EXACT)[0] * (
+                rate_after**2)  # fmt: skip
+        elif kind in ("pounding", "rest"):
+            lost += 0.5 * mass * (before**2 - rate_after**2)
+        contact = kind == "pounding" or (contact and kind not in ("reopening", "impact"))
+        start = (when, y1, rate_after, after)
+    s = float(mode[-1])
+    stored = 0.0 if s == 0 else (
+        energy(model, s, theta[-1], rate[-1], contact, EXACT)
+        + strain_energy(rows, model, s, theta[-1])
+    )  # fmt: skip
+    total = stored + work[1] + work[2] + lost
+    assert work[0] > 0 and work[1] > 0 and work[2] > 0
+    print("energy balance", work, lost, stored, (total - work[0]) / work[0])
+    assert total == pytest.approx(work[0], rel=1e-6)
