@@ -246,3 +246,45 @@ def test_a_tendons_limit_state_is_asked_only_of_a_study_with_such_a_tendon(tmp_p
     tied = (BRIDGES / "studied-hbar1.25-tendons.yaml",)
     study = load_study(write_study(tmp_path, extra=ida, bridge_files=tied))
     assert study.intensity is not None
+
+
+@pytest.mark.slow  # compiles the kernels of a bridge with devices (about 1–3 min cold)
+def test_an_ida_finds_the_capacity_of_tendon_yield(tmp_path, monkeypatch):
+    """An IDA for tendon_yield and abutment_failure of the free bridge of h̄ = 1 and the bundled
+    tendons' bridge (F_y lowered to 5 MN) × two records: the tendons' bridge gets a fragility of
+    tendon_yield, the free bridge none; each record's capacity is a level whose analysis has a
+    tendon yielded in /devices, with the level just below (within the tolerance) one where none
+    has; the tendon yields before the abutment fails."""
+    from studies import write_study
+
+    from rockbridge_cli.assessment.fragility import fragilities
+    from rockbridge_cli.config.study import load_study
+    from rockbridge_cli.results.reading import open_results
+    from rockbridge_cli.study.run import run_study
+
+    monkeypatch.chdir(tmp_path)
+    tied = tmp_path / "tied.yaml"
+    tied.write_text((BRIDGES / "studied-hbar1.25-tendons.yaml").read_text(encoding="utf-8")
+                    .replace("yield_force: 8.43696e6", "yield_force: 5.0e6"),
+                    encoding="utf-8")  # fmt: skip
+    ida = ("intensity: {measure: pga_g, ida: {start: 0.1, step: 0.4, max: 2.5, tolerance: 0.05, "
+           "limit_states: [tendon_yield, abutment_failure]}}\nfidelity: fast\n"
+           "output: {histories: none, path: out.h5}\n")  # fmt: skip
+    study = load_study(write_study(tmp_path, bridges=("studied-hbar1.00",), bridge_files=(tied,),
+                                   extra=ida))  # fmt: skip
+    run_study(study, workers=1)
+    found = {(f.bridge, f.limit_state): f for f in fragilities(study.output, bootstrap=0)}
+    assert ("studied-hbar1.00", "tendon_yield") not in found
+    assert ("studied-hbar1.00", "abutment_failure") in found
+    yielding = found[("tied", "tendon_yield")]
+    with open_results(study.output) as file:
+        columns = peak_columns(file)
+    for base, capacity in yielding.capacities.items():
+        assert capacity is not None
+        rows = (columns["bridge"] == "tied") & (columns["base_record"] == base)
+        levels, flags = columns["intensity"][rows], columns["tendon_yield"][rows]
+        assert flags[levels == capacity] == 1.0
+        below = levels[levels < capacity].max()
+        assert flags[levels == below] == 0.0 and (capacity - below) <= 0.05 * capacity + 1e-12
+        failure = found[("tied", "abutment_failure")].capacities[base]
+        assert failure is None or capacity <= failure
