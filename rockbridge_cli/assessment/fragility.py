@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -37,7 +38,7 @@ from typing import TYPE_CHECKING, Any
 import h5py
 import numpy as np
 
-from ..core.quantities import LIMIT_STATES
+from ..core.quantities import DEVICE_LIMIT_STATES, LIMIT_STATES
 from ..errors import InputError
 from ..motions.intensity import MEASURES
 from ..results.reading import open_results, peak_columns, read_intensity, read_spectrum_section
@@ -302,7 +303,7 @@ def _stripe_fragility(bridge, mine, intensity, rng, bootstrap, by_pair) -> list[
     groups = None if by_pair is None else groups_of(records, by_pair[0])
     names = records if groups is None else list(groups)
     found = []
-    for state in LIMIT_STATES:
+    for state in _applying((*LIMIT_STATES, *DEVICE_LIMIT_STATES), mine):
         table = _reached(mine, limit_states.reached(state, mine), records, levels)
         if groups is not None:  # each pair one row, its angles combined
             table = pairs_reached(table, groups, by_pair[1])
@@ -326,12 +327,14 @@ def _stripe_fragility(bridge, mine, intensity, rng, bootstrap, by_pair) -> list[
 def _ida_fragility(bridge, mine, intensity, rng, bootstrap, conversion, by_pair) -> list[Fragility]:
     rule = Rule.of(intensity)
     lattice, states = rule.lattice, rule.states
+    nothing = np.full(len(mine["record"]), np.nan)  # a bridge without tendons' limits
     verdicts = {
-        record: Verdict(status, mode, ratio)
-        for record, status, mode, ratio in zip(
-            mine["record"], mine["status"], mine["failure_mode"], mine["dcr_backfill"], strict=True
+        record: Verdict(status, mode, ratio, yielded, ruptured)
+        for record, status, mode, ratio, yielded, ruptured in zip(
+            mine["record"], mine["status"], mine["failure_mode"], mine["dcr_backfill"],
+            *(mine.get(state, nothing) for state in DEVICE_LIMIT_STATES), strict=True,
         )
-    }
+    }  # fmt: skip
     walks: dict[str, Walk] = {}
     for base in dict.fromkeys(mine["base_record"]):
         steps = rule.replay(base, verdicts.get)
@@ -344,7 +347,7 @@ def _ida_fragility(bridge, mine, intensity, rng, bootstrap, conversion, by_pair)
 
     top = lattice.level(lattice.count - 1)
     found = []
-    for state in states:
+    for state in _applying(states, mine):
         indices = {base: steps.capacities[state] for base, steps in walks.items()}
         capacities = {
             base: None if n is None else value(base, lattice.level(n))
@@ -445,6 +448,15 @@ def _interval(draws: tuple[tuple[float, float], ...]) -> tuple[float, float] | N
         return None
     low, high = np.percentile([median for median, _ in draws], [5.0, 95.0])
     return float(low), float(high)
+
+
+def _applying(states: Iterable[str], mine: dict) -> list[str]:
+    """The limit states among ``states`` that a bridge's analyses (``mine``) can reach: a
+    tendon's only where the bridge's tendons state its limit (its column is not all NaN)."""
+    return [
+        state for state in states
+        if state not in DEVICE_LIMIT_STATES or not np.all(np.isnan(mine.get(state, [np.nan])))
+    ]  # fmt: skip
 
 
 def _reached(mine: dict, reached: np.ndarray, records: list[str], levels: np.ndarray):

@@ -6,11 +6,16 @@ An analysis reaches
 - ``backfill_<p>`` when the backfill deforms to p % of its capacity (``dcr_backfill`` ≥ p/100),
   for any whole p from 1 to 100 (``backfill_50``: half its capacity);
 - ``abutment_failure`` when the abutment–backfill fails (``failure_mode`` ``abutment``);
-- ``overturning`` when a pier overturns (``failure_mode`` ``overturning_*``).
+- ``overturning`` when a pier overturns (``failure_mode`` ``overturning_*``);
+- ``tendon_yield`` when a tendon's largest force reaches its yield force, ``tendon_rupture`` when
+  its largest strain reaches its rupture strain (columns of those names, 1 reached, 0 not, NaN
+  for a bridge whose tendons state no such limit: `results.packing.device_states`). The limit
+  state marks the first yield (or rupture); the tendon stays elastic past it, since its
+  post-yield behaviour is not modelled yet (docs/model.md §13).
 
-(docs/model.md §7–8; their names are `core.quantities.LIMIT_STATES`.) The tests take the columns
-of a peak table, or the scalars of one analysis, and never fail on a missing value: an analysis
-that could not run reaches nothing.
+(docs/model.md §7–8, §13; their names are `core.quantities.LIMIT_STATES` and
+`DEVICE_LIMIT_STATES`.) The tests take the columns of a peak table, or the scalars of one
+analysis, and never fail on a missing value: an analysis that could not run reaches nothing.
 """
 
 from __future__ import annotations
@@ -21,7 +26,15 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
-from ..core.quantities import ABUTMENT, PIER1_OVERTURNING, PIER2_OVERTURNING, check_limit_state
+from ..core.quantities import (
+    ABUTMENT,
+    DEVICE_LIMIT_STATES,
+    PIER1_OVERTURNING,
+    PIER2_OVERTURNING,
+    check_limit_state,
+)
+from ..results.packing import device_states
+from ..results.reading import device_tables
 from .ida import Outcome
 
 if TYPE_CHECKING:
@@ -34,7 +47,8 @@ def reached(name: str, columns: Mapping[str, Any]) -> np.ndarray:
     Parameters
     ----------
     columns
-        ``dcr_backfill`` [-] and ``failure_mode``, as arrays (a peak table's columns) or scalars.
+        ``dcr_backfill`` [-] and ``failure_mode``, as arrays (a peak table's columns) or scalars;
+        for a tendon's limit state, the column of its name (none: not reached).
 
     Returns
     -------
@@ -43,6 +57,9 @@ def reached(name: str, columns: Mapping[str, Any]) -> np.ndarray:
     """
     ratio = np.asarray(columns["dcr_backfill"], dtype=float)
     mode = np.asarray(columns["failure_mode"]).astype(str)
+    if name in DEVICE_LIMIT_STATES:
+        flags = columns.get(name)
+        return np.zeros(ratio.shape, bool) if flags is None else np.asarray(flags, float) == 1.0
     if name == "gap_closure":
         return ratio > 0.0
     if name == "abutment_failure":
@@ -53,11 +70,14 @@ def reached(name: str, columns: Mapping[str, Any]) -> np.ndarray:
 
 
 class Verdict(NamedTuple):
-    """What decides the limit states of one analysis: its status and the two peaks they test."""
+    """What decides the limit states of one analysis: its status, the two peaks they test, and
+    whether its tendons reached their limits (1.0, 0.0, NaN where none states one)."""
 
     status: str
     failure_mode: str
     dcr_backfill: float
+    tendon_yield: float = float("nan")
+    tendon_rupture: float = float("nan")
 
     def reaches(self, names: Iterable[str]) -> frozenset[str]:
         """The limit states among ``names`` this analysis reaches (none unless it ran)."""
@@ -82,9 +102,12 @@ ENDED_BY = {
 def stored_verdicts(file: h5py.File) -> dict[tuple[str, str], Verdict]:
     """The verdict of each analysis an open results file holds, by (bridge, record)."""
     group = file["peaks"]
-    pairs = zip(group["bridge"].asstr()[()], group["record"].asstr()[()], strict=True)
+    pairs = list(zip(group["bridge"].asstr()[()], group["record"].asstr()[()], strict=True))
     verdicts = zip(
         group["status"].asstr()[()], group["failure_mode"].asstr()[()],
         group["dcr_backfill"][()].tolist(), strict=True,
     )  # fmt: skip
-    return dict(zip(pairs, itertools.starmap(Verdict, verdicts), strict=True))
+    found = dict(zip(pairs, itertools.starmap(Verdict, verdicts), strict=True))
+    for pair, rows in device_tables(file).items():  # the tendons' states, where some are
+        found[pair] = Verdict(*found[pair][:3], *device_states(rows).values())
+    return found

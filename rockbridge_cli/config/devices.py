@@ -8,6 +8,7 @@ them into the core's frame (tall pier first, mirrored where the tall pier stands
 
 from __future__ import annotations
 
+import math
 from typing import Annotated, Any, Literal
 
 from pydantic import Discriminator, Field, NonNegativeFloat, PositiveFloat, Tag
@@ -31,10 +32,25 @@ class TendonConfig(StrictModel):
     free_length: PositiveFloat | None = Field(
         None, description="Unbonded length that stretches; default the pier's height 2H [m]"
     )
+    yield_force: PositiveFloat | None = Field(
+        None,
+        description="Force at which its steel yields, above the prestress; the limit state "
+        "tendon_yield (the tendon stays elastic past it: post-yield is not modelled) [N]",
+    )
+    rupture_strain: PositiveFloat | None = Field(
+        None,
+        description="Strain at which it ruptures, above the strain at prestress P0/(E·A); the "
+        "limit state tendon_rupture (the tendon stays elastic past it) [-]",
+    )
 
     def stiffness(self, height: float) -> float:
         """Axial stiffness E·A/L_free of the tendon on a pier ``height`` (2H) tall [N/m]."""
         return self.elastic_modulus * self.area / (self.free_length or height)
+
+    def initial_strain(self) -> float:
+        """The steel's strain at prestress, ε0 = P0/(E·A) (at rest the interfaces are closed and
+        the tendon has its prestress alone) [-]."""
+        return self.prestress / (self.elastic_modulus * self.area)
 
 
 class DamperConfig(StrictModel):
@@ -70,7 +86,8 @@ DeviceConfig = Annotated[
 
 def check_devices(devices: list[TendonConfig | DamperConfig], width: float, piers: int) -> None:
     """Refuse devices the bridge cannot carry: on a pier it does not have, outside the section,
-    at the top of a single block.
+    at the top of a single block; a tendon whose prestress already reaches its yield force or
+    its rupture strain.
 
     Parameters
     ----------
@@ -101,6 +118,24 @@ def check_devices(devices: list[TendonConfig | DamperConfig], width: float, pier
                 f"{where}.interface: a single block rocks on its base only, it has no "
                 f"{device.interface!r} interface"
             )
+        if isinstance(device, TendonConfig):
+            _check_tendon_limits(device, where)
+
+
+def _check_tendon_limits(tendon: TendonConfig, where: str) -> None:
+    """Refuse a tendon's yield force at or below its prestress, its rupture strain at or below
+    its strain at prestress (`TendonConfig.initial_strain`)."""
+    if tendon.yield_force is not None and not tendon.yield_force > tendon.prestress:
+        raise ValueError(
+            f"{where}.yield_force: {tendon.yield_force:g} N does not exceed the prestress "
+            f"{tendon.prestress:g} N (the tendon would yield at rest)"
+        )
+    strain = tendon.initial_strain()
+    if tendon.rupture_strain is not None and not tendon.rupture_strain > strain:
+        raise ValueError(
+            f"{where}.rupture_strain: {tendon.rupture_strain:g} does not exceed the strain at "
+            f"prestress P0/(E·A) = {strain:.4g} (the tendon would rupture at rest)"
+        )
 
 
 def core_devices(
@@ -123,8 +158,12 @@ def core_devices(
         core_pier = 1 - pier if mirrored else pier
         offset = sign * device.offset
         if isinstance(device, TendonConfig):
-            stiffness = device.stiffness(heights[pier])
-            built.append(Tendon(core_pier, offset, device.prestress, stiffness, top=bridge))
+            built.append(Tendon(
+                core_pier, offset, device.prestress, device.stiffness(heights[pier]), top=bridge,
+                yield_force=device.yield_force or math.inf,
+                rupture_strain=device.rupture_strain or math.inf,
+                rigidity=device.elastic_modulus * device.area,
+            ))  # fmt: skip
         else:
             base, top = device.interface != "top", device.interface != "base"
             built.append(Damper(core_pier, offset, device.coefficient, base=base, top=top))

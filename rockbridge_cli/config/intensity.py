@@ -40,7 +40,8 @@ class Ida(StrictModel):
     limit_states: list[str] = Field(
         default_factory=lambda: list(LIMIT_STATES),
         min_length=1,
-        description="Limit states: gap_closure, backfill_<p>, abutment_failure, overturning",
+        description="Limit states: gap_closure, backfill_<p>, abutment_failure, overturning; "
+        "tendon_yield, tendon_rupture (bridges whose tendons state those limits)",
     )
 
     @field_validator("limit_states")

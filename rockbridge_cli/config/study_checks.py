@@ -9,6 +9,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from ..core.quantities import DEVICE_LIMIT_STATES
 from ..errors import InputError
 from .intensity import Intensity
 from .loading import ID_PATTERN
@@ -23,8 +24,14 @@ def check_states(bridges: Sequence[Any], states: Sequence[str] | None, where: st
                   study: Path) -> None:  # fmt: skip
     """Refuse a limit state of the abutments (gap closure, their failure, the backfill's) asked
     of a bridge without abutments (a block, a frame): its IDA or boundary could never end
-    there, and ran to the top of its scan without a word."""
-    needs = [s for s in states or () if s != "overturning"]
+    there, and ran to the top of its scan without a word. Refuse a tendon's limit state
+    (`DEVICE_LIMIT_STATES`) when no bridge has a tendon that states that limit."""
+    for state in (s for s in states or () if s in DEVICE_LIMIT_STATES):
+        field = "yield_force" if state == "tendon_yield" else "rupture_strain"
+        if not any(getattr(d, field, None) is not None for b in bridges for d in b.config.devices):
+            reason = f"{state}: no bridge has a tendon with a {field}"
+            raise InputError(study, [(where, reason)])
+    needs = [s for s in states or () if s != "overturning" and s not in DEVICE_LIMIT_STATES]
     without = [b.id for b in bridges if not b.config.to_bridge().model.has_abutments]
     if needs and without:
         reason = f"{', '.join(needs)} need abutments, which {without[0]} has not" + (

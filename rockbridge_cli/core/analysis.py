@@ -11,6 +11,7 @@ import numpy as np
 
 from ._jit import jit
 from .bridge import Bridge
+from .devices import names
 from .fidelity import Fidelity, check_work, resolve
 from .geometry import Model, kind
 from .kinematics import EXACT, Displacements, Kinematics, displacements, simplified
@@ -281,13 +282,7 @@ def _response(
 def device_peak_names(bridge: Bridge) -> list[tuple[str, str]]:
     """Each device's names in a `Response`'s peaks, (elongation, force): ``tendon1``, ``damper1``,
     … numbered by kind in the bridge's order."""
-    names, counts = [], {"Tendon": 0, "Damper": 0}
-    for device in bridge.devices:
-        kind_ = type(device).__name__
-        counts[kind_] += 1
-        stem = f"{kind_.lower()}{counts[kind_]}"
-        names.append((f"{stem}_elongation", f"{stem}_force"))
-    return names
+    return [(f"{stem}_elongation", f"{stem}_force") for stem in names(bridge.devices)]
 
 
 def _device_peaks(bridge: Bridge, result: Integration) -> dict[str, tuple[float, float]]:

@@ -25,6 +25,7 @@ for bit.
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
@@ -50,6 +51,13 @@ class Tendon(NamedTuple):
     prestress : initial force P0 [N]
     stiffness : axial stiffness E·A/L_free [N/m]
     top : whether it crosses the pier–deck interface too (a bridge's pier; not a single block)
+    yield_force : force at which its steel yields, inf if not stated [N]
+    rupture_strain : strain at which it ruptures, inf if not stated [-]
+    rigidity : axial rigidity E·A, inf if not stated (no strain reported) [N]
+
+    The last three are limits the tendon is judged against (`strain`, the limit states
+    ``tendon_yield`` and ``tendon_rupture``), not its behaviour: it stays elastic past them
+    (post-yield behaviour is not modelled yet), and the compiled table (`table`) leaves them out.
     """
 
     pier: int
@@ -57,6 +65,14 @@ class Tendon(NamedTuple):
     prestress: float
     stiffness: float
     top: bool = True
+    yield_force: float = math.inf
+    rupture_strain: float = math.inf
+    rigidity: float = math.inf
+
+    def strain(self, force: float) -> float:
+        """The steel's strain at tension ``force`` [N]: T/(E·A), which is ε0 + Δ/L_free for the
+        elastic tendon (T = P0 + k·Δ, P0 = E·A·ε0, k = E·A/L_free) [-]; 0 without a rigidity."""
+        return force / self.rigidity
 
 
 class Damper(NamedTuple):
@@ -91,6 +107,16 @@ def table(devices: tuple[Device, ...]) -> np.ndarray:
             row[KIND], row[BASE], row[TOP] = DAMPER, float(device.base), float(device.top)
             row[DAMPING] = device.coefficient
     return rows
+
+
+def names(devices: tuple[Device, ...]) -> list[str]:
+    """Each device's name: ``tendon1``, ``damper1``, … numbered by kind in the given order (the
+    bridge config's)."""
+    found, counts = [], {Tendon: 0, Damper: 0}
+    for device in devices:
+        counts[type(device)] += 1
+        found.append(f"{type(device).__name__.lower()}{counts[type(device)]}")
+    return found
 
 
 def mirrored(devices: tuple[Device, ...]) -> tuple[Device, ...]:

@@ -86,6 +86,12 @@ LIMIT_STATES = ("gap_closure", "backfill_50", "abutment_failure", "overturning")
 """The limit states a study reports when it names none (`assessment.limit_states` decides which
 an analysis reaches); ``backfill_<p>`` for any whole p from 1 to 100 is one too."""
 
+DEVICE_LIMIT_STATES = {"tendon_yield": "yielded", "tendon_rupture": "ruptured"}
+"""The limit states of a bridge's tendons, each with the device table's column that says which
+tendon reached it (a tendon's largest force reaches its yield force; its largest strain its
+rupture strain). A study reports them for the bridges whose tendons state those limits; the
+tendon stays elastic past them (docs/model.md §13)."""
+
 _BACKFILL_STATE = re.compile(r"^backfill_([1-9][0-9]?|100)$")
 
 
@@ -97,9 +103,9 @@ def check_limit_state(name: str) -> str:
     ValueError
         It does not: the message lists the choices.
     """
-    if name in LIMIT_STATES or _BACKFILL_STATE.match(name):
+    if name in LIMIT_STATES or name in DEVICE_LIMIT_STATES or _BACKFILL_STATE.match(name):
         return name
     raise ValueError(
-        f"unknown limit state {name!r}: choose gap_closure, abutment_failure, overturning or "
-        "backfill_<p> (p % of the backfill's capacity, 1-100)"
+        f"unknown limit state {name!r}: choose gap_closure, abutment_failure, overturning, "
+        "backfill_<p> (p % of the backfill's capacity, 1-100), tendon_yield or tendon_rupture"
     )

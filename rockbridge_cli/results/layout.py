@@ -13,6 +13,9 @@
                                peaks, counts, timings
     /events/<column>           the events of every analysis, the analyses one after the other
                                in the order of /peaks
+    /devices/<column>          only where a bridge has tendons or dampers (docs/model.md §13):
+                               one row per device of each analysis that ran, in the order of
+                               /peaks: its peaks and whether it reached its limits
     /fragility/<column>        with an intensity section: fragility per bridge × limit state
                                (`rockbridge_cli.assessment.fragility.store`)
     /spectrum/<name>           a spectrum study's instead: its axes, the map of what each
@@ -25,6 +28,10 @@
 ``events``), so the events of row i start at the sum of the counts before it. Every dataset has
 ``units`` and ``description`` attributes; a group's scalar attributes are described by its
 ``units`` attribute, a JSON object mapping attribute names to units. All values are SI.
+
+``/devices`` is written only when some bridge of the study has devices, so that a free-standing
+study's file is what it was before devices existed. Its rows name their analysis by ``bridge`` and
+``record`` (the analyses of a bridge without devices, and those that could not run, have none).
 
 The kind of an event is a CF flag (§3.5): ``/events/kind`` holds int8 codes, its attributes
 ``flag_values`` and ``flag_meanings`` name them (`core.quantities.EVENT_NAMES`, in order).
@@ -84,6 +91,32 @@ EVENT_COLUMNS = {
     "rate_before": ("rad/s", "angular velocity of the tall pier before the event"),
     "rate_after": ("rad/s", "angular velocity of the tall pier after the event"),
 }
+
+
+DEVICE_COLUMNS = {
+    "bridge": ("-", "bridge id"),
+    "record": ("-", "record id, as in /peaks"),
+    "device": ("-", "the device: tendon<n> or damper<n>, numbered by kind in the bridge "
+               "config's order"),
+    "elongation_max": ("m", "largest elongation (opening) across its interface(s)"),
+    "elongation_time": ("s", "time of elongation_max"),
+    "force_max": ("N", "largest |force|: a tendon's tension, a damper's |c·rate of elongation|"),
+    "force_time": ("s", "time of force_max"),
+    "strain_max": ("-", "a tendon's largest strain, force_max/(E·A); NaN for a damper"),
+    "yielded": ("-", "1 where a tendon's force_max reached its yield_force (the limit state "
+                "tendon_yield; it stays elastic past it), 0 where not, -1 without a "
+                "yield_force (a damper) or without results"),
+    "ruptured": ("-", "1 where a tendon's strain_max reached its rupture_strain (the limit "
+                 "state tendon_rupture; it stays elastic past it), 0 where not, -1 without a "
+                 "rupture_strain or without results"),
+}  # fmt: skip
+"""Columns of the device table: name → (unit, description)."""
+
+DEVICE_TEXTS = ("bridge", "record", "device")
+"""The device table's text columns."""
+
+DEVICE_FLAGS = ("yielded", "ruptured")
+"""The device table's int8 columns: 1, 0, or -1 where the limit does not apply."""
 
 
 def _peak_columns() -> dict[str, tuple[str, str]]:

@@ -14,6 +14,7 @@ parallel and the parent copies the chunks into the file without touching the sam
 from __future__ import annotations
 
 import json
+import math
 import struct
 import zlib
 from collections.abc import Sequence
@@ -22,9 +23,14 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
+from ..core.devices import Device, Tendon, names
+from ..core.quantities import DEVICE_LIMIT_STATES
 from .layout import (
     COMPRESSION,
     COUNT_COLUMNS,
+    DEVICE_COLUMNS,
+    DEVICE_FLAGS,
+    DEVICE_TEXTS,
     EVENT_COLUMNS,
     PEAK_COLUMNS,
     TEXT_COLUMNS,
@@ -45,6 +51,16 @@ TEXTS = tuple(name for name in TEXT_COLUMNS if name not in ("bridge", "record"))
 EVENT_RECORD = np.dtype([(name, "i1" if name == "kind" else "<f8") for name in EVENT_COLUMNS])
 """One event as a packed result stores it: the columns of `EVENT_COLUMNS`, float64 but the kind,
 an int8 code of `quantities.EVENT_NAMES` (as the results file stores it)."""
+
+DEVICE_NUMBERS = tuple(name for name in DEVICE_COLUMNS if name not in DEVICE_TEXTS)
+"""The numeric columns of the device table, in the order a packed result stores them."""
+
+DEVICE_RECORD = np.dtype(
+    [("device", "S16")]
+    + [(name, "i1" if name in DEVICE_FLAGS else "<f8") for name in DEVICE_NUMBERS]
+)
+"""One device's row of an analysis as a packed result stores it: its name (ASCII), then the
+device table's columns (`layout.DEVICE_COLUMNS`) but the ids."""
 
 _HEADER = struct.Struct("<I")
 """What starts packed histories: the length of their JSON header [bytes]."""
@@ -112,6 +128,8 @@ class AnalysisResult:
     time : sample times of the histories [s]
     histories : name → array at ``time``; units in `core.quantities.HISTORY_UNITS`
     events : name → array; units in `EVENT_COLUMNS`
+    devices : one `DEVICE_RECORD` row per device of the bridge (none without devices, or
+        without results)
     """
 
     bridge: str
@@ -120,6 +138,7 @@ class AnalysisResult:
     time: np.ndarray = field(default_factory=lambda: np.zeros(0))
     histories: dict[str, np.ndarray] = field(default_factory=dict)
     events: dict[str, np.ndarray] = field(default_factory=dict)
+    devices: np.ndarray = field(default_factory=lambda: np.zeros(0, DEVICE_RECORD))
 
     @property
     def status(self) -> str:
@@ -128,9 +147,16 @@ class AnalysisResult:
 
     @classmethod
     def from_response(
-        cls, bridge: str, record: str, response: Response, keep: Sequence[str], wall_time: float
+        cls,
+        bridge: str,
+        record: str,
+        response: Response,
+        keep: Sequence[str],
+        wall_time: float,
+        devices: tuple[Device, ...] = (),
     ) -> AnalysisResult:
-        """The result of a finished analysis, keeping the histories named in ``keep``."""
+        """The result of a finished analysis, keeping the histories named in ``keep``; with the
+        bridge's ``devices`` (`core.devices`), their rows (`device_rows`)."""
         values = {k: v for k, v in response.peak_row().items() if k in PEAK_COLUMNS}
         ok = response.status == "ok"
         values.update(
@@ -146,7 +172,13 @@ class AnalysisResult:
         events = {**response.events, "kind": response.events["kind"].astype(str)}
         histories = {name: response.histories[name] for name in keep}
         return cls(
-            bridge, record, values, response.time if keep else np.zeros(0), histories, events
+            bridge,
+            record,
+            values,
+            response.time if keep else np.zeros(0),
+            histories,
+            events,
+            device_rows(devices, response.peaks),
         )
 
     @classmethod
@@ -176,7 +208,48 @@ class AnalysisResult:
                 [_HEADER.pack(len(header)), header, *(chunk.data for chunk in chunks.values())]
             )
         return Packed(self.bridge, self.record, texts, numbers.tobytes(), events.tobytes(),
-                      histories)  # fmt: skip
+                      histories, self.devices.astype(DEVICE_RECORD).tobytes())  # fmt: skip
+
+
+def device_rows(devices: tuple[Device, ...], peaks: dict[str, tuple[float, float]]) -> np.ndarray:
+    """The `DEVICE_RECORD` rows of a bridge's ``devices`` from an analysis's peaks (name →
+    (value, time), `core.analysis.Response.peaks`): a tendon's strain is its largest force over
+    E·A (`core.devices.Tendon.strain`), and it reached its limits where that force is at least
+    its yield force, that strain at least its rupture strain."""
+    rows = np.zeros(len(devices), DEVICE_RECORD)
+    for row, device, name in zip(rows, devices, names(devices), strict=True):
+        (length, length_time), (force, force_time) = (
+            peaks[f"{name}_elongation"], peaks[f"{name}_force"]
+        )  # fmt: skip
+        row["device"] = name.encode()
+        row["elongation_max"], row["elongation_time"] = length, length_time
+        row["force_max"], row["force_time"] = force, force_time
+        strain, yield_force, rupture_strain = math.nan, math.inf, math.inf  # a damper's
+        if isinstance(device, Tendon):
+            yield_force, rupture_strain = device.yield_force, device.rupture_strain
+            strain = device.strain(force) if math.isfinite(device.rigidity) else math.nan
+        row["strain_max"] = strain
+        row["yielded"] = _reached(force, yield_force)
+        row["ruptured"] = _reached(strain, rupture_strain)
+    return rows
+
+
+def device_states(rows: np.ndarray) -> dict[str, float]:
+    """What an analysis's device rows (`DEVICE_RECORD` s) say of the tendons' limit states
+    (`core.quantities.DEVICE_LIMIT_STATES`): 1.0 where a tendon reached it, 0.0 where the
+    bridge's tendons state that limit and none reached it, NaN where none states it."""
+    found = {}
+    for state, flag in DEVICE_LIMIT_STATES.items():
+        stated = rows[flag][rows[flag] >= 0] if rows.size else np.zeros(0)
+        found[state] = float(stated.max()) if stated.size else math.nan
+    return found
+
+
+def _reached(value: float, limit: float) -> int:
+    """1 where ``value`` reaches ``limit``, 0 where not, −1 without a limit (inf) or a value."""
+    if math.isinf(limit) or math.isnan(value):
+        return -1
+    return int(value >= limit)
 
 
 class Packed(NamedTuple):
@@ -192,6 +265,7 @@ class Packed(NamedTuple):
     events : one `EVENT_RECORD` row per event
     histories : empty when the study keeps none; else a length-prefixed JSON header of their
         names, sizes and lengths, then the histories (``time`` first) as `Chunk` s
+    devices : one `DEVICE_RECORD` row per device of the bridge; empty without devices
     """
 
     bridge: str
@@ -200,6 +274,7 @@ class Packed(NamedTuple):
     numbers: bytes
     events: bytes
     histories: bytes
+    devices: bytes = b""
 
     @property
     def values(self) -> dict[str, Any]:
@@ -215,6 +290,11 @@ class Packed(NamedTuple):
     def event_rows(self) -> np.ndarray:
         """The events as `EVENT_RECORD` rows (a column by name: ``event_rows["time"]``)."""
         return np.frombuffer(self.events, EVENT_RECORD)
+
+    @property
+    def device_rows(self) -> np.ndarray:
+        """The devices' rows as `DEVICE_RECORD` s (none without devices)."""
+        return np.frombuffer(self.devices, DEVICE_RECORD)
 
     @property
     def chunks(self) -> dict[str, Chunk]:

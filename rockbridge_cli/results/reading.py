@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 import h5py
 import numpy as np
 
-from ..core.quantities import HISTORY_UNITS
+from ..core.quantities import DEVICE_LIMIT_STATES, HISTORY_UNITS
 from ..errors import InputError, did_you_mean, nearest
 from ..paths import journal_path
 from .layout import (
@@ -29,7 +29,7 @@ from .layout import (
     digest_update,
     text_digests,
 )
-from .packing import AnalysisResult
+from .packing import DEVICE_NUMBERS, DEVICE_RECORD, AnalysisResult, device_states
 from .sections import IntensitySection, SpectrumSection
 
 if TYPE_CHECKING:
@@ -161,10 +161,39 @@ def peak_columns(file: h5py.File) -> dict[str, np.ndarray]:
         if values.dtype.kind in "OS":
             values = np.array([v.decode() if isinstance(v, bytes) else str(v) for v in values])
         columns[name] = values
+    if "devices" in file:  # the tendons' limit states of each analysis (`device_states`)
+        tables = device_tables(file)
+        states = [device_states(tables.get(pair, _NO_DEVICES))
+                  for pair in zip(columns["bridge"], columns["record"], strict=True)]  # fmt: skip
+        for state in DEVICE_LIMIT_STATES:
+            columns[state] = np.array([found[state] for found in states], dtype=float)
     swept = swept_values(file)
     for path in dict.fromkeys(path for values in swept.values() for path in values):
         columns[path] = np.array([swept[b].get(path, np.nan) for b in columns["bridge"]])
     return columns
+
+
+_NO_DEVICES = np.zeros(0, DEVICE_RECORD)
+
+
+def device_tables(file: h5py.File) -> dict[tuple[str, str], np.ndarray]:
+    """The device table of an open results file (`layout.DEVICE_COLUMNS`) as each analysis's
+    rows (`packing.DEVICE_RECORD`), by (bridge, record); empty without ``/devices``."""
+    if "devices" not in file:
+        return {}
+    group = file["devices"]
+    rows = np.zeros(len(group["device"]), DEVICE_RECORD)
+    rows["device"] = group["device"][()]
+    for name in DEVICE_NUMBERS:
+        rows[name] = group[name][()]
+    pairs = list(zip(group["bridge"].asstr()[()], group["record"].asstr()[()], strict=True))
+    tables: dict[tuple[str, str], np.ndarray] = {}
+    start = 0
+    for stop in range(1, len(pairs) + 1):  # each analysis's rows are one run of the table
+        if stop == len(pairs) or pairs[stop] != pairs[start]:
+            tables[pairs[start]] = rows[start:stop]
+            start = stop
+    return tables
 
 
 def swept_values(file: h5py.File) -> dict[str, dict[str, float]]:
@@ -188,6 +217,8 @@ def peak_units(file: h5py.File) -> dict[str, str]:
     """The unit of each column of the peak table."""
     group = file["peaks"]
     units = {name: group[name].attrs["units"] for name in json.loads(group.attrs["columns"])}
+    if "devices" in file:
+        units.update(dict.fromkeys(DEVICE_LIMIT_STATES, "-"))
     for node in file["bridges"].values():
         units.update(json.loads(node.attrs.get("swept_units", "{}")))
     return units
@@ -314,6 +345,7 @@ def stored_results(file: h5py.File) -> Iterator[AnalysisResult]:
     of the file (for a run that resumes and writes a new file from the old one)."""
     columns = peak_columns(file)
     starts = _event_starts(columns["n_events"])
+    devices = device_tables(file)
     for row, (bridge, record) in enumerate(zip(columns["bridge"], columns["record"], strict=True)):
         values = {name: _item(values[row]) for name, values in columns.items()}
         del values["bridge"], values["record"]
@@ -325,6 +357,7 @@ def stored_results(file: h5py.File) -> Iterator[AnalysisResult]:
             time=group["time"][()] if names else np.zeros(0),
             histories={name: group[name][()] for name in names},
             events=events,
+            devices=devices.get((bridge, record), _NO_DEVICES),
         )  # fmt: skip
 
 

@@ -23,6 +23,9 @@ from .description import Attributes, Description, RecordGroup
 from .layout import (
     COMPRESSION,
     COUNT_COLUMNS,
+    DEVICE_COLUMNS,
+    DEVICE_FLAGS,
+    DEVICE_TEXTS,
     EVENT_COLUMNS,
     FORMAT,
     FORMAT_VERSION,
@@ -33,7 +36,7 @@ from .layout import (
     digest_update,
     text_digests,
 )
-from .packing import EVENT_RECORD, NUMBERS, TEXTS, Chunk, Packed
+from .packing import DEVICE_NUMBERS, DEVICE_RECORD, EVENT_RECORD, NUMBERS, TEXTS, Chunk, Packed
 
 PEAK_ROWS = 4096
 """The HDF5 chunk length of the peak table."""
@@ -51,6 +54,9 @@ analyses that keep their histories would hold 200 MB; without histories, ≈ 800
 
 EVENT_ROWS = 65536
 """The HDF5 chunk length of the event table (about 150 events an analysis)."""
+
+DEVICE_ROWS = 4096
+"""The HDF5 chunk length of the device table."""
 
 EVENTS_HELD = 4 * EVENT_ROWS
 """Rows of the event table held in memory before they are appended (about 8.7 MB): each append costs
@@ -92,6 +98,9 @@ class ResultsWriter:
         self._texts: list[str] = []  # `Packed.texts`
         self._numbers: list[bytes] = []  # `Packed.numbers`
         self._events = bytearray()  # `EVENT_RECORD` rows
+        self.devices: h5py.Group | None = None  # created with the first analysis that has some
+        self._device_ids: list[tuple[str, str]] = []  # (bridge, record) of each device row
+        self._devices = bytearray()  # `DEVICE_RECORD` rows
         self._templates = h5py.File(f"templates-{id(self)}", "w", driver="core",
                                     backing_store=False)  # fmt: skip
         self._digests = text_digests(PEAK_COLUMNS)  # text has no HDF5 checksum: its SHA-256
@@ -101,13 +110,16 @@ class ResultsWriter:
         histories; ``written`` is called with the analyses added so far after each block of
         them (`ADDED_AT_ONCE`, `ADDED_BYTES`)."""
         for block in _blocks(analyses):
-            bridges, records, texts, numbers, events, _ = zip(*block, strict=True)
+            bridges, records, texts, numbers, events, _, _ = zip(*block, strict=True)
             self._bridges += bridges
             self._records += records
             self._texts += texts
             self._numbers += numbers
             self._events += b"".join(events)
             for packed in block:
+                if packed.devices:
+                    self._devices += packed.devices
+                    self._device_ids += [(packed.bridge, packed.record)] * len(packed.device_rows)
                 if packed.histories:
                     parent = self.file.require_group(f"analyses/{packed.bridge}")
                     _write_histories(parent.create_group(packed.record), packed.chunks,
@@ -115,6 +127,7 @@ class ResultsWriter:
             self.added += len(block)
             if len(self._numbers) >= PEAKS_HELD:
                 self._flush_peaks()
+                self._flush_devices()
             if len(self._events) >= EVENTS_HELD * EVENT_RECORD.itemsize:
                 self._flush_events()
             if written is not None:
@@ -125,6 +138,7 @@ class ResultsWriter:
         self._templates.close()
         self._flush_peaks()
         self._flush_events()
+        self._flush_devices()
         digests = {name: digest.hexdigest() for name, digest in self._digests.items()}
         self.peaks.attrs[TEXT_DIGEST] = json.dumps(digests)
         self.file.attrs.update(
@@ -155,6 +169,27 @@ class ResultsWriter:
         del events  # a view of the buffer, which cannot be cleared while it exists
         self._events.clear()
 
+    def _flush_devices(self) -> None:
+        """Append the buffered device rows to /devices, created at the first (a study without
+        devices has none, and its file is what it was before devices existed)."""
+        if not self._device_ids:
+            return
+        if self.devices is None:
+            text = ("one row per device of each analysis that ran, in the order of /peaks; "
+                    "only where a bridge has tendons or dampers")  # fmt: skip
+            self.devices = _table(self.file.create_group("devices"), DEVICE_COLUMNS,
+                                  DEVICE_ROWS, text, DEVICE_TEXTS)  # fmt: skip
+        rows = np.frombuffer(self._devices, DEVICE_RECORD)
+        bridges, records = zip(*self._device_ids, strict=True)
+        _append(self.devices["bridge"], list(bridges))
+        _append(self.devices["record"], list(records))
+        _append(self.devices["device"], [name.decode() for name in rows["device"]])
+        for name in DEVICE_NUMBERS:
+            _append(self.devices[name], rows[name])
+        del rows  # a view of the buffer, which cannot be cleared while it exists
+        self._devices.clear()
+        self._device_ids.clear()
+
 
 def _blocks(analyses: Iterable[Packed]) -> Iterator[list[Packed]]:
     """The analyses a block at a time: `ADDED_AT_ONCE` of them, or `ADDED_BYTES`."""
@@ -171,21 +206,26 @@ def _blocks(analyses: Iterable[Packed]) -> Iterator[list[Packed]]:
 
 
 def _table(
-    group: h5py.Group, columns: dict[str, tuple[str, str]], chunk: int, text: str
+    group: h5py.Group,
+    columns: dict[str, tuple[str, str]],
+    chunk: int,
+    text: str,
+    texts: tuple[str, ...] = TEXT_COLUMNS,
 ) -> h5py.Group:
-    """Empty, extendable columns: text as UTF-8 strings, counts as int64, the rest float64."""
+    """Empty, extendable columns: ``texts`` as UTF-8 strings, counts as int64, the event kind
+    and the device flags as int8, the rest float64."""
     group.attrs["description"] = text
     group.attrs["columns"] = json.dumps(list(columns))
     for name, (unit, description) in columns.items():
-        if name in TEXT_COLUMNS:
+        if name in texts:
             dtype: Any = h5py.string_dtype()
-        elif name == "kind":
+        elif name == "kind" or name in DEVICE_FLAGS:
             dtype = np.int8
         else:
             dtype = np.int64 if name in COUNT_COLUMNS else np.float64
         dataset = group.create_dataset(  # numbers with a checksum HDF5 verifies on every read
             name, shape=(0,), maxshape=(None,), chunks=(chunk,), dtype=dtype,
-            fletcher32=name not in TEXT_COLUMNS,  # (HDF5 filters cannot take text)
+            fletcher32=name not in texts,  # (HDF5 filters cannot take text)
         )  # fmt: skip
         dataset.attrs["units"] = unit
         dataset.attrs["description"] = description

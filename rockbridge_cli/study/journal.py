@@ -16,10 +16,12 @@ from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
+import numpy as np
+
 from ..assessment.limit_states import Verdict
 from ..errors import InputError
 from ..paths import journal_path
-from ..results.packing import Packed
+from ..results.packing import DEVICE_RECORD, Packed, device_states
 from .work import Finished
 
 PAGE_BYTES = 65536
@@ -30,10 +32,15 @@ _CHECKPOINT_PAGES = 1024
 """Pages the write-ahead log may hold before SQLite copies it into the database, the only step
 that waits for the disk (fsync): every 64 MiB instead of SQLite's default 4 MiB."""
 
-SCHEMA_VERSION = 6
+SCHEMA_VERSION = 7
 """The layout of the journal's tables (SQLite's ``user_version``): 2 added the verdicts, 3 packs
 event kinds as codes, 4 the numeric values as one vector, 5 the packed parts in columns of their
-own (`results.packing.Packed`), 6 a checksum after each history (`results.packing.Chunk`)."""
+own (`results.packing.Packed`), 6 a checksum after each history (`results.packing.Chunk`), 7 the
+rows of the bridge's devices (`results.packing.Packed.devices`)."""
+
+_VERDICT_COLUMNS = 3
+"""The parts of a `Verdict` the journal stores in columns of their own (status, failure mode,
+backfill ratio); its tendons' states come back from the devices' rows (`verdicts`)."""
 
 BUSY_TIMEOUT_S = 60.0
 """How long a writer waits for another's transaction to end [s] (each takes about a
@@ -51,7 +58,8 @@ CREATE TABLE IF NOT EXISTS analyses (
     texts TEXT NOT NULL,        -- `results.packing.Packed`
     numbers BLOB NOT NULL,
     events BLOB NOT NULL,
-    histories BLOB NOT NULL
+    histories BLOB NOT NULL,
+    devices BLOB NOT NULL       -- empty without devices; with them, the tendons' limit states
 );
 """
 
@@ -130,9 +138,10 @@ class Journal:
             with self.connection:
                 self.connection.execute("BEGIN")
                 self.connection.executemany(
-                    "INSERT OR REPLACE INTO analyses VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
-                    ((finished.cell.index, packed.bridge, packed.record, *finished.verdict,
-                      packed.texts, packed.numbers, packed.events, packed.histories)
+                    "INSERT OR REPLACE INTO analyses VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
+                    ((finished.cell.index, packed.bridge, packed.record,
+                      *finished.verdict[:_VERDICT_COLUMNS], packed.texts, packed.numbers,
+                      packed.events, packed.histories, packed.devices)
                      for finished, packed in analyzed),
                 )  # fmt: skip
         except sqlite3.Error as exc:
@@ -141,12 +150,15 @@ class Journal:
     def verdicts(self) -> dict[tuple[str, str], Verdict]:
         """The verdict of each journalled analysis, by (bridge, record)."""
         rows = self.connection.execute(
-            "SELECT bridge, record, status, failure_mode, dcr_backfill FROM analyses"
+            "SELECT bridge, record, status, failure_mode, dcr_backfill, devices FROM analyses"
         )
         return {
-            (bridge, record): Verdict(status, mode, float("nan") if ratio is None else ratio)
-            for bridge, record, status, mode, ratio in rows
-        }
+            (bridge, record): Verdict(
+                status, mode, float("nan") if ratio is None else ratio,
+                *device_states(np.frombuffer(devices, DEVICE_RECORD)).values(),
+            )
+            for bridge, record, status, mode, ratio, devices in rows
+        }  # fmt: skip
 
     def __len__(self) -> int:
         """How many analyses the journal holds."""
@@ -155,8 +167,8 @@ class Journal:
     def packed(self) -> Iterator[tuple[int, Packed]]:
         """The journalled analyses in the order of the results: (cell, packed result)."""
         rows = self.connection.execute(
-            "SELECT cell, bridge, record, texts, numbers, events, histories FROM analyses "
-            "ORDER BY cell"
+            "SELECT cell, bridge, record, texts, numbers, events, histories, devices FROM "
+            "analyses ORDER BY cell"
         )
         return ((cell, Packed(*parts)) for cell, *parts in rows)
 

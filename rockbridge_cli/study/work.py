@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, NamedTuple
 from ..assessment.limit_states import Verdict
 from ..core.fidelity import RECHECK_MARGIN
 from ..core.quantities import NO_FAILURE
-from ..results.packing import AnalysisResult, Packed
+from ..results.packing import AnalysisResult, Packed, device_states
 from .grid import BridgeCase, Cell, Grid, RecordCase
 
 if TYPE_CHECKING:
@@ -30,6 +30,8 @@ class Finished(NamedTuple):
     failure_mode : how the bridge failed (``none`` if it did not, empty if it could not run)
     dcr_backfill : peak backfill demand/capacity ratio [-]
     busy_s : how long the worker took, from the start of the analysis to its packed result [s]
+    tendon_yield, tendon_rupture : whether its tendons reached those limits: 1.0, 0.0, NaN where
+        none states one (`results.packing.device_states`)
     """
 
     cell: Cell
@@ -41,11 +43,16 @@ class Finished(NamedTuple):
     failure_mode: str
     dcr_backfill: float
     busy_s: float = float("nan")
+    tendon_yield: float = float("nan")
+    tendon_rupture: float = float("nan")
 
     @property
     def verdict(self) -> Verdict:
         """What decides its limit states."""
-        return Verdict(self.status, self.failure_mode, self.dcr_backfill)
+        return Verdict(
+            self.status, self.failure_mode, self.dcr_backfill, self.tendon_yield,
+            self.tendon_rupture,
+        )  # fmt: skip
 
 
 def run_cells(grid: Grid, cells: Sequence[Cell]) -> list[tuple[Finished, Packed]]:
@@ -60,7 +67,7 @@ def run_cells(grid: Grid, cells: Sequence[Cell]) -> list[tuple[Finished, Packed]
         finished = Finished(
             cell, result.bridge, result.record, values["status"], values["message"],
             values["solve_time_s"], values["failure_mode"], values["dcr_backfill"],
-            time.perf_counter() - start,
+            time.perf_counter() - start, *device_states(result.devices).values(),
         )  # fmt: skip
         analyzed.append((finished, packed))
     return analyzed
@@ -104,7 +111,12 @@ def _analyzed(grid: Grid, bridge: BridgeCase, record: RecordCase) -> AnalysisRes
             bridge.id, record.id, f"{type(exc).__name__}: {exc}", time.perf_counter() - start
         )
     result = AnalysisResult.from_response(
-        bridge.id, record.id, response, grid.keep, time.perf_counter() - start
+        bridge.id,
+        record.id,
+        response,
+        grid.keep,
+        time.perf_counter() - start,
+        bridge.bridge.devices,
     )
     result.values["rechecked"] = rechecked
     return result
