@@ -120,6 +120,24 @@ def test_the_config_reference_follows_lists_mappings_and_alternatives():
             "output.histories", "records.orientation.angles.step"} <= paths  # fmt: skip
 
 
+CONFIG_MODELS = (
+    "rockbridge_cli.config.bridge:BridgeConfig", "rockbridge_cli.config.study:StudyConfig",
+    "rockbridge_cli.config.record_sets:RecordSetConfig",
+    "rockbridge_cli.config.selection:SelectionConfig",
+)  # fmt: skip
+"""The four kinds of config file, as docs/reference/config.md lists them."""
+
+
+def test_every_field_that_holds_numbers_states_its_unit():
+    # the house rule (/work/shared/STYLE.md): a quantity with its unit in brackets, [-] for a pure
+    # number; numbers that are no quantity: a pier's place in piers.heights, FEMA P695 record ids
+    labels = (".pier", "fema_p695.records", "fema_p695[].records")
+    for target in CONFIG_MODELS:
+        for path, cells in reference_cells(target).items():
+            if re.search(r"number|integer", cells[0]) and not path.endswith(labels):
+                assert cells[2], f"{target}: {path} gives no unit"
+
+
 def test_the_config_reference_gives_each_kind_of_device_its_fields():
     cell = reference_cells("rockbridge_cli.config.bridge:BridgeConfig")
     # docs/studies.md's example of devices: elastic_modulus 195.0e9 [Pa] the default,

@@ -26,8 +26,9 @@ MARKER = re.compile(r"^<!-- (config-fields|notebook): (\S+) -->$", re.M)
 UNIT = re.compile(r"\s*\[([^\[\]]+)\]\s*$")
 """A description's trailing unit in brackets, as the config models write it: ``... [m]``."""
 
-INSIDE = re.compile(r"\[([^\[\]\s]{1,12})\]")
-"""A unit in brackets inside a description: short, without spaces (``[s]``, ``[g]``, ``[Hz]``)."""
+INSIDE = re.compile(r"(?<!\S)\[([^\[\]\s]{1,12})\]")
+"""A unit in brackets inside a description: after a space, short, without spaces (``[s]``,
+``[g]``, ``[Hz]``; not the extra of ``pip install 'rockbridge[fema]'``)."""
 
 DOCS = Path(__file__).resolve().parents[1]
 
@@ -44,20 +45,26 @@ def config_fields(target: str) -> str:
     rows = ["| field | type | default | unit | meaning |", "|---|---|---|---|---|"]
     for path, field, required in fields(schema, schema, "", ()):
         description = " ".join(field.get("description", "").split())
-        unit, meaning = unit_of(description)
+        unit, meaning = unit_of(description, numeric(field))
         cells = (type_of(schema, field), default_of(field, required), unit, meaning)
         rows.append(f"| `{path}` | " + " | ".join(escape(cell) for cell in cells) + " |")
     return "\n".join(rows)
 
 
-def unit_of(description: str) -> tuple[str, str]:
-    """(unit, meaning) of a field's description: its trailing ``[unit]`` taken off, else the
-    first short bracket inside it (``T_p [s]; or give frequency``), which stays in the text."""
+def unit_of(description: str, numeric: bool) -> tuple[str, str]:
+    """(unit, meaning) of a field's description: its trailing ``[unit]`` taken off, else, for a
+    field that holds numbers, the first short bracket inside it (``T_p [s]; or give
+    frequency``), which stays in the text."""
     trailing = UNIT.search(description)
     if trailing:
         return trailing.group(1), UNIT.sub("", description)
-    inside = INSIDE.search(description)
+    inside = INSIDE.search(description) if numeric else None
     return (inside.group(1) if inside else ""), description
+
+
+def numeric(field: dict) -> bool:
+    """Whether a field's value is or holds numbers (not through another model)."""
+    return re.search(r'"type": "(number|integer)"', json.dumps(field)) is not None
 
 
 def fields(root: dict, model: dict, prefix: str, seen: tuple[str, ...]):

@@ -198,7 +198,7 @@ class RecordSetConfig(StrictModel):
         pattern=r"^[A-Za-z0-9_-]{1,20}$",
         description="Record names are the prefix and a two-digit number, e.g. AR01 [-].",
     )
-    gravity: float = Field(9.81, gt=0.0, description="Acceleration of gravity [m/s^2].")
+    gravity: float = Field(9.81, gt=0.0, description="Acceleration of gravity [m/s²].")
     vertical: bool = Field(
         False, description="Also generate a vertical component of each artificial record (file "
         "<name>-V.txt), matched to the EN 1998-1 vertical elastic spectrum (§3.2.2.3: a_vg = "
