@@ -155,12 +155,16 @@ def type_of(root: dict, field: dict) -> str:
 
 
 def default_of(field: dict, required: bool) -> str:
-    """``required``, the default as YAML would write it, or ``–`` (none: the field is left out)."""
+    """``required``, the default as YAML would write it (a large number with its exponent:
+    ``1.95e+11``), or ``–`` (none: the field is left out)."""
     if required:
         return "required"
     if "default" not in field or field["default"] is None:
         return "–"
-    return json.dumps(field["default"], ensure_ascii=False)
+    default = field["default"]
+    if isinstance(default, float) and abs(default) >= 1e6:
+        return f"{default:.6g}"
+    return json.dumps(default, ensure_ascii=False)
 
 
 def escape(cell: str) -> str:
