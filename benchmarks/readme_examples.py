@@ -6,9 +6,10 @@ as the code gives it today.
 prints each block under its name. `tests/test_readme_examples.py` computes the same blocks and
 checks that README or a page quotes each one, in every file that does its numbers to the digits
 it gives (a rounding of the last digit allowed), so that they cannot go stale: after a change that
-moves them, run this and paste the blocks where they are quoted (README's "From Python" example
-and docs/quickstart.md; docs/fragility.md; docs/studies.md, "Parameter sweeps"; docs/records.md,
-"Selecting recorded motions").
+moves them, run this and paste the blocks where they are quoted (README's quickstart, which
+README itself must quote; README's "From Python" example and docs/quickstart.md;
+docs/fragility.md; docs/studies.md, "Parameter sweeps"; docs/records.md, "Selecting recorded
+motions").
 """
 
 from __future__ import annotations
@@ -22,6 +23,16 @@ BUNDLED = REPO / "records" / "ec8-type1-C-ag0.6g"
 
 STRIPE_LEVELS = (0.1, 0.3, 0.5, 0.7, 0.9, 1.1, 1.5)
 """PGA levels of README's example of a fragility table [g]."""
+
+QUICKSTART = (
+    ("describe configs/bridges/studied-hbar1.25.yaml", "masses, γ, q, onset, η, …", 8),
+    ("run configs/studies/paper-fig9.yaml", "the paper's Fig. 9 study", None),
+    ("peaks results/paper-fig9.h5", "the Fig. 9 peak table (--csv, --json)", 3),
+    ("plot peaks results/paper-fig9.h5 -o fig9.png", "Fig. 9 A–F, with the means", None),
+    ("report results/paper-fig9.h5", "the one-page report", None),
+)
+"""README's quickstart: each command (after ``rockbridge``), its comment, and how many lines of
+its output README shows (None: all but a run's timing)."""
 
 
 def from_python(folder: Path) -> dict[str, str]:
@@ -46,6 +57,36 @@ def from_python(folder: Path) -> dict[str, str]:
         "a study": 'peaks.groupby("bridge")["dcr_backfill"].max()  # '
         + ", ".join(f"{value:.3f}" for value in largest.max()),
     }
+
+
+def quickstart(folder: Path) -> dict[str, str]:
+    """README's quickstart as a terminal shows it: each command of `QUICKSTART`, run as a user
+    runs it (a process of its own, in a folder that holds the repository's ``configs`` and
+    ``records``), and the start of what it prints; "…" marks lines left out, a run's wall time
+    among them."""
+    import os
+    import subprocess
+    import sys
+
+    work = folder / "quickstart"
+    work.mkdir()
+    for name in ("configs", "records"):
+        (work / name).symlink_to(REPO / name)
+    path = os.pathsep.join(p for p in (str(REPO), os.environ.get("PYTHONPATH")) if p)
+    environment = {**os.environ, "PYTHONPATH": path}
+    entry = [sys.executable, "-c", "from rockbridge_cli.cli import entry; entry()"]
+    width = max(len(command) for command, _, _ in QUICKSTART) + 2
+    lines = []
+    for command, comment, shown in QUICKSTART:
+        done = subprocess.run(
+            entry + command.split(), cwd=work, env=environment, capture_output=True, text=True
+        )
+        assert done.returncode == 0, done.stderr
+        printed = done.stdout.rstrip("\n").splitlines()
+        kept = ["…" if line.startswith("time:") else line for line in printed[:shown]]
+        lines += [f"$ rockbridge {command:<{width}}# {comment}", *kept]
+        lines += ["…"] if shown is not None and len(printed) > shown else []
+    return {"quickstart": "\n".join(lines)}
 
 
 def fragility_table(folder: Path) -> dict[str, str]:
@@ -125,7 +166,7 @@ def record_selection(folder: Path) -> dict[str, str]:
     return {"select-records": (folder / "sel" / "compliance.txt").read_text().rstrip()}
 
 
-EXAMPLES = (from_python, fragility_table, gap_sweep, record_selection)
+EXAMPLES = (quickstart, from_python, fragility_table, gap_sweep, record_selection)
 """Each computes some of README's blocks (name → text) in a scratch folder."""
 
 

@@ -89,10 +89,16 @@ def test_readme_links_to_anchors_that_exist():
         assert anchor in anchors, (page, anchor)
 
 
-def test_the_config_reference_gives_each_field_its_unit_and_default():
-    table = reference_hook().config_fields("rockbridge_cli.config.bridge:BridgeConfig")
+def reference_cells(target: str) -> dict[str, list[str]]:
+    """The generated config reference of ``MODULE:MODEL``: each field's path → its cells (type,
+    default, unit, meaning)."""
+    table = reference_hook().config_fields(target)
     rows = {r.split("|")[1].strip(" `"): r.split("|")[2:-1] for r in table.splitlines()[2:]}
-    cell = {path: [c.strip() for c in cells] for path, cells in rows.items()}
+    return {path: [c.strip() for c in cells] for path, cells in rows.items()}
+
+
+def test_the_config_reference_gives_each_field_its_unit_and_default():
+    cell = reference_cells("rockbridge_cli.config.bridge:BridgeConfig")
     # docs/model.md §2: ρ = 2500 kg/m³, g = 9.81 m/s², e = 0.6, ρ_s 2000 kg/m³, L_cr 1 m,
     # B_abut 9.5 m, h_bw 2 m
     assert cell["density"][1:3] == ["2500.0", "kg/m³"]
@@ -110,8 +116,50 @@ def test_the_config_reference_follows_lists_mappings_and_alternatives():
     table = reference_hook().config_fields("rockbridge_cli.config.study:StudyConfig")
     paths = {row.split("|")[1].strip(" `") for row in table.splitlines()[2:]}
     assert {"records.files[].path", "sweep.fields.<key>.spacing", "intensity.ida.tolerance",
-            "uncertainty.fields.<key>.<Uniform>.low", "fidelity.rtol",
-            "output.histories"} <= paths  # fmt: skip
+            "uncertainty.fields.<key>.<uniform>.low", "fidelity.rtol",
+            "output.histories", "records.orientation.angles.step"} <= paths  # fmt: skip
+
+
+CONFIG_MODELS = (
+    "rockbridge_cli.config.bridge:BridgeConfig", "rockbridge_cli.config.study:StudyConfig",
+    "rockbridge_cli.config.record_sets:RecordSetConfig",
+    "rockbridge_cli.config.selection:SelectionConfig",
+)  # fmt: skip
+"""The four kinds of config file, as docs/reference/config.md lists them."""
+
+
+def test_every_field_that_holds_numbers_states_its_unit():
+    # the house rule (/work/shared/STYLE.md): a quantity with its unit in brackets, [-] for a pure
+    # number; numbers that are no quantity: a pier's place in piers.heights, FEMA P695 record ids
+    labels = (".pier", "fema_p695.records", "fema_p695[].records")
+    for target in CONFIG_MODELS:
+        for path, cells in reference_cells(target).items():
+            if re.search(r"number|integer", cells[0]) and not path.endswith(labels):
+                assert cells[2], f"{target}: {path} gives no unit"
+
+
+def test_the_config_reference_gives_each_kind_of_device_its_fields():
+    cell = reference_cells("rockbridge_cli.config.bridge:BridgeConfig")
+    # docs/studies.md's example of devices: elastic_modulus 195.0e9 [Pa] the default,
+    # interface base (default); docs/model.md §13: P0 a force, c of F = c·Δ̇ a dashpot's
+    assert cell["devices[].<tendon>.kind"][:2] == ['"tendon"', "required"]
+    assert cell["devices[].<tendon>.prestress"][1:3] == ["required", "N"]
+    assert cell["devices[].<tendon>.area"][2] == "m²"
+    assert float(cell["devices[].<tendon>.elastic_modulus"][1]) == 195.0e9
+    assert cell["devices[].<tendon>.elastic_modulus"][2] == "Pa"
+    assert cell["devices[].<tendon>.offset"][1:3] == ["0.0", "m"]
+    assert cell["devices[].<damper>.coefficient"][1:3] == ["required", "N·s/m"]
+    assert cell["devices[].<damper>.interface"][1] == '"base"'
+    assert "devices[].<damper>.prestress" not in cell  # each kind its own fields
+
+
+def test_the_config_reference_gives_the_seeds_as_a_file_writes_them():
+    cell = reference_cells("rockbridge_cli.config.record_sets:RecordSetConfig")
+    # docs/records.md: seeds are a list of record files or {fema_p695: <set>}
+    assert cell["seeds[].path"][1] == "required"
+    assert cell["seeds.fema_p695.set"][1] == "required"
+    assert cell["band"][0] == "[number, number]"
+    assert not any(path.startswith("seeds.set") for path in cell)
 
 
 def test_the_notebook_page_is_the_script_cell_by_cell(tmp_path):

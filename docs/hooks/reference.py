@@ -26,8 +26,9 @@ MARKER = re.compile(r"^<!-- (config-fields|notebook): (\S+) -->$", re.M)
 UNIT = re.compile(r"\s*\[([^\[\]]+)\]\s*$")
 """A description's trailing unit in brackets, as the config models write it: ``... [m]``."""
 
-INSIDE = re.compile(r"\[([^\[\]\s]{1,12})\]")
-"""A unit in brackets inside a description: short, without spaces (``[s]``, ``[g]``, ``[Hz]``)."""
+INSIDE = re.compile(r"(?<!\S)\[([^\[\]\s]{1,12})\]")
+"""A unit in brackets inside a description: after a space, short, without spaces (``[s]``,
+``[g]``, ``[Hz]``; not the extra of ``pip install 'rockbridge[fema]'``)."""
 
 DOCS = Path(__file__).resolve().parents[1]
 
@@ -44,37 +45,46 @@ def config_fields(target: str) -> str:
     rows = ["| field | type | default | unit | meaning |", "|---|---|---|---|---|"]
     for path, field, required in fields(schema, schema, "", ()):
         description = " ".join(field.get("description", "").split())
-        unit, meaning = unit_of(description)
+        unit, meaning = unit_of(description, numeric(field))
         cells = (type_of(schema, field), default_of(field, required), unit, meaning)
         rows.append(f"| `{path}` | " + " | ".join(escape(cell) for cell in cells) + " |")
     return "\n".join(rows)
 
 
-def unit_of(description: str) -> tuple[str, str]:
-    """(unit, meaning) of a field's description: its trailing ``[unit]`` taken off, else the
-    first short bracket inside it (``T_p [s]; or give frequency``), which stays in the text."""
+def unit_of(description: str, numeric: bool) -> tuple[str, str]:
+    """(unit, meaning) of a field's description: its trailing ``[unit]`` taken off, else, for a
+    field that holds numbers, the first short bracket inside it (``T_p [s]; or give
+    frequency``), which stays in the text."""
     trailing = UNIT.search(description)
     if trailing:
         return trailing.group(1), UNIT.sub("", description)
-    inside = INSIDE.search(description)
+    inside = INSIDE.search(description) if numeric else None
     return (inside.group(1) if inside else ""), description
+
+
+def numeric(field: dict) -> bool:
+    """Whether a field's value is or holds numbers (not through another model)."""
+    return re.search(r'"type": "(number|integer)"', json.dumps(field)) is not None
 
 
 def fields(root: dict, model: dict, prefix: str, seen: tuple[str, ...]):
     """(dotted path, field schema, required) of each field of ``model``, depth first: a field
     whose value is a model (alone, in a list, as a mapping's values or among the forms it may
-    take) is followed by that model's fields."""
+    take) is followed by that model's fields; forms that share a place (the kinds of a
+    discriminated union) each under their name, `form_name`."""
     required = set(model.get("required", ()))
     for name, wrapped in model.get("properties", {}).items():
         field = unwrapped(wrapped)
         path = f"{prefix}{name}"
         yield path, field, name in required
-        for suffix, ref in nested(field):
+        forms = nested(field)
+        for suffix, form in forms:
+            ref = form.get("$ref", "")
             if ref in seen:
                 continue
-            target = root["$defs"][ref]
-            forms = [r for _, r in nested(field)]
-            label = f".<{ref}>" if len(forms) > 1 else ""
+            target = root["$defs"][ref_name(form)] if ref else form
+            shared = [s for s, _ in forms].count(suffix) > 1
+            label = f".<{form_name(target)}>" if shared else ""
             yield from fields(root, target, f"{path}{suffix}{label}.", (*seen, ref))
 
 
@@ -86,19 +96,32 @@ def unwrapped(field: dict) -> dict:
     return {**{k: v for k, v in field.items() if k != "allOf"}, **field["allOf"][0]}
 
 
-def nested(field: dict) -> list[tuple[str, str]]:
-    """(path suffix, model name) of each model a field's value may be: ``""`` for the field
-    itself, ``[]`` for a list's entries, ``.<key>`` for a mapping's values."""
-    found = []
-    for option in map(unwrapped, field.get("anyOf", field.get("oneOf", [field]))):
-        if "$ref" in option:
-            found.append(("", ref_name(option)))
-        elif option.get("type") == "array" and "$ref" in option.get("items", {}):
-            found.append(("[]", ref_name(option["items"])))
-        elif isinstance(option.get("additionalProperties"), dict):
-            values = option["additionalProperties"]
-            found += [(".<key>", name) for _, name in nested(values)]
-    return list(dict.fromkeys(found))
+def nested(field: dict) -> list[tuple[str, dict]]:
+    """(path suffix, schema) of each model a field's value may be, a ``$ref`` or an inline
+    object with properties, through any depth of alternatives, lists and mappings: the suffix
+    ``""`` for the field itself, ``[]`` for a list's entries, ``.<key>`` for a mapping's values
+    (so ``[]`` for each kind of a list of devices, ``.<key>[]`` for a mapping to lists)."""
+    field = unwrapped(field)
+    if "$ref" in field or "properties" in field:
+        return [("", field)]
+    options = field.get("anyOf", field.get("oneOf", ()))
+    found = [form for option in options for form in nested(option)]
+    if isinstance(field.get("items"), dict):
+        found += [("[]" + suffix, form) for suffix, form in nested(field["items"])]
+    if isinstance(field.get("additionalProperties"), dict):
+        found += [(".<key>" + s, form) for s, form in nested(field["additionalProperties"])]
+    return found
+
+
+def form_name(model: dict) -> str:
+    """The name of one of a field's forms: the value of the key that tells it from the others
+    (a required key of one constant value: ``tendon`` of ``kind: tendon``), else its title."""
+    for key in model.get("required", ()):
+        values = [model["properties"][key].get("const")] + model["properties"][key].get("enum", [])
+        values = [value for value in values if value is not None]
+        if len(set(values)) == 1:
+            return str(values[0])
+    return str(model.get("title", "mapping"))
 
 
 def ref_name(option: dict) -> str:
@@ -107,7 +130,8 @@ def ref_name(option: dict) -> str:
 
 
 def type_of(root: dict, field: dict) -> str:
-    """A short type: ``number``, ``list of string``, ``one of a, b``, a model's name, …"""
+    """A short type: ``number``, ``list of string``, ``[number, number]``, ``one of a, b``, a
+    model's name, …"""
     field = unwrapped(field)
     if "$ref" in field:
         return ref_name(field)
@@ -119,20 +143,28 @@ def type_of(root: dict, field: dict) -> str:
     if options:
         kinds = [type_of(root, o) for o in options if o.get("type") != "null"]
         return " or ".join(dict.fromkeys(kinds))
+    if "prefixItems" in field:  # a tuple: (low, high)
+        return "[" + ", ".join(type_of(root, item) for item in field["prefixItems"]) + "]"
     if field.get("type") == "array":
         return "list of " + type_of(root, field.get("items", {}))
+    if "properties" in field:
+        return "mapping"
     if field.get("type") == "object" and isinstance(field.get("additionalProperties"), dict):
         return "mapping to " + type_of(root, field["additionalProperties"])
     return str(field.get("type", "any"))
 
 
 def default_of(field: dict, required: bool) -> str:
-    """``required``, the default as YAML would write it, or ``–`` (none: the field is left out)."""
+    """``required``, the default as YAML would write it (a large number with its exponent:
+    ``1.95e+11``), or ``–`` (none: the field is left out)."""
     if required:
         return "required"
     if "default" not in field or field["default"] is None:
         return "–"
-    return json.dumps(field["default"], ensure_ascii=False)
+    default = field["default"]
+    if isinstance(default, float) and abs(default) >= 1e6:
+        return f"{default:.6g}"
+    return json.dumps(default, ensure_ascii=False)
 
 
 def escape(cell: str) -> str:

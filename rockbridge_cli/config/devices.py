@@ -21,7 +21,7 @@ class TendonConfig(StrictModel):
     """An unbonded post-tensioned tendon, anchored in the foundation and in the deck (through the
     pier's duct; a single block's top)."""
 
-    kind: Literal["tendon"]
+    kind: Literal["tendon"] = Field(description="The kind of device")
     pier: int = Field(ge=1, le=2, description="Its pier, counted in piers.heights (1 the first)")
     offset: float = Field(
         0.0, description="Distance of its duct from the pier's axis, positive to the right [m]"
@@ -56,7 +56,7 @@ class TendonConfig(StrictModel):
 class DamperConfig(StrictModel):
     """A linear viscous damper across a pier's rocking interface(s)."""
 
-    kind: Literal["damper"]
+    kind: Literal["damper"] = Field(description="The kind of device")
     pier: int = Field(ge=1, le=2, description="Its pier, counted in piers.heights (1 the first)")
     offset: float = Field(
         0.0, description="Distance from the pier's axis, positive to the right [m]"

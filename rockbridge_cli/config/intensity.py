@@ -31,9 +31,9 @@ class Ida(StrictModel):
     """Incremental dynamic analysis: for each bridge × record and limit state, the lowest level at
     which the state is reached (`assessment.ida`). Levels are in the section's measure."""
 
-    start: PositiveFloat = Field(description="First level of the upward scan")
-    step: PositiveFloat = Field(description="Increment of the scan")
-    max: PositiveFloat = Field(description="Last level the scan may reach")
+    start: PositiveFloat = Field(description="First level of the upward scan [the measure's unit]")
+    step: PositiveFloat = Field(description="Increment of the scan [the measure's unit]")
+    max: PositiveFloat = Field(description="Last level the scan may reach [the measure's unit]")
     tolerance: float = Field(
         0.02, gt=0.0, lt=1.0, description="Bisect to this width relative to the capacity [-]"
     )
@@ -77,11 +77,12 @@ class Intensity(StrictModel):
     """
 
     measure: Literal["pga_g", "pgv", "pgd", "sa_g", "avgsa_g", "arias", "cav", "scale"] = Field(
-        description="Intensity measure"
+        description="Intensity measure, with the unit of its levels: pga_g, sa_g, avgsa_g [g]; "
+        "pgv, arias, cav [m/s]; pgd [m]; scale [-], the factor on the record itself"
     )
     levels: list[PositiveFloat] | None = Field(
         None, min_length=1, max_length=MAX_SCAN_LEVELS,
-        description="Levels of the measure (multiple stripes)",
+        description="Levels of the measure (multiple stripes) [the measure's unit]",
     )  # fmt: skip
     ida: Ida | None = Field(None, description="Incremental dynamic analysis")
     period: SaPeriod | None = Field(None, description="Period of sa_g [s]")
@@ -92,7 +93,8 @@ class Intensity(StrictModel):
     design: PositiveFloat | None = Field(
         None, description="The design level in the measure (a_g·S for pga_g): the fragility "
         "tables give each median's ratio to it, the margin of the paper's 'about twice the "
-        "design earthquake' and, in spirit, FEMA P695's collapse margin ratio",
+        "design earthquake' and, in spirit, FEMA P695's collapse margin ratio [the measure's "
+        "unit]",
     )  # fmt: skip
 
     @model_validator(mode="after")

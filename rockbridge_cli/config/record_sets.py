@@ -37,6 +37,25 @@ def _seeds_kind(value: Any) -> str | None:
     return kind_of(value) if isinstance(value, (list, tuple, FemaSet)) else None
 
 
+def _seeds_schema(schema: dict[str, Any]) -> None:
+    """The JSON schema of ``seeds`` as a file writes it: its FEMA P695 form is ``{fema_p695:
+    <set>}`` (which `_fema_seeds` reads), not the set's own keys. (The set's ``$ref`` is, at this
+    point, pydantic's inner name of it, such as ``...FemaSet-Input__1``.)"""
+    for option in [*schema.get("anyOf", ()), *schema.get("oneOf", ())]:
+        if FemaSet.__name__ in option.get("$ref", ""):
+            ref = option.pop("$ref")
+            fema_p695 = {
+                "anyOf": [{"$ref": ref}, {"type": "string"}],
+                "description": "The set: its name, short for {set: <name>}, or its keys",
+            }
+            option.update(
+                type="object", properties={"fema_p695": fema_p695},
+                required=["fema_p695"], additionalProperties=False,
+            )  # fmt: skip
+        else:
+            _seeds_schema(option)
+
+
 #: EN 1998-1 §3.2.3.1.2(3): shortest stationary part of an artificial accelerogram [s].
 MIN_STATIONARY = 10.0
 
@@ -129,6 +148,7 @@ class RecordSetConfig(StrictModel):
         "of files, or a FEMA P695 set ({fema_p695: far-field}); each keeps its length, phases, "
         "envelope, durations and ground displacement, and its time step unless too coarse for "
         "the band (then resampled, band-limited).",
+        json_schema_extra=_seeds_schema,
     )  # fmt: skip
     adjust: Literal["match", "scale", "scale-set", "none"] = Field(
         "match", description="What is done to the seeds: matched to the target (match), "
@@ -178,7 +198,7 @@ class RecordSetConfig(StrictModel):
         pattern=r"^[A-Za-z0-9_-]{1,20}$",
         description="Record names are the prefix and a two-digit number, e.g. AR01 [-].",
     )
-    gravity: float = Field(9.81, gt=0.0, description="Acceleration of gravity [m/s^2].")
+    gravity: float = Field(9.81, gt=0.0, description="Acceleration of gravity [m/s²].")
     vertical: bool = Field(
         False, description="Also generate a vertical component of each artificial record (file "
         "<name>-V.txt), matched to the EN 1998-1 vertical elastic spectrum (§3.2.2.3: a_vg = "

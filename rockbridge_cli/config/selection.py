@@ -98,8 +98,8 @@ class SelectionTarget(StrictModel):
     damping: float = Field(0.05, gt=0.0, le=0.3, description="Viscous damping ratio, 0.05 [-]")
     spectrum_file: Path | None = Field(
         None, description="A spectrum of your own that replaces Se(T) over the period range (the "
-        "fit and (4)c): two columns, period [s] and Sa, interpolated in log-log, relative to the "
-        "config file; (4)b keeps EN 1998-1's a_g*S",
+        "fit and (4)c): two columns, period in s and Sa in spectrum_units, interpolated in "
+        "log-log, relative to the config file; (4)b keeps EN 1998-1's a_g*S",
     )  # fmt: skip
     spectrum_units: Literal["g", "m/s2", "cm/s2"] = Field(
         "g", description="Units of the spectrum file's Sa"

@@ -67,7 +67,8 @@ class Sweep(StrictModel):
     """Bridge fields varied over lists or ranges (`config.sweep`)."""
 
     fields: dict[str, Values] = Field(
-        min_length=1, description="Dotted path of a bridge field → its values, or a range"
+        min_length=1,
+        description="Dotted path of a bridge field → its values, or a range [the field's unit]",
     )
     grid: bool = Field(False, description="Every combination, instead of one field at a time")
 

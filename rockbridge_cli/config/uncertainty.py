@@ -222,7 +222,8 @@ class Uncertainty(StrictModel):
         "(accelerogram-wise, records assigned in a balanced random order)",
     )
     correlations: list[tuple[str, str, float]] = Field(
-        default_factory=list, description="Spearman rank correlations [field, field, ρ_s]"
+        default_factory=list,
+        description="Spearman rank correlations, each a list of two dotted field paths and ρ_s [-]",
     )
 
     @model_validator(mode="after")
