@@ -33,7 +33,7 @@ from .core.analysis import analyze
 from .core.bridge import Bridge
 from .core.devices import Damper, Tendon
 from .core.fidelity import PRESETS
-from .motions import matching, spectra
+from .motions import spectra
 
 TIME_STEP = 0.01
 """Sample interval of the warm-up ground motion [s]."""
@@ -101,6 +101,8 @@ def compile_kernels() -> None:
     analysis_kernels()
     vertical_kernels()
     device_kernels()
+    from .motions import matching  # here: its scipy.fft is not a worker's (`study.kernels`)
+
     ground = pulse()
     periods = matching.compute_matching_periods((0.1, 1.0), 10, TIME_STEP)
     spectra.compute_psa(ground, TIME_STEP, periods, 0.05)

@@ -58,3 +58,39 @@ def test_bench_scaling_prints_the_table_and_the_fit(tmp_path):
     rows = [line.split() for line in done.stdout.splitlines()]
     assert [r[0] for r in rows if r[1:2] == ["|"]] == ["workers", "1", "2"]
     assert "serial fraction s =" in done.stdout and "projected speed-up" in done.stdout
+
+
+def test_bench_worker_splits_nested_timers_into_their_own_parts(monkeypatch):
+    """The timed functions nest (a batch holds the analyses, packing and the commit; analyze
+    holds the solve and the response): each part is its own time, and the parts with the
+    worker's time outside its batches and the parent's add up to the run's CPU time."""
+    monkeypatch.syspath_prepend(str(REPO / "benchmarks"))
+    from bench_worker import split
+
+    sums = {  # [wall, CPU, calls] [s], made up for 10 analyses
+        "batch": [1.0, 0.9, 1], "analyze": [0.8, 0.7, 10], "solve": [0.5, 0.45, 10],
+        "response": [0.1, 0.08, 10], "result row": [0.02, 0.02, 10],
+        "packing": [0.03, 0.03, 10], "journal": [0.05, 0.04, 1],
+    }  # fmt: skip
+    parts = split({"n": 10, "sums": sums, "worker": 1.5, "parent": 0.2})
+    assert parts["solve"] == pytest.approx((50000.0, 45000.0))  # µs an analysis
+    assert parts["around the solve"] == pytest.approx((20000.0, 17000.0))  # 0.8 − 0.5 − 0.1
+    assert parts["rest of the batch"][1] == pytest.approx(1e5 * (0.9 - 0.7 - 0.02 - 0.03 - 0.04))
+    assert parts["worker outside batches"][1] == pytest.approx(1e5 * (1.5 - 0.9))
+    assert sum(cpu for _, cpu in parts.values()) == pytest.approx(1e5 * (1.5 + 0.2))
+
+
+@pytest.mark.slow
+def test_bench_worker_prints_the_split_of_each_fidelity(tmp_path):
+    env = {k: v for k, v in os.environ.items() if k != "ROCKBRIDGE_PATHS"}
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, (str(REPO), env.get("PYTHONPATH"))))
+    done = subprocess.run(
+        [sys.executable, str(REPO / "benchmarks" / "bench_worker.py"), "--analyses", "6",
+         "--fidelity", "fast", "default"],
+        capture_output=True, text=True, cwd=tmp_path, env=env, timeout=600,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr[-2000:]
+    rows = {line.split("|")[0].strip(): line for line in done.stdout.splitlines()}
+    for part in ("solve", "around the solve", "packing", "journal", "parent"):
+        assert rows[part].count("%") == 2, part  # a column for each fidelity
+    assert "fast: 6 analyses" in done.stdout and "default: 6 analyses" in done.stdout

@@ -229,3 +229,24 @@ def test_the_results_writer_only_writes():
     for path in (PACKAGE / "results").glob("*.py"):
         rooms = {room(m) for m in imports(path) & SOURCES.keys() if m != "rockbridge_cli"}
         assert rooms <= {"results", "core", "errors", "paths", "kinds"}, (path.name, rooms)
+
+
+def test_a_worker_loads_no_scipy_subpackage():
+    """What a worker imports for its analyses (the kernels, `warmup`, which `study.kernels`
+    calls, the study's description) loads nothing of scipy beyond its top-level package (which
+    the results file's writer reads the version of): importing scipy's subpackages took a
+    quarter of a second of every worker's start (issue 43); the tables' splines and the failure
+    rotations are computed without them (`core.tables.not_a_knot`, `core.impacts`)."""
+    code = (
+        "import sys\n"
+        "import scipy\n"
+        "baseline = set(sys.modules)\n"
+        "import rockbridge_cli.core.analysis, rockbridge_cli.warmup, rockbridge_cli.study.kernels\n"
+        "import rockbridge_cli.study.describe, rockbridge_cli.study.executors.worker\n"
+        "print(sorted(m for m in set(sys.modules) - baseline if m.startswith('scipy')))\n"
+    )
+    result = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=False
+    )
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.strip() == "[]"

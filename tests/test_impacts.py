@@ -23,6 +23,7 @@ from rockbridge_cli.core.bridge import Bridge
 from rockbridge_cli.core.dynamics import acceleration, coefficients, energy
 from rockbridge_cli.core.geometry import single_block
 from rockbridge_cli.core.impacts import (
+    _first_reached,
     failure_rotations,
     governing_failure,
     onset_threshold,
@@ -507,3 +508,12 @@ def test_backfill_stiffness_extremes(k):
             assert acc == pytest.approx(
                 acceleration(m, s, theta1, 0.0, 0.0, False, EXACT), rel=1e-14
             )
+
+
+def test_a_limit_is_found_to_the_last_bit():
+    """`_first_reached` returns the smallest float at which the excess is ≥ 0: for t − c that is
+    c itself; for t² − 2, √2 correctly rounded or the float above it (t·t rounds)."""
+    assert _first_reached(lambda t: t - 0.1234, 0.0, 1.0) == 0.1234
+    root = _first_reached(lambda t: t * t - 2.0, 1.0, 2.0)
+    assert root * root >= 2.0 and math.nextafter(root, 0.0) ** 2 < 2.0
+    assert root in (math.sqrt(2.0), math.nextafter(math.sqrt(2.0), 2.0))

@@ -20,7 +20,14 @@ from rockbridge_cli.core.dynamics import acceleration, coefficients
 from rockbridge_cli.core.geometry import single_block
 from rockbridge_cli.core.impacts import failure_rotations
 from rockbridge_cli.core.kinematics import EXACT, displacements
-from rockbridge_cli.core.tables import BELOW_REST, INTERVALS, MARGIN, tabulated
+from rockbridge_cli.core.tables import (
+    BELOW_REST,
+    INTERVALS,
+    MARGIN,
+    _sample,
+    not_a_knot,
+    tabulated,
+)
 
 MODELS = [
     *BRIDGES,
@@ -89,3 +96,55 @@ def test_an_analysis_on_tables_equals_the_exact_one():
         if name in ("theta_deck", "u_deck", "v_deck", "theta1", "theta2"):
             assert table.peaks[name][0] == pytest.approx(value, rel=1e-9), name
     np.testing.assert_allclose(table.events["time"], exact.events["time"], rtol=0, atol=1e-9)
+
+
+def _cubic(x):
+    """y = 1.5 − 2x + 0.7x² − 0.3x³ and its Taylor coefficients at x, powers 3…0."""
+    return np.stack([np.full_like(x, -0.3), 0.7 - 0.9 * x, -2.0 + 1.4 * x - 0.9 * x**2,
+                     1.5 - 2.0 * x + 0.7 * x**2 - 0.3 * x**3], axis=-1)  # fmt: skip
+
+
+def test_a_not_a_knot_spline_reproduces_a_cubic():
+    """A cubic is its own not-a-knot spline (both end conditions hold for it), so each interval's
+    coefficients are its Taylor coefficients at the interval's start, in closed form; on a grid
+    of uneven intervals, and for two quantities at once."""
+    x = np.linspace(-1.0, 2.0, 40) + 0.02 * np.sin(np.arange(40.0))
+    expected = _cubic(x)
+    y = np.column_stack([expected[:, 3], 2.0 * expected[:, 3]])
+    coefficients = not_a_knot(x, y)
+    assert coefficients.shape == (39, 2, 4)
+    h = np.diff(x)[:, None] ** np.arange(3, -1, -1)  # each coefficient's weight in a value
+    for column, factor in enumerate((1.0, 2.0)):
+        error = (coefficients[:, column] - factor * expected[:-1]) * h
+        assert np.abs(error).max() <= 1e-14 * factor * np.abs(y[:, 0]).max()
+
+
+def test_a_not_a_knot_spline_needs_four_points():
+    with pytest.raises(ValueError, match="n ≥ 4 points"):
+        not_a_knot(np.arange(3.0), np.zeros((3, 1)))
+
+
+def test_the_tables_equal_scipys_not_a_knot_spline(model):
+    """Each table's cubics against ``scipy.interpolate.CubicSpline(bc_type="not-a-knot")`` through
+    the same samples (the tables' builder until issue 43): the values and slopes of the two within
+    1e-12 of the largest of each quantity, at each interval's ends and middle."""
+    from scipy.interpolate import CubicSpline
+
+    table = tabulated(model)
+    intervals = table.table.shape[1]
+    below = round(-table.start / table.step)
+    x = table.step * np.arange(-below, intervals - below + 1)
+    for mode, s in enumerate((1.0, -1.0)):
+        spline = CubicSpline(x, _sample(model, s, x), axis=0, bc_type="not-a-knot")
+        theirs = np.moveaxis(spline.c, 0, -1)
+        for dx in table.step * np.array([0.0, 0.5, 1.0]):
+            pairs = [_value_and_slope(c, dx) for c in (table.table[mode], theirs)]
+            for ours, reference in zip(*pairs, strict=True):  # the values, then the slopes
+                scale = np.abs(reference).max(axis=0)
+                assert np.all(np.abs(ours - reference).max(axis=0) <= 1e-12 * scale)
+
+
+def _value_and_slope(c, dx):
+    """The cubics of a table at dx from each interval's start, and their slopes."""
+    value = ((c[..., 0] * dx + c[..., 1]) * dx + c[..., 2]) * dx + c[..., 3]
+    return value, (3.0 * c[..., 0] * dx + 2.0 * c[..., 1]) * dx + c[..., 2]

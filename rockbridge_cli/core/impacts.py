@@ -8,16 +8,16 @@
 * Pounding on the backwall (Eq. 20) is `geometry.pounding_ratio`.
 * Failure (docs/model.md §7): the abutment–backfill fails at |u_deck| = u_jo + u_ab, a pier
   overturns at |u_pier| = B; `failure_rotations` finds the tall pier's rotation at which each is
-  reached.
+  reached (by bisection, `_first_reached`: no scipy on a worker's start).
 """
 
 from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Callable
 
 import numpy as np
-from scipy.optimize import brentq
 
 from .device_mechanics import prestress_moment
 from .dynamics import coefficients
@@ -167,6 +167,20 @@ def _rotation_at(model: Model, s: float, field: str, limit: float) -> float:
         if not math.isfinite(value):
             break
         if value >= 0.0:
-            return s * brentq(excess, previous, t, xtol=1e-15, rtol=1e-14)
+            return s * _first_reached(excess, previous, t)
         previous = t
     return s * math.inf
+
+
+def _first_reached(excess: Callable[[float], float], below: float, above: float) -> float:
+    """The smallest float t in (below, above] with excess(t) ≥ 0, by bisection to the last bit,
+    given excess(below) < 0 ≤ excess(above) [rad]: the limit's rotation to within one unit in the
+    last place (scipy's brentq, used before, stopped within 1e-15 + 1e-14·t)."""
+    while True:
+        middle = 0.5 * (below + above)
+        if not below < middle < above:  # adjacent floats: nothing left to split
+            return above
+        if excess(middle) >= 0.0:
+            above = middle
+        else:
+            below = middle
