@@ -4,8 +4,8 @@ with units, the failures with their messages, the record set's EN 1998-1 complia
 study with an intensity section, the IDA and fragility curves and, given a site's hazard curve,
 the annual frequency of each limit state there; for a sampled study, which field matters; for
 a study with an orientation, each row's angle and the summary over angles. Its inputs' sections
-are `inputs`', its tables' markup `markup`'s, a sampled study's section `sampled`'s, an
-orientation's `orientation`'s.
+are `inputs`', its tables' markup `markup`'s, the IDA, fragility and risk sections
+`intensity`'s, a sampled study's section `sampled`'s, an orientation's `orientation`'s.
 
 Figures are PNG images embedded as data URIs and the style sheet is inline, so the one file can be
 mailed, archived or opened offline; the layout reflows to a phone's width and prints on A4.
@@ -41,6 +41,7 @@ from ..results.reading import (
 )
 from ..results.sections import IntensitySection
 from .inputs import record_sets, records_table
+from .intensity import capacity_table, intensity_section, is_ida, measure_name, section
 from .markup import MAX_ROWS, cell, escaped, number, table_html
 from .orientation import orientation_section
 from .sampled import sampled_section
@@ -132,7 +133,7 @@ def write_report(
     if hazard is not None and intensity is None:
         reason = "the study has no intensity section: no fragility to integrate with the hazard"
         raise InputError(results, [("", reason)])
-    chosen = record or (_default_record(records) if kept and not _is_ida(intensity) else None)
+    chosen = record or (_default_record(records) if kept and not is_ida(intensity) else None)
     title = _description(attributes) or Path(str(attributes.get("study_file", results))).stem
     parts = [
         f"<h1>{escaped(title)}</h1>",
@@ -151,10 +152,10 @@ def write_report(
             parts.append(sampled_section(results, design, intensity, figure))
         drawn = design is None or design.get("design") == "tornado"  # else one per sample
         if intensity is not None and drawn:
-            parts.append(_intensity_section(results, intensity, figure, hazard, years))
+            parts.append(intensity_section(results, intensity, figure, hazard, years))
     parts += [
-        _capacity_table(results, intensity, len(columns["bridge"]))
-        if intensity is not None and _is_ida(intensity)
+        capacity_table(results, intensity, len(columns["bridge"]))
+        if intensity is not None and is_ida(intensity)
         else _peak_table(columns, units),
         _failures(columns),
         record_sets(attributes, sources),
@@ -218,14 +219,9 @@ def _levels(intensity: IntensitySection | None, columns: dict[str, np.ndarray]) 
     if intensity is None:
         return ""
     if intensity.ida is not None:
-        return f" in an IDA of {_name(intensity.measure)}"
+        return f" in an IDA of {measure_name(intensity.measure)}"
     levels = len(set(columns["intensity"].tolist()))
-    return f" at {levels} levels of {_name(intensity.measure)}"
-
-
-def _name(measure: str) -> str:
-    """A measure as a reader names it (PGA, Sa(T)), not by its internal name (pga_g)."""
-    return MEASURES[measure].label.split(" [")[0]
+    return f" at {levels} levels of {measure_name(intensity.measure)}"
 
 
 def _figures(
@@ -244,20 +240,20 @@ def _figures(
     elif intensity is None or intensity.ida is None and level in (intensity.levels or ()):
         from ..plots.peaks import plot_peaks
 
-        at = (f" at {_name(intensity.measure)} = {level:g} "
+        at = (f" at {measure_name(intensity.measure)} = {level:g} "
               f"{MEASURES[intensity.measure].unit}") if intensity is not None else ""  # fmt: skip
         try:
             image = figure(plot_peaks, results, level=level if intensity is not None else None)
         except InputError as exc:  # too many bridges for one figure: said in its place
             image = f'<p class="note">{escaped(exc.problems[0][1])}</p>'
-        parts.append(_section(f"Peaks per record{at} (as the paper's Fig. 9)", image,
+        parts.append(section(f"Peaks per record{at} (as the paper's Fig. 9)", image,
                               "One marker per bridge and record; right: the means over the "
                               "records. (A) with the end-joint gap (dotted) and the "
                               "abutment–backfill failure (dashed)."))  # fmt: skip
     if chosen is not None:
         from ..plots.history import plot_history
 
-        parts.append(_section(f"Response histories under {chosen} (as the paper's Fig. 10)",
+        parts.append(section(f"Response histories under {chosen} (as the paper's Fig. 10)",
                               figure(plot_history, results, chosen, bridges=under),
                               "Ground motion with each bridge's onset of rocking, then the "
                               "responses; × marks a pounding on the backwall."
@@ -288,7 +284,7 @@ def _sweep_section(
         states = ("abutment_failure",) if intensity.ida is None else intensity.ida.limit_states
         quantity = "abutment_failure" if "abutment_failure" in states else states[0]
         what = f"the median capacity of {quantity.replace('_', ' ')} (90 % interval)"
-    return _section(f"Against {field}", figure(plot_sweep, results, field=field,
+    return section(f"Against {field}", figure(plot_sweep, results, field=field,
                                                quantity=quantity),
                     f"Each bridge file's variants: {what} against the swept {field}; one line "
                     "per bridge file and value of the other swept fields.")  # fmt: skip
@@ -305,10 +301,6 @@ def _description(attributes: dict[str, Any]) -> str:
     return str(study.get("description") or "") if isinstance(study, dict) else ""
 
 
-def _is_ida(intensity: IntensitySection | None) -> bool:
-    return intensity is not None and intensity.ida is not None
-
-
 def _figure_maker(folder: Path) -> Callable[..., str]:
     """A function that draws a figure with a plot function into ``folder`` and returns it as an
     embedded ``<img>``."""
@@ -320,13 +312,6 @@ def _figure_maker(folder: Path) -> Callable[..., str]:
         return f'<img alt="figure" src="data:image/png;base64,{encoded}">'
 
     return figure
-
-
-def _section(heading: str, image: str, caption: str) -> str:
-    return (
-        f"<h2>{escaped(heading)}</h2>\n<figure>{image}"
-        f"<figcaption>{escaped(caption)}</figcaption></figure>"
-    )
 
 
 KNOB_UNITS = {"rest_velocity": "rad/s", "output_step": "s", "tail": "s", "step": "s",
@@ -405,158 +390,6 @@ def _summary(
     return (
         f"{heading}{per}</p>\n{table_html(headers, rows, text_columns=(0, len(headers) - 1))}{more}"
     )
-
-
-def _intensity_section(
-    results: Path, intensity: IntensitySection, figure: Callable[..., str],
-    hazard: HazardCurve | None,
-    years: float,
-) -> str:  # fmt: skip
-    from ..assessment.fragility import fragilities
-    from ..plots.fragility import plot_fragility
-    from ..plots.ida import plot_ida
-
-    found = fragilities(results)
-    design = intensity.design
-    rows = [[item.bridge, item.limit_state, number(item.median), number(item.beta),
-             _interval(item.median_90), _interval(item.beta_90)]
-            + ([number(None if item.median is None else item.median / design)] if design else [])
-            for item in found]  # fmt: skip
-    measure = intensity.measure
-    unit = MEASURES[measure].unit
-    margin = (f"The design level is {design:g} {unit} ({measure}); the last column is each "
-              "median's margin over it.") if design else ""  # fmt: skip
-    parts = [
-        _section(f"IDA curves ({MEASURES[measure].label})", figure(plot_ida, results),
-                 "Each record's peak against its intensity level; a cross ends a curve where "
-                 "the bridge failed.") if _is_ida(intensity) else "",
-        _section(f"Fragility ({MEASURES[measure].label})",
-                 figure(plot_fragility, results, found=found),
-                 "Share of the records reaching each limit state, and the fitted lognormal; "
-                 "grey, the 90 % band of the curves the bootstrap over the records fits."),
-        f"<p>{margin}</p>" if margin else "",
-        f'<p class="note">{escaped(INTERVALS)}</p>',
-        table_html(["bridge", "limit state", f"median [{unit}]", "β", f"median, 5–95 % [{unit}]",
-                    "β, 5–95 %"]
-               + (["median / design"] if design else []), rows, text_columns=(0, 1)),
-        _unreachable(found),
-        _efficiency_section(results) if _is_ida(intensity) else "",
-        "" if hazard is None else _risk_section(found, intensity, hazard, years),
-    ]  # fmt: skip
-    return "\n".join(part for part in parts if part)
-
-
-INTERVALS = (
-    "The 5–95 % intervals of the median and of β, the band and the risk's intervals come from "
-    "one bootstrap: the records resampled with replacement 100 times and refitted. With few "
-    "records they are too narrow (a 90 % interval of β holds the true β in about 65 % of "
-    "10-record studies, 83 % of 44-record ones); rockbridge fragility RESULTS --records-needed "
-    "shows how they narrow with the number of records."
-)
-"""What the report says of the fragility's intervals (`assessment.fragility_intervals`)."""
-
-
-def _interval(pair: tuple[float, float] | None) -> str:
-    return "-" if pair is None else f"{pair[0]:.3g}–{pair[1]:.3g}"
-
-
-def _unreachable(found: list) -> str:
-    """The limit states a failure kept some IDA curves from reaching, one line each."""
-    from ..assessment.fragility import unreachable_note
-
-    notes = [f"{item.bridge}: {unreachable_note(item)}" for item in found if item.unreachable]
-    if not notes:
-        return ""
-    items = "".join(f"<li>{escaped(note)}</li>" for note in notes)
-    return (
-        '<p class="note">A failure ends an analysis, so on a curve that ended in one, the states '
-        f"not reached by then cannot be observed:</p><ul>{items}</ul>"
-    )
-
-
-def _efficiency_section(results: Path) -> str:
-    """β of the IDA's capacities in each intensity measure (`assessment.efficiency`)."""
-    from ..assessment.efficiency import SQUARED, best_measures, comparable_beta, compare
-
-    rows = compare(results)
-    measures = list(dict.fromkeys(row.measure for row in rows))
-    beta = {(row.bridge, row.limit_state, row.measure): row.beta for row in rows}
-    cases = list(dict.fromkeys((row.bridge, row.limit_state) for row in rows))
-
-    def shown(case: tuple[str, str], measure: str) -> str:
-        value = beta[case + (measure,)]
-        return number(None if value is None else comparable_beta(measure, value))
-
-    table = [[*case, *(shown(case, m) for m in measures)] for case in cases]
-    table = [row for row in table if any(cell != "-" for cell in row[2:])]
-    text = (
-        "β of the capacities converted to each measure (Sa at 1 s, AvgSa over 0.2–3 s): the "
-        "smaller β, the fewer records fix the median (its standard error is β/√n). Arias "
-        "intensity grows as the square of a record's factor: its column gives half its β. "
-        "rockbridge fragility RESULTS --compare-measures adds the trends with magnitude and "
-        "distance."
-    )
-    best = best_measures(rows)
-    if best:
-        first, *others = best.items()
-        text += (f" The smallest β: {_name(first[0])}, in {first[1]} of {sum(best.values())} "
-                 "bridge × limit-state cases" + "".join(f"; {_name(m)} in {n}" for m, n in others)
-                 + ".")  # fmt: skip
-    headers = [_name(m) + (" (½β)" if m in SQUARED else "") for m in measures]
-    return f"<h2>Which intensity measure</h2>\n<p>{escaped(text)}</p>\n" + table_html(
-        ["bridge", "limit state", *headers], table, text_columns=(0, 1)
-    )
-
-
-def _risk_section(
-    found: list, intensity: IntensitySection, hazard: HazardCurve, years: float
-) -> str:
-    """Each limit state's annual frequency at the site of the hazard curve, its return period and
-    its probability in ``years``."""
-    from ..assessment.risk import risk_table, risks_of
-
-    rates = risks_of(found, intensity, hazard, years)
-    headers, rows = risk_table(rates, years)
-    notes = "".join(f"<li>{escaped(f'{r.bridge}: {r.note}')}</li>" for r in rates if r.note)
-    return (
-        f"<h2>Risk at the site of {escaped(Path(hazard.source).name)}</h2>\n<p>Hazard curve: "
-        f"{escaped(hazard.describe())}; beyond its range it goes on as the power laws of its end "
-        "segments. λ is the mean annual frequency of each limit state, ∫ P(LS | im) |dλ<sub>IM"
-        "</sub>(im)| (Cornell et al. 2002), the return period 1/λ and P the probability of at "
-        f"least one occurrence in {years:g} years, 1 − exp(−λ·{years:g}); the 5–95 % intervals "
-        "are those of the bootstrap over the records. &lt; marks an upper bound: no record "
-        "reaches the state up to the highest level run, or up to where a failure ended its "
-        "curve.</p>\n"
-        + table_html(headers, rows, text_columns=(0, 1))
-        + (f'<ul class="note">{notes}</ul>' if notes else "")
-    )
-
-
-def _capacity_table(results: Path, intensity: IntensitySection, analyses: int) -> str:
-    """An IDA's table: each bridge × record's capacity for each limit state, in place of its
-    peak table (a row per level run of each record, pages of them)."""
-    from ..assessment.fragility import fragilities
-
-    found = fragilities(results)
-    states = list(dict.fromkeys(item.limit_state for item in found))
-    capacities = {(item.bridge, item.limit_state): item.capacities for item in found}
-    unit = MEASURES[intensity.measure].unit
-    rows = [
-        [bridge, record, *(number(capacities[bridge, state].get(record)) for state in states)]
-        for bridge in dict.fromkeys(item.bridge for item in found)
-        for record in capacities[bridge, states[0]]
-    ]
-    more = f'<p class="note">{len(rows) - MAX_ROWS} more rows.</p>' if (
-        len(rows) > MAX_ROWS) else ""  # fmt: skip
-    return (
-        f'<h2>Capacities</h2>\n<p class="note">Each record\'s capacity, the lowest '
-        f"{escaped(_name(intensity.measure))} at which it reaches each limit state ('-': no "
-        f"level run reaches it). The results file holds the peaks of all {analyses} analyses, "
-        "a row per level run (rockbridge peaks RESULTS).</p>\n"
-        + table_html(["bridge", "record", *(f"{state} [{unit}]" for state in states)],
-                     rows[:MAX_ROWS], text_columns=(0, 1))
-        + more
-    )  # fmt: skip
 
 
 def _peak_table(columns: dict[str, np.ndarray], units: dict[str, str]) -> str:
