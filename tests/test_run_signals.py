@@ -499,3 +499,34 @@ def test_a_stopped_run_takes_the_description_the_workers_computed(monkeypatch):
     assert stopped([computed]) == worker
     assert stopped([running]) is None  # not waited for, not computed here
     assert stopped([]) is None  # no worker (a one-worker run): computed where the file is written
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not Path("/proc/self/environ").exists(), reason="reads /proc")
+def test_ctrl_c_while_analyze_compiles_does_not_wait_for_the_compile(tmp_path):
+    """Issue 39: ``rockbridge analyze`` compiled its kernels in its own process with the signal
+    held, so Ctrl-C during a first compile (a cold cache) waited for all of it (minutes on a busy
+    host). It now compiles in a child process that the stop kills, as ``run`` does: it ends with
+    status 130 and the one line "interrupted", and numba's cache is still cold after it, where
+    waiting would have filled it. ``timeout`` is a watchdog, not a measure."""
+    cache = tmp_path / "numba-cache"  # cold: analyze must compile
+    environment = {**os.environ, "NUMBA_CACHE_DIR": str(cache)}
+    write_study(tmp_path)
+    command = [sys.executable, "-c", "from rockbridge_cli.cli import entry; entry()", "analyze",
+               str(BRIDGES / "studied-hbar1.00.yaml"), "R1.txt"]  # fmt: skip
+    said = tmp_path / "stderr.txt"
+    with open(tmp_path / "stdout.txt", "w") as out, open(said, "w") as err:
+        child = subprocess.Popen(command, cwd=tmp_path, stdout=out, stderr=err, env=environment)
+    try:
+        wait_for(lambda: "compiling the analysis kernels" in said.read_text(), timeout=120)
+        child.send_signal(signal.SIGINT)
+        child.wait(timeout=60)
+    finally:
+        child.kill()
+        child.wait()
+    lines = said.read_text().strip().splitlines()
+    assert child.returncode == 130, lines
+    assert lines[-1] == "interrupted" and lines[-2].startswith("compiling the analysis kernels")
+    own = [int(p.name) for p in Path("/proc").iterdir() if p.name.isdigit()]
+    wait_for(lambda: not any(with_cache(pid, cache) for pid in own), timeout=10)
+    assert not kernels_cached(environment)  # the compile was stopped, not waited for
