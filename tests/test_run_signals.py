@@ -530,3 +530,44 @@ def test_ctrl_c_while_analyze_compiles_does_not_wait_for_the_compile(tmp_path):
     own = [int(p.name) for p in Path("/proc").iterdir() if p.name.isdigit()]
     wait_for(lambda: not any(with_cache(pid, cache) for pid in own), timeout=10)
     assert not kernels_cached(environment)  # the compile was stopped, not waited for
+
+
+def waits_for_a_lock(pid: int) -> bool:
+    """Whether process ``pid`` is blocked waiting for a ``flock`` (a ``->`` line of
+    /proc/locks)."""
+    return any(
+        "->" in line and line.split()[5] == str(pid)
+        for line in Path("/proc/locks").read_text().splitlines()
+    )
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not Path("/proc/locks").exists(), reason="reads /proc/locks")
+def test_a_stop_while_another_process_compiles_does_not_wait_for_it(tmp_path, study):
+    """Issue 39: a one-worker run that started while another process of the installation
+    compiled the kernels (two runs started together on a cold cache) waited for that compile
+    with the signal held: Ctrl-C waited for the other process. The wait for its lock now comes
+    before the signal is held. Here this test holds the compiling process's (exclusive) lock for
+    the whole test: the run ends on Ctrl-C with its one line while the lock is still held, where
+    before it could not end at all (``timeout`` is the watchdog)."""
+    from rockbridge_cli.study import kernels
+
+    path, _ = study
+    command = [sys.executable, "-c", "from rockbridge_cli.cli import entry; entry()", "run",
+               str(path), "--workers", "1"]  # fmt: skip
+    said = tmp_path / "stderr.txt"
+    with kernels._kernel_lock(exclusive=True):  # "another process compiles"
+        with open(tmp_path / "stdout.txt", "w") as out, open(said, "w") as err:
+            child = subprocess.Popen(command, cwd=tmp_path, stdout=out, stderr=err)
+        try:
+            wait_for(lambda: waits_for_a_lock(child.pid) or child.poll() is not None, timeout=120)
+            child.send_signal(signal.SIGINT)
+            child.wait(timeout=60)
+        finally:
+            child.kill()
+            child.wait()
+    lines = said.read_text().strip().splitlines()
+    assert child.returncode == 130, lines
+    assert lines[-1] == ("interrupted: no analysis had finished, nothing to keep; run the same "
+                         "command again to start")  # fmt: skip
+    assert "Traceback" not in said.read_text()
