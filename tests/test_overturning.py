@@ -218,6 +218,7 @@ def test_a_spectrum_plans_its_map_as_the_rule_names_it(tmp_path):
     assert not {grid.ids(cell) for cell in left} & set(at_rest)
     assert set(first[7:]) <= set(left)
 
+
 def test_a_spectrum_shards_and_merges_to_the_same_file(tmp_path):
     """Two shards merged hold the spectrum one run stores."""
     whole = run_study(load_study(spectrum_study(tmp_path, output="whole.h5")), workers=2).output

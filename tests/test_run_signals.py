@@ -485,8 +485,10 @@ def test_a_stopped_run_takes_the_description_the_workers_computed(monkeypatch):
         raise AssertionError("computed in the parent")
 
     def stopped(futures):
-        offered = SimpleNamespace(call=lambda function, *args: collector(never, args, futures),
-                                  run=lambda cells: (_ for _ in ()).throw(KeyboardInterrupt))
+        offered = SimpleNamespace(
+            call=lambda function, *args: collector(never, args, futures),
+            run=lambda cells: (_ for _ in ()).throw(KeyboardInterrupt),
+        )
         plan = SimpleNamespace(round=lambda verdicts: ["a cell"])
         grid = SimpleNamespace(bridges=[SimpleNamespace(bridge=None)])
         rounds = _Rounds()

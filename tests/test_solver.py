@@ -397,6 +397,7 @@ def test_a_rest_velocity_of_zero_is_refused_by_the_core_as_by_a_study():
     assert fidelity.resolve("fast", rest_velocity=1e-12).knobs["rest_velocity"] == 1e-12
     FidelityConfig.model_validate({"rest_velocity": 1e-12})
 
+
 def test_a_long_event_log_grows_without_losing_events():
     """A 0.4 × 4 m block under 200 s of a 3 Hz, 0.3 g sine rocks through about 1200 impacts,
     more than the log holds at the start (1024 rows): the log grows and keeps every event in
