@@ -431,3 +431,145 @@ def test_a_stop_while_the_first_run_compiles_does_not_wait_for_the_compile(
     own = [int(p.name) for p in Path("/proc").iterdir() if p.name.isdigit()]
     wait_for(lambda: not any(with_cache(pid, cache) for pid in own), timeout=10)
     assert not kernels_cached(environment)  # the compile was stopped, not waited for
+
+
+@pytest.mark.slow
+def test_a_stopped_spectrum_keeps_every_finished_point(tmp_path):
+    """Issue 39: Ctrl-C on a spectrum of 1e6 points took ~25 s to exit, most of it re-deriving
+    the map point by point (an id formatted per point, in the plan and in the stored spectrum)
+    and recomputing in the parent the description's numerics a worker had computed. A stop
+    after the first progress line ends with status 130 and the one line saying where the map
+    is, and the file holds at least the analyses that line counted (every one finished).
+    ``timeout`` is a watchdog, not a measure."""
+    bridge = tmp_path / "block.yaml"
+    bridge.write_text("name: block\npiers: {width: 0.8, heights: [2.0]}\n", encoding="utf-8")
+    output = tmp_path / "block.h5"
+    arguments = ["spectrum", "overturning", str(bridge), "--frequencies", "1:5:4",
+                 "--amplitudes", "1:4:10", "--fidelity", "fast", "--workers", "2",
+                 "-o", str(output)]  # fmt: skip
+    child, _ = start_run(tmp_path, None, 2, SLOW_RUN, arguments)
+    said = tmp_path / "stderr.txt"
+    try:
+        wait_for(lambda: " analyses (" in said.read_text() or child.poll() is not None)
+        child.send_signal(signal.SIGINT)
+        child.wait(timeout=60)
+    finally:
+        child.kill()
+        child.wait()
+    lines = said.read_text().splitlines()
+    assert child.returncode == 130, lines
+    assert "Traceback" not in said.read_text()
+    assert lines[-1] == (f"interrupted: the analyses finished so far are in {output}; run the "
+                         "same command again to resume")  # fmt: skip
+    counted = [line for line in lines if " analyses (" in line][0]  # "k/40 analyses (…"
+    finished, total = map(int, counted.split()[0].split("/"))
+    assert total == 40  # the map: 4 frequencies × 10 amplitudes
+    assert finished <= len(read_peaks(output)) < total
+
+
+def test_a_stopped_run_takes_the_description_the_workers_computed(monkeypatch):
+    """Issue 39: a stopped run recomputed its description's numerics in the parent (4.9 s of a
+    1e6-point spectrum's stop) although a worker had computed them. A stop now takes a worker's
+    where it has them, and neither waits for nor computes one it does not have (the file's
+    writing computes it then, as before)."""
+    from concurrent.futures import Future
+    from types import SimpleNamespace
+
+    from rockbridge_cli.study.describe import Numerics
+    from rockbridge_cli.study.executors.interface import collector
+    from rockbridge_cli.study.run import _Rounds
+
+    worker = Numerics([{"from": "the worker"}], {}, {})
+
+    def never(*args):
+        raise AssertionError("computed in the parent")
+
+    def stopped(futures):
+        offered = SimpleNamespace(
+            call=lambda function, *args: collector(never, args, futures),
+            run=lambda cells: (_ for _ in ()).throw(KeyboardInterrupt),
+        )
+        plan = SimpleNamespace(round=lambda verdicts: ["a cell"])
+        grid = SimpleNamespace(bridges=[SimpleNamespace(bridge=None)])
+        rounds = _Rounds()
+        with pytest.raises(KeyboardInterrupt):
+            rounds.run(offered, plan, grid, {}, None, None)
+        return rounds.numerics
+
+    computed, running = Future(), Future()
+    computed.set_result(worker)
+    assert stopped([computed]) == worker
+    assert stopped([running]) is None  # not waited for, not computed here
+    assert stopped([]) is None  # no worker (a one-worker run): computed where the file is written
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not Path("/proc/self/environ").exists(), reason="reads /proc")
+def test_ctrl_c_while_analyze_compiles_does_not_wait_for_the_compile(tmp_path):
+    """Issue 39: ``rockbridge analyze`` compiled its kernels in its own process with the signal
+    held, so Ctrl-C during a first compile (a cold cache) waited for all of it (minutes on a busy
+    host). It now compiles in a child process that the stop kills, as ``run`` does: it ends with
+    status 130 and the one line "interrupted", and numba's cache is still cold after it, where
+    waiting would have filled it. ``timeout`` is a watchdog, not a measure."""
+    cache = tmp_path / "numba-cache"  # cold: analyze must compile
+    environment = {**os.environ, "NUMBA_CACHE_DIR": str(cache)}
+    write_study(tmp_path)
+    command = [sys.executable, "-c", "from rockbridge_cli.cli import entry; entry()", "analyze",
+               str(BRIDGES / "studied-hbar1.00.yaml"), "R1.txt"]  # fmt: skip
+    said = tmp_path / "stderr.txt"
+    with open(tmp_path / "stdout.txt", "w") as out, open(said, "w") as err:
+        child = subprocess.Popen(command, cwd=tmp_path, stdout=out, stderr=err, env=environment)
+    try:
+        wait_for(lambda: "compiling the analysis kernels" in said.read_text(), timeout=120)
+        child.send_signal(signal.SIGINT)
+        child.wait(timeout=60)
+    finally:
+        child.kill()
+        child.wait()
+    lines = said.read_text().strip().splitlines()
+    assert child.returncode == 130, lines
+    assert lines[-1] == "interrupted" and lines[-2].startswith("compiling the analysis kernels")
+    own = [int(p.name) for p in Path("/proc").iterdir() if p.name.isdigit()]
+    wait_for(lambda: not any(with_cache(pid, cache) for pid in own), timeout=10)
+    assert not kernels_cached(environment)  # the compile was stopped, not waited for
+
+
+def waits_for_a_lock(pid: int) -> bool:
+    """Whether process ``pid`` is blocked waiting for a ``flock`` (a ``->`` line of
+    /proc/locks)."""
+    return any(
+        "->" in line and line.split()[5] == str(pid)
+        for line in Path("/proc/locks").read_text().splitlines()
+    )
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not Path("/proc/locks").exists(), reason="reads /proc/locks")
+def test_a_stop_while_another_process_compiles_does_not_wait_for_it(tmp_path, study):
+    """Issue 39: a one-worker run that started while another process of the installation
+    compiled the kernels (two runs started together on a cold cache) waited for that compile
+    with the signal held: Ctrl-C waited for the other process. The wait for its lock now comes
+    before the signal is held. Here this test holds the compiling process's (exclusive) lock for
+    the whole test: the run ends on Ctrl-C with its one line while the lock is still held, where
+    before it could not end at all (``timeout`` is the watchdog)."""
+    from rockbridge_cli.study import kernels
+
+    path, _ = study
+    command = [sys.executable, "-c", "from rockbridge_cli.cli import entry; entry()", "run",
+               str(path), "--workers", "1"]  # fmt: skip
+    said = tmp_path / "stderr.txt"
+    with kernels._kernel_lock(exclusive=True):  # "another process compiles"
+        with open(tmp_path / "stdout.txt", "w") as out, open(said, "w") as err:
+            child = subprocess.Popen(command, cwd=tmp_path, stdout=out, stderr=err)
+        try:
+            wait_for(lambda: waits_for_a_lock(child.pid) or child.poll() is not None, timeout=120)
+            child.send_signal(signal.SIGINT)
+            child.wait(timeout=60)
+        finally:
+            child.kill()
+            child.wait()
+    lines = said.read_text().strip().splitlines()
+    assert child.returncode == 130, lines
+    assert lines[-1] == ("interrupted: no analysis had finished, nothing to keep; run the same "
+                         "command again to start")  # fmt: skip
+    assert "Traceback" not in said.read_text()

@@ -379,6 +379,25 @@ def test_chattering_near_rest_ends_in_rest():
     assert response.histories["mode"][-1] == 0 and response.histories["theta1"][-1] == 0.0
 
 
+def test_a_rest_velocity_of_zero_is_refused_by_the_core_as_by_a_study():
+    """Issue 38: a study refused ``rest_velocity: 0`` while the core took it, and at 0 the chatter
+    guard (docs/model.md §7) never applies: the pulse of the test above, which comes to rest
+    through about a hundred impacts, then ran on to ``max_events`` (200 000 events, a solver
+    error, 20× the time). The core now refuses 0 as a study does, saying why; any positive value
+    is taken."""
+    from rockbridge_cli.config.study_models import FidelityConfig
+
+    with pytest.raises(ValueError, match=r"rest_velocity must be a number above 0 and at most 1, "
+                       r"not 0\.0: 0 would never apply it \(chatter guard"):  # fmt: skip
+        fidelity.resolve("fast", rest_velocity=0.0)
+    with pytest.raises(ValueError, match="rest_velocity must be a number above 0"):
+        analyze(Bridge(studied_bridge(2.0)), np.zeros(3), DT, rest_velocity=0)
+    with pytest.raises(ValueError, match="greater than 0"):  # the study's refusal (pydantic's)
+        FidelityConfig.model_validate({"rest_velocity": 0.0})
+    assert fidelity.resolve("fast", rest_velocity=1e-12).knobs["rest_velocity"] == 1e-12
+    FidelityConfig.model_validate({"rest_velocity": 1e-12})
+
+
 def test_a_long_event_log_grows_without_losing_events():
     """A 0.4 × 4 m block under 200 s of a 3 Hz, 0.3 g sine rocks through about 1200 impacts,
     more than the log holds at the start (1024 rows): the log grows and keeps every event in

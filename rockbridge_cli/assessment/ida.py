@@ -106,7 +106,8 @@ class Rule:
 
     def record(self, base: str, n: int) -> str:
         """The id of record ``base`` scaled to the level at lattice index ``n``
-        (`motions.intensity.scaled_id`)."""
+        (`motions.intensity.scaled_id`): ``base`` followed by ``record("", n)``, what the level
+        adds (formatted once a level where a spectrum's map has a million ids)."""
         return scaled_id(base, self.lattice.level(n), self.measure)
 
     def replay(self, base: str, verdict: Callable[[str], Judged | None]) -> Walk:

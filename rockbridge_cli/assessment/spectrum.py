@@ -107,9 +107,10 @@ def spectrum_of(
     regions = np.full((len(records), len(amplitudes)), NOT_RUN, dtype=np.int8)
     boundaries = {state: np.full(len(records), np.nan) for state in states}
     below = {state: np.full(len(records), np.nan) for state in states}
+    tags = [rule.record("", j * lattice.stride) for j in range(len(amplitudes))]  # once a level
     for i, base in enumerate(records):
-        for j in range(len(amplitudes)):
-            row = rows.get(rule.record(base, j * lattice.stride))
+        for j, tag in enumerate(tags):
+            row = rows.get(base + tag)
             regions[i, j] = NOT_RUN if row is None else _region(columns, row)
         found = rule.replay(base, verdicts.get).capacities
         for state, (low, high) in found.items():

@@ -145,21 +145,26 @@ def _inputs(bridge: Path, record: Path, units, time_step, vertical, fidelity: st
 def _set_up(bridge, motion, fidelity: str) -> float:
     """What an analysis costs once per process, before its solve: loading the compiled kernels
     (those of a vertical ground motion too, where the record has one, and of a bridge's devices,
-    where it has some; compiling them, and saying
-    so, where numba's cache does not hold them) and building the bridge's tables, timed by
-    analyzing two samples of rest [s]."""
+    where it has some; where numba's cache does not hold them, compiling them in a child process
+    that Ctrl-C ends at once, `study.kernels.prepare_stoppable`, and saying so) and building the
+    bridge's tables, timed by analyzing two samples of rest [s]."""
     import time
 
     import numpy as np
 
     from ..core.analysis import analyze as run_analysis
-    from ..study.kernels import compiling_message
+    from ..study.kernels import compiling_message, prepare_stoppable
     from ..warmup import announced
 
     vertical = motion.vertical is not None
     started = time.perf_counter()
     devices = bool(bridge.devices)
-    with held(), announced(lambda: click.echo(compiling_message(vertical, devices), err=True)):
+
+    def announce() -> None:
+        click.echo(compiling_message(vertical, devices), err=True)
+
+    prepare_stoppable(announce, vertical, devices)  # a stop meanwhile: KeyboardInterrupt
+    with held(), announced(announce):  # what the warm-up does not compile, if anything
         run_analysis(bridge, np.zeros(2), motion.time_step, fidelity,
                      vertical=np.zeros(2) if vertical else None)  # fmt: skip
     return time.perf_counter() - started

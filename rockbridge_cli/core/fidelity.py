@@ -70,8 +70,9 @@ class Knob(NamedTuple):
         memory; None for a switch or a choice
     meaning : what it does, as a config's description states it
     choices : the values of a ``str`` knob
-    zero : whether a study may give it 0 (a study refuses ``rest_velocity: 0``, which would let
-        no impact end in rest, where the core's range admits it)
+    zero : whether 0 is a value of it; where not, a study and `resolve` refuse 0 (with ``low``
+        0: ``rest_velocity: 0`` would let no impact end in rest, so that chattering near rest
+        runs on to ``max_events``, a solver error)
     solver : read by the solver (`solver.Settings`), not by the analysis around it
     """
 
@@ -197,6 +198,10 @@ def _check(values: dict[str, Any]) -> None:
             raise ValueError(
                 f"{knob.name} must be a number from {knob.low:g} to {knob.high:g}, not {value!r}"
             )
+        if value == 0 and not knob.zero:  # in range, but no value of it (`Knob.zero`)
+            raise ValueError(f"{knob.name} must be a number above 0 and at most {knob.high:g}, "
+                             f"not {value!r}: 0 would never apply it "
+                             f"({knob.meaning.lower()})")  # fmt: skip
     for knob in KNOBS:
         if knob.choices and values[knob.name] not in knob.choices:
             raise ValueError(f"{knob.name} must be one of {', '.join(knob.choices)}, not "

@@ -134,9 +134,11 @@ def prepare_stoppable(
     announce: Callable[[], None] | None = None, vertical: bool = False, devices: bool = False
 ) -> None:
     """`prepare` in a process that a stopping signal must stop within moments: kernels that
-    numba's cache holds are loaded here (the signal held meanwhile, `interrupts.held`); those it
-    does not are compiled in a child process (`_compile_child`), which a stop kills at once, and
-    then loaded here from the cache it filled (compiled here if it could not fill it).
+    numba's cache holds are loaded here (the signal held meanwhile, `interrupts.held`, but not
+    while this waits for another process of the installation to end its compile: a stop ends the
+    wait); those it does not hold are compiled in a child process (`_compile_child`), which a stop
+    kills at once, and then loaded here from the cache it filled (compiled here if it could not
+    fill it).
 
     Parameters
     ----------
@@ -150,9 +152,10 @@ def prepare_stoppable(
     KeyboardInterrupt
         A stopping signal while the child compiled (the child is killed first).
     """
-    with held():
-        if prepare(compiling=False, vertical=vertical, devices=devices):
-            return
+    with _kernel_lock(exclusive=False):  # waiting for another process's compile: a stop ends it
+        with held():  # (loading only: a shared lock, which this one's does not block)
+            if prepare(compiling=False, vertical=vertical, devices=devices):
+                return
     if announce is not None:
         announce()
     root = str(Path(os.path.abspath(__file__)).parents[2])  # this copy (numba's cache is per path)

@@ -13,6 +13,9 @@ every scan level of every curve (the map), and its bisections then start from th
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
+from itertools import repeat
+
+import numpy as np
 
 from ..assessment.ida import Rule, Walk
 from ..assessment.limit_states import Verdict
@@ -78,6 +81,10 @@ class Plan:
             for r in study.records
         ]  # fmt: skip
         self.mapped = study.spectrum is not None
+        scans = range(0, self.lattice.count, self.lattice.stride) if self.mapped else range(0)
+        self.scans = {n: self.rule.record("", n) for n in scans}
+        """A spectrum's map: each scan level's lattice index, with what its level adds to a
+        record's id (`assessment.ida.Rule.record`)."""
 
     def round(self, verdicts: Mapping[tuple[str, str], Verdict]) -> list[Cell]:
         """The analyses to run next, on every curve at once; empty when the IDA is done."""
@@ -94,20 +101,24 @@ class Plan:
         base = self.grid.records[curve.record_index].id
         return self.rule.replay(base, lambda record: verdicts.get((bridge, record)))
 
-    def cell(self, curve: Cell, n: int) -> Cell:
-        """The analysis of a curve at lattice index ``n``; its index orders the results by
-        bridge, record and level."""
-        level = self.lattice.level(n)
-        return Cell(
-            curve.index * self.lattice.count + n, curve.bridge_index, curve.record_index, level,
-            level / self.natives[curve.record_index],
-        )  # fmt: skip
+    def cells(self, curve: Cell, indices: Iterable[int]) -> list[Cell]:
+        """The analyses of a curve at lattice ``indices``, in their order; a cell's index orders
+        the results by bridge, record and level. Its level is `Lattice.level`'s, the same
+        operations on whole arrays (a spectrum's map has a million)."""
+        n = np.fromiter(indices, dtype=np.int64)
+        lattice = self.lattice
+        levels = lattice.start + lattice.step * n / lattice.stride
+        scales = levels / self.natives[curve.record_index]
+        return list(map(
+            Cell, (curve.index * lattice.count + n).tolist(), repeat(curve.bridge_index, n.size),
+            repeat(curve.record_index, n.size), levels.tolist(), scales.tolist(),
+        ))  # fmt: skip
 
     def _cells(self, verdicts: Mapping[tuple[str, str], Verdict], which: str) -> list[Cell]:
         return [
-            self.cell(curve, n)
+            cell
             for curve in self.curves
-            for n in sorted(self._indices(curve, verdicts, which))
+            for cell in self.cells(curve, sorted(self._indices(curve, verdicts, which)))
         ]
 
     def _indices(
@@ -116,10 +127,9 @@ class Plan:
         """The lattice indices of a curve the rule wants or has visited, with, for a spectrum,
         the scan levels of the map it has not run yet or has run."""
         indices = set(getattr(self.walk(curve, verdicts), which))
-        if self.mapped:
-            wanted = which == "wanted"
-            indices |= {
-                n for n in range(0, self.lattice.count, self.lattice.stride)
-                if (self.grid.ids(self.cell(curve, n)) in verdicts) != wanted
-            }  # fmt: skip
+        if self.scans:  # the map's ids formatted once a level, not once a point (1e6 of them)
+            bridge = self.grid.bridges[curve.bridge_index].id
+            base = self.grid.records[curve.record_index].id
+            ran = {n for n, tag in self.scans.items() if (bridge, base + tag) in verdicts}
+            indices |= self.scans.keys() - ran if which == "wanted" else ran
         return indices

@@ -275,20 +275,37 @@ class _Rounds:
             offered.call(summarize_all, bridges[start : start + SUMMARIES_AT_ONCE])
             for start in range(SUMMARIES_AT_ONCE, len(bridges), SUMMARIES_AT_ONCE)
         ]
-        while pending := plan.round(verdicts):
-            self.total += len(pending)
-            for batch in offered.run(pending):  # journalled
-                for finished in batch:
-                    verdicts[grid.ids(finished.cell)] = finished.verdict
-                    if math.isfinite(finished.solve_time_s):
-                        self.solve_time += finished.solve_time_s
-                    self.done += 1
-                    if progress is not None:
-                        progress(finished, self.done, self.total)
-        computed = first()
-        summaries = computed.summaries + [summary for part in rest for summary in part()]
-        self.numerics = computed._replace(summaries=summaries)
+        try:
+            while pending := plan.round(verdicts):
+                self.total += len(pending)
+                for batch in offered.run(pending):  # journalled
+                    for finished in batch:
+                        verdicts[grid.ids(finished.cell)] = finished.verdict
+                        if math.isfinite(finished.solve_time_s):
+                            self.solve_time += finished.solve_time_s
+                        self.done += 1
+                        if progress is not None:
+                            progress(finished, self.done, self.total)
+        except KeyboardInterrupt:
+            self.numerics = _ready([first, *rest])
+            raise
+        self.numerics = _joined(first(), [part() for part in rest])
         self.ended = True
+
+
+def _ready(collectors: list[Callable[..., Any]]) -> Numerics | None:
+    """The numerics of a stopped run where the workers have computed every part already, else
+    None (`describe` computes them): a stop neither waits for them nor fails on them."""
+    try:
+        parts = [collect(wait=False) for collect in collectors]
+    except Exception:  # a worker's failure: computed again, and met, where the file is written
+        return None
+    return None if None in parts else _joined(parts[0], parts[1:])
+
+
+def _joined(computed: Numerics, rest: list[list[dict[str, object]]]) -> Numerics:
+    """The numerics of the description, the summaries of the ``rest`` of the bridges added."""
+    return computed._replace(summaries=computed.summaries + [s for part in rest for s in part])
 
 
 def _check_arguments(

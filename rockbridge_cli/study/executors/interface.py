@@ -23,10 +23,10 @@ Run = Callable[[Sequence[Cell]], Iterator[list[Finished]]]
 """Runs cells of the grid and yields their outcomes, a batch at a time, as the batches finish and
 are journalled."""
 
-Call = Callable[..., Callable[[], Any]]
+Call = Callable[..., Callable[..., Any]]
 """``call(function, *args)``: computes ``function(*args)`` on a worker and returns what collects
-the result; it is computed in this process instead when no worker runs it (none started, or the
-run was stopped first)."""
+the result (`collector`); it is computed in this process instead when no worker runs it (none
+started, or the run was stopped first)."""
 
 
 Notice = Callable[[str], None]
@@ -41,16 +41,20 @@ class Workers(NamedTuple):
     call: Call
 
 
-def collector(function: Callable, args: tuple, futures: list[Any]) -> Callable[[], Any]:
+def collector(function: Callable, args: tuple, futures: list[Any]) -> Callable[..., Any]:
     """What collects ``function(*args)``: the result of the first of ``futures`` (there is at
-    most one), else computed here (none was submitted, it was cancelled, or its worker died)."""
+    most one), else computed here (none was submitted, it was cancelled, or its worker died).
+    Called with ``wait=False`` (a stopped run, which neither waits nor computes), it gives the
+    result only if a worker has computed it already, else None."""
 
-    def collect() -> Any:
-        if futures:
+    def collect(wait: bool = True) -> Any:
+        if futures and (wait or futures[0].done()):
             try:
                 return futures[0].result()
             except (CancelledError, BrokenProcessPool):
                 pass
+        if not wait:
+            return None
         with held():  # compiled kernels, in this process
             return function(*args)
 
