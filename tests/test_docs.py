@@ -162,6 +162,16 @@ def test_the_config_reference_gives_the_seeds_as_a_file_writes_them():
     assert not any(path.startswith("seeds.set") for path in cell)
 
 
+def test_the_config_reference_says_a_fema_set_may_be_named_alone():
+    # docs/records.md: a study's records are `{fema_p695: far-field}`, a pool's `fema_p695:
+    # [far-field, near-field-pulse, ...]`: the name alone, short for {set: <name>}
+    study = reference_cells("rockbridge_cli.config.study:StudyConfig")["records.fema_p695"]
+    pool = reference_cells("rockbridge_cli.config.selection:SelectionConfig")["pool.fema_p695"]
+    names = "one of far-field, near-field-pulse, near-field-no-pulse"
+    assert study[0] == f"FemaSet or {names}" and pool[0] == f"list of FemaSet or {names}"
+    assert "its name alone" in study[3] and "short for {set: &lt;name>}" in study[3]
+
+
 def test_the_notebook_page_is_the_script_cell_by_cell(tmp_path):
     script = "# ---\n# jupyter: x\n# ---\n\n# %% [markdown]\n# # Title\n#\n# Text.\n\n# %%\nx = 1\n"
     (tmp_path / "cells.py").write_text(script, encoding="utf-8")
