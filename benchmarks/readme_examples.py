@@ -6,8 +6,8 @@ as the code gives it today.
 prints each block under its name. `tests/test_readme_examples.py` computes the same blocks and
 checks that README or a page quotes each one, in every file that does its numbers to the digits
 it gives (a rounding of the last digit allowed), so that they cannot go stale: after a change that
-moves them, run this and paste the blocks where they are quoted (README's quickstart, which
-README itself must quote; README's "From Python" example and docs/quickstart.md;
+moves them, run this and paste the blocks where they are quoted (the quickstart, which README and
+docs/quickstart.md must both quote; README's "From Python" example and docs/quickstart.md;
 docs/fragility.md; docs/studies.md, "Parameter sweeps"; docs/records.md, "Selecting recorded
 motions").
 """

@@ -196,6 +196,19 @@ def test_a_record_beyond_any_ground_motion_is_refused_naming_its_units(tmp_path,
         assert list(read_peaks(tmp_path / "o.h5")["status"]) == ["error"]
 
 
+def test_an_intensity_level_beyond_any_ground_motion_is_refused(tmp_path):
+    """Issue 40: ``levels: [499]`` in g (cm/s² typed as g) ran with a scale-factor warning. Above
+    100 g, the bound of a record file's peak, `run` refuses it before anything runs: one line
+    naming the file and the level, exit 2 (the bounds of each measure: tests/test_intensity.py)."""
+    from studies import write_study
+
+    study = write_study(tmp_path, extra="intensity: {measure: pga_g, levels: [0.5, 499]}\n")
+    result = invoke("run", study)
+    refused(result, "study.yaml: intensity.levels.1: 499 g is beyond any ground motion's PGA "
+            "(100 g at most", "(the 2nd entry of intensity.levels)")  # fmt: skip
+    assert result.output.count("\n") == 1
+
+
 def test_analyze_prints_the_pga_and_warns_of_g_read_as_metres(tmp_path):
     """A 0.51 g record whose file says m/s²: 0.51/9.80665 = 0.052 g, printed, and warned of."""
     (tmp_path / "b.yaml").write_text(BRIDGE)

@@ -17,6 +17,7 @@ from studies import write_study
 
 from rockbridge_cli.assessment.fragility import fit_lognormal
 from rockbridge_cli.cli import main
+from rockbridge_cli.config.intensity import sa_amplification
 from rockbridge_cli.config.study import load_study
 from rockbridge_cli.core.quantities import STANDARD_GRAVITY
 from rockbridge_cli.errors import InputError
@@ -72,6 +73,65 @@ def test_sa_stripes_hit_the_spectral_level(tmp_path):
 def test_bad_intensity_sections(tmp_path, section, message):
     with pytest.raises(InputError, match=message):
         load_study(write_study(tmp_path, extra=f"intensity: {section}\n"))
+
+
+@pytest.mark.parametrize(
+    ("section", "fields", "bound"),
+    [
+        ("{measure: pga_g, levels: [0.5, 499]}", ("intensity.levels.1",), "100 g at most"),
+        ("{measure: pga_g, levels: [0.5], design: 101}", ("intensity.design",), "100 g at most"),
+        ("{measure: pgv, ida: {start: 0.1, step: 0.1, max: 80}}", ("intensity.ida.max",),
+         "75 m/s at most"),
+        ("{measure: pgd, ida: {start: 300, step: 1, max: 400}}",
+         ("intensity.ida.start", "intensity.ida.max"), "250 m at most"),
+        ("{measure: sa_g, period: 1.0, levels: [1300]}", ("intensity.levels.0",), "1274 g at most"),
+        ("{measure: avgsa_g, period_range: [0.2, 2.0], damping: 0.2, levels: [400]}",
+         ("intensity.levels.0",), "322.5 g at most"),
+    ],
+)  # fmt: skip
+def test_a_level_beyond_any_ground_motion_is_refused(tmp_path, section, fields, bound):
+    """Issue 40: ``levels: [499]`` in g ran with a scale-factor warning. The bounds: 100 g of PGA,
+    as for a record file (`records.files.ABSURD_PGA_G`: 25 × the largest recorded, ~4 g); 75 m/s
+    of PGV and 250 m of PGD, 25 × the largest recorded (~3 m/s, ~10 m); Sa and AvgSa, 100 g times
+    coth(πζ / (2√(1 − ζ²))), the most an oscillator amplifies any motion's peak: 12.74 at ζ = 0.05
+    (1274 g), 3.225 at ζ = 0.2 (322.5 g) — numbers from the closed form, checked by quadrature in
+    `test_the_spectral_bound_is_the_oscillators_greatest_amplification`."""
+    with pytest.raises(InputError) as raised:
+        load_study(write_study(tmp_path, extra=f"intensity: {section}\n"))
+    message = str(raised.value)
+    assert all(f"{field}: " in message for field in fields) and bound in message
+    assert message.count("beyond any ground motion") == len(fields)
+
+
+@pytest.mark.parametrize(
+    "section",
+    [
+        "{measure: pga_g, levels: [100], design: 100}",
+        "{measure: pgv, ida: {start: 0.1, step: 0.1, max: 75}}",
+        "{measure: arias, levels: [1.0e6]}",
+        "{measure: cav, levels: [1.0e6]}",
+        "{measure: scale, levels: [1.0e6]}",
+    ],
+)
+def test_a_level_at_the_bound_or_of_a_measure_without_one_is_only_warned_of(tmp_path, section):
+    """At the bound (refused only above it), and for the measures without a natural bound
+    (Arias and CAV grow with a record's length; a scale factor's bound is the record's own),
+    the study loads; a stripe far from the records is warned of (the factor, `SCALE_FACTORS`)."""
+    study = load_study(write_study(tmp_path, extra=f"intensity: {section}\n"))
+    if "levels" in section:
+        assert any("scaled by" in w for w in study.warnings)
+
+
+def test_the_spectral_bound_is_the_oscillators_greatest_amplification():
+    """coth(πζ / (2√(1 − ζ²))) against ω²∫|h(t)| dt computed by quadrature, with ω = 1 and
+    h = e^(−ζt)·sin(ω_d t)/ω_d the oscillator's impulse response: a motion of peak A gives a
+    relative displacement of at most A∫|h| dt, so Sa ≤ A·ω²∫|h| dt."""
+    for damping in (0.02, 0.05, 0.2):
+        omega_d = np.sqrt(1.0 - damping**2)
+        t = np.linspace(0.0, 60.0 / damping, 2_000_001)
+        h = np.exp(-damping * t) * np.abs(np.sin(omega_d * t)) / omega_d
+        integral = float(np.sum((h[1:] + h[:-1]) / 2 * np.diff(t)))
+        assert sa_amplification(damping) == pytest.approx(integral, rel=1e-6)
 
 
 def test_the_fit_recovers_a_known_lognormal():

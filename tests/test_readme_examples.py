@@ -2,7 +2,8 @@
 each block that README or a page of the manual (`docs/`) quotes, and one of them must quote it,
 every number to the digits it gives (one unit of its last digit allowed, for a rounding that other
 library versions may tip; whole numbers, counts, exactly) — in every file that quotes it, README
-and a page alike; README's quickstart, the five commands with their output, in README itself.
+and a page alike; the quickstart, the five commands with their output, in README and in
+docs/quickstart.md (`QUOTED_IN`).
 
 Expected values: the code's own output, on purpose. This test checks the documentation against
 the code, not the code: the code's numbers are checked against independent values elsewhere.
@@ -18,9 +19,10 @@ import pytest
 
 REPO = Path(__file__).resolve().parents[1]
 NUMBER = r"-?\d+(?:\.\d+)?"
-IN_README = {"quickstart"}
-"""Blocks README itself must quote (the front page's "paper's study in five commands with their
-output", issue 44), not only a page of the manual."""
+QUOTED_IN = {"quickstart": ("README.md", "docs/quickstart.md")}
+"""Blocks that named files must quote, not only some file (the front page's "paper's study in five
+commands with their output", issue 44, and the manual's quickstart page, which repeats it): a copy
+that drifts no longer matches the block, so without this it would silently go unchecked."""
 
 
 def examples():
@@ -110,5 +112,5 @@ def test_the_manual_quotes_what_the_code_gives(blocks):
         files = quoted(block, texts)
         for path, wrong in files.items():
             assert wrong == [], (name, path)
-        if name in IN_README:
-            assert "README.md" in files, f"README does not quote {name!r} as the code gives it"
+        for path in QUOTED_IN.get(name, ()):
+            assert path in files, f"{path} does not quote {name!r} as the code gives it"

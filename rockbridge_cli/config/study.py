@@ -32,7 +32,7 @@ from .intensity import Intensity
 from .loading import ConfigFolder
 from .plausibility import bridge_warnings, record_warnings, scale_warning
 from .spectrum import Spectrum
-from .study_checks import check_ids, check_map, check_size, check_states
+from .study_checks import check_ids, check_levels, check_map, check_size, check_states
 from .study_models import InlineBridge, StudyConfig
 from .study_records import StudyRecord, resolve_records, scalable, scaled, study_record
 from .sweep import Sweep, field_value, variant_id, varied
@@ -246,6 +246,8 @@ def _study(
         bridges = _swept(bridges, config.sweep, path)
     if config.uncertainty is not None:
         bridges = _sampled(bridges, config.uncertainty, path)
+    if config.intensity is not None:
+        check_levels(config.intensity, path)
     intensity = None if config.intensity is None else _intensity_section(config.intensity)
     spectrum = None
     if config.spectrum is not None:

@@ -1,5 +1,6 @@
 """A study's checks as a whole, before anything runs: its size against `MAX_ANALYSES`, an
-overturning spectrum's map, the limit states asked of bridges without abutments, and its ids."""
+overturning spectrum's map, the limit states asked of bridges without abutments, intensity levels
+beyond any ground motion, and its ids."""
 
 from __future__ import annotations
 
@@ -11,7 +12,7 @@ from typing import Any
 
 from ..core.quantities import DEVICE_LIMIT_STATES
 from ..errors import InputError
-from .intensity import Intensity
+from .intensity import Intensity, absurd_levels
 from .loading import ID_PATTERN
 from .spectrum import Spectrum
 
@@ -61,6 +62,14 @@ def check_size(
         count += f" × {levels} levels" * bool(levels)
         reason = f"{count} are more than {MAX_ANALYSES:,} analyses: split the study"
         raise InputError(study, [("", reason)])
+
+
+def check_levels(intensity: Intensity, study: Path) -> None:
+    """Refuse intensity levels beyond any ground motion (`intensity.absurd_levels`): a slip of
+    units that would scale every record past what a record file may hold."""
+    problems = absurd_levels(intensity)
+    if problems:
+        raise InputError(study, problems)
 
 
 def check_ids(field: str, ids: list[str]) -> list[tuple[str, str]]:
