@@ -552,15 +552,21 @@ def test_a_stop_while_another_process_compiles_does_not_wait_for_it(tmp_path, st
     before the signal is held. Here this test holds the compiling process's (exclusive) lock for
     the whole test: the run ends on Ctrl-C with its one line while the lock is still held, where
     before it could not end at all (``timeout`` is the watchdog)."""
+    import rockbridge_cli
     from rockbridge_cli.study import kernels
 
     path, _ = study
     command = [sys.executable, "-c", "from rockbridge_cli.cli import entry; entry()", "run",
                str(path), "--workers", "1"]  # fmt: skip
+    # the lock is the installation's (named after the package's folder): the run must import the
+    # copy this test imports, not another one installed (CI's `pip install .` beside a checkout)
+    here = str(Path(rockbridge_cli.__file__).resolve().parents[1])
+    paths = os.pathsep.join(filter(None, (here, os.environ.get("PYTHONPATH"))))
     said = tmp_path / "stderr.txt"
     with kernels._kernel_lock(exclusive=True):  # "another process compiles"
         with open(tmp_path / "stdout.txt", "w") as out, open(said, "w") as err:
-            child = subprocess.Popen(command, cwd=tmp_path, stdout=out, stderr=err)
+            child = subprocess.Popen(command, cwd=tmp_path, stdout=out, stderr=err,
+                                     env={**os.environ, "PYTHONPATH": paths})  # fmt: skip
         try:
             wait_for(lambda: waits_for_a_lock(child.pid) or child.poll() is not None, timeout=120)
             child.send_signal(signal.SIGINT)
