@@ -9,7 +9,7 @@ Every length of time is in seconds, accelerations given in g are named ``*_g``.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, Literal, get_args
 
 from pydantic import (
     BeforeValidator,
@@ -159,9 +159,15 @@ class FemaSet(StrictModel):
         return values
 
 
-FemaSource = Annotated[
-    FemaSet, BeforeValidator(set_name_or_mapping, json_schema_input_type=FemaSet | FemaSetName)
-]
+class _OrItsName:
+    """In the JSON schema, a FEMA set may be given by its bare name too, as `set_name_or_mapping`
+    accepts (pydantic before 2.9 cannot say what a before-validator takes)."""
+
+    def __get_pydantic_json_schema__(self, schema: Any, handler: Any) -> dict[str, Any]:
+        return {"anyOf": [handler(schema), {"enum": list(get_args(FemaSetName)), "type": "string"}]}
+
+
+FemaSource = Annotated[FemaSet, BeforeValidator(set_name_or_mapping), _OrItsName()]
 """A FEMA P695 set as a config names it: ``far-field`` or ``{set: far-field, components: [a]}``."""
 
 
