@@ -129,7 +129,7 @@ CONFIG_MODELS = (
 
 
 def test_every_field_that_holds_numbers_states_its_unit():
-    # the house rule (/work/shared/STYLE.md): a quantity with its unit in brackets, [-] for a pure
+    # the house style: a quantity with its unit in brackets, [-] for a pure
     # number; numbers that are no quantity: a pier's place in piers.heights, FEMA P695 record ids
     labels = (".pier", "fema_p695.records", "fema_p695[].records")
     for target in CONFIG_MODELS:
