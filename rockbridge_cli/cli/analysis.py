@@ -63,34 +63,21 @@ def analyze(
 
     Exits 1 if the integrator stopped before the end of the record (its peaks are then NaN).
     """
+    from ..config.study import single_analysis
+    from ..study.single import analyze_single, grid_of
+
     config, motion = _inputs(bridge, record, units, time_step, vertical, fidelity, tail)
-    built = config.to_bridge()  # once: the set-up, the analysis and the hint share it
+    study = single_analysis(bridge, record, units, time_step, fidelity, output, tail, vertical)
+    grid = grid_of(study)
+    built = grid.bridges[0].bridge  # built once: the set-up, the analysis and the hint share it
     setup = _set_up(built, motion, fidelity)
-    if output is None:
-        from ..core.analysis import analyze as run_analysis  # the compiled core: loaded on use
-
-        with held():  # Ctrl-C stops the command once the compiled integrator has returned
-            response = run_analysis(
-                built, motion.acceleration, motion.time_step, fidelity, tail=tail,
-                vertical=motion.vertical,
-            )  # fmt: skip
-        summary = response.peak_row()
-        times, theta1, mode = (response.time, response.histories["theta1"],
-                               response.histories["mode"])  # fmt: skip
-    else:  # the same analysis, through the study runner, so that the file has run's layout
-        from ..config.study import single_analysis
-        from ..results import read_history
-        from ..study.run import run_study
-
-        study = single_analysis(bridge, record, units, time_step, fidelity, output, tail, vertical)
-        report = run_study(study, workers=1, overwrite=overwrite)
-        summary = {**report.peaks.iloc[0].to_dict(), "fidelity": fidelity}
-        if summary["status"] == "error":
-            raise click.ClickException(f"the analysis could not run: {summary['message']}")
-        summary["output"] = str(report.output)
-        stored = read_history(report.output, str(summary["bridge"]), str(summary["record"]))
-        times, theta1, mode = (stored.index.to_numpy(), stored["theta1"].to_numpy(),
-                               stored["mode"].to_numpy())  # fmt: skip
+    single = analyze_single(study, grid, output, overwrite)
+    summary = {**single.values, "fidelity": fidelity}
+    if summary["status"] == "error":
+        raise click.ClickException(f"the analysis could not run: {summary['message']}")
+    if single.output is not None:
+        summary["output"] = str(single.output)
+    times, theta1, mode = single.time, single.theta1, single.mode
     summary.update(setup_time_s=setup, record_pga=motion.peak_acceleration)
     if as_json:
         data = {**summary, "bridge": config.label(bridge.stem), "record": motion.name}

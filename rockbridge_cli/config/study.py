@@ -182,11 +182,11 @@ def single_analysis(
     units: str | None,
     time_step: float | None,
     preset: str,
-    output: Path,
+    output: Path | None,
     tail: float = 0.0,
     vertical: Path | None = None,
 ) -> Study:
-    """The study of one bridge under one record (``rockbridge analyze -o``), written to ``output``.
+    """The study of one bridge under one record (``rockbridge analyze``; `study.single`).
 
     Parameters
     ----------
@@ -197,8 +197,9 @@ def single_analysis(
     preset
         Fidelity preset.
     output
-        The HDF5 results file. The study has no file of its own: messages and the results file
-        name it by ``output`` (every path in it is absolute).
+        The HDF5 results file, None for none. The study has no file of its own: messages and
+        the results file name it by ``output`` (every path in it is absolute), or by the
+        bridge's file without one.
     tail
         Free vibration after the record [s] (`core.fidelity`).
     vertical
@@ -214,7 +215,8 @@ def single_analysis(
         "records": {"files": [entry], **({"vertical": True} if vertical is not None else {})},
         "fidelity": {"preset": preset, **({"tail": tail} if tail else {})},
     }
-    return study_from_data(data, Path(output), "", None, output, confined=False)
+    named = Path(bridge) if output is None else Path(output)
+    return study_from_data(data, named, "", None, output, confined=False)
 
 
 def study_from_data(

@@ -2,4 +2,5 @@
 work a worker does (`work`) with its compiled kernels (`kernels`), where the work runs
 (`executors`), the crash-safe journal of finished analyses (`journal`), the description of the
 study its results file stores (`describe`), the run that ties them to the results file (`run`),
-and array jobs' shards (`shards`) and their merge (`merge`)."""
+array jobs' shards (`shards`) and their merge (`merge`), and the one analysis of `rockbridge
+analyze` by the same route (`single`)."""
