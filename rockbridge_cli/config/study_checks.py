@@ -33,7 +33,9 @@ def check_states(bridges: Sequence[Any], states: Sequence[str] | None, where: st
             reason = f"{state}: no bridge has a tendon with a {field}"
             raise InputError(study, [(where, reason)])
     needs = [s for s in states or () if s != "overturning" and s not in DEVICE_LIMIT_STATES]
-    without = [b.id for b in bridges if not b.config.to_bridge().model.has_abutments]
+    without = [
+        b.id for b in bridges if b.config.abutments is None or len(b.config.piers.heights) < 2
+    ]
     if needs and without:
         reason = f"{', '.join(needs)} need abutments, which {without[0]} has not" + (
             f" (nor {len(without) - 1} other bridges)" if len(without) > 1 else ""
