@@ -1,7 +1,10 @@
 """Parameter sweeps: a study's bridges with some fields varied over lists or ranges.
 
 A field is named by its dotted path in the bridge config, list positions as numbers:
-``abutments.gap``, ``abutments.stiffness``, ``piers.heights.1`` (the second pier), ``spans.side``.
+``abutments.gap``, ``abutments.stiffness``, ``piers.heights.1`` (the second pier), ``spans.side``,
+``devices.0.prestress`` (the first device's). A ``*`` in place of a list position names the field
+in every item that has it, changed together: ``devices.*.prestress`` is the prestress of every
+tendon (in an id, ``*`` is written ``all``).
 One at a time (the default), each field runs over its values with the others as in the bridge
 file; as a grid, every combination runs. Each variant is a bridge of its own, validated as a
 bridge file would be, with a readable id: ``<bridge>+<field>_<value>`` (one field) or the fields
@@ -13,6 +16,7 @@ from __future__ import annotations
 import itertools
 import math
 import re
+import typing
 from typing import Annotated, Any, Literal
 
 import numpy as np
@@ -115,8 +119,52 @@ def field_value(config: BridgeConfig, path: str) -> float:
     Returns
     -------
     float
-        The value; NaN for a number the bridge leaves unset (its default applies).
+        The value; NaN for a number the bridge leaves unset (its default applies), and for a
+        ``*`` whose items differ in the bridge file (no one value).
     """
+    values = {_number(config, concrete) for concrete in concrete_paths(config, path)}
+    return values.pop() if len(values) == 1 else math.nan
+
+
+def concrete_paths(config: BridgeConfig, path: str) -> list[str]:
+    """The dotted paths ``path`` names in ``config``: itself, or with each ``*`` replaced by the
+    list positions whose item has the rest of the path (``devices.*.prestress`` → every tendon's).
+
+    Raises
+    ------
+    ValueError
+        A ``*`` names no item (no list there, or no item with the field).
+    """
+    if "*" not in path.split("."):
+        return [path]
+    head, _, rest = path.partition(".*")
+    node: Any = config.model_dump()
+    for part in head.split("."):
+        node = _child(node, part, path)
+    if not isinstance(node, list):
+        raise ValueError(f"{path}: {head} is not a list")
+    tail = rest.removeprefix(".")
+    found = [
+        f"{head}.{index}" + (f".{tail}" if tail else "")
+        for index, item in enumerate(node)
+        if _has(item, tail.split(".")[0] if tail else "")
+    ]
+    if not found:
+        raise ValueError(f"{path}: no item of {head} has {tail or 'a value'}")
+    return [p for concrete in found for p in concrete_paths(config, concrete)]
+
+
+def _has(item: Any, key: str) -> bool:
+    """Whether a list's item has ``key`` (a mapping's field, a list's position; '' any item)."""
+    if not key:
+        return True
+    if isinstance(item, dict):
+        return key in item
+    return isinstance(item, list) and (key == "*" or (key.isdigit() and int(key) < len(item)))
+
+
+def _number(config: BridgeConfig, path: str) -> float:
+    """The number at a dotted path without ``*`` (`field_value`)."""
     node: Any = config.model_dump()
     for part in path.split("."):
         node = _child(node, part, path)
@@ -129,16 +177,32 @@ def field_value(config: BridgeConfig, path: str) -> float:
 
 def _optional_number(path: str) -> bool:
     """Whether the bridge field at ``path`` is a number that may be left unset."""
-    model: Any = BridgeConfig
+    info = _field_info(path)
+    return info is not None and str(info.annotation) == "float | None"
+
+
+def _field_info(path: str) -> Any:
+    """The pydantic field a dotted path names, list positions (numbers, ``*``) passed over and
+    a list of several models (``devices``) searched for the first that has the field; None if
+    no model has it."""
+    models: list[Any] = [BridgeConfig]
     info = None
     for part in path.split("."):
-        if model is None or part not in model.model_fields:
-            return False
-        info = model.model_fields[part]
-        inner = [a for a in getattr(info.annotation, "__args__", (info.annotation,))
-                 if isinstance(a, type) and issubclass(a, StrictModel)]  # fmt: skip
-        model = inner[0] if inner else None
-    return info is not None and str(info.annotation) == "float | None"
+        if part.isdigit() or part == "*":
+            continue
+        owners = [m for m in models if part in m.model_fields]
+        if not owners:
+            return None
+        info = owners[0].model_fields[part]
+        models = _models(info.annotation)
+    return info
+
+
+def _models(annotation: Any) -> list[Any]:
+    """The config models inside a field's annotation (through lists, unions, ``Annotated``)."""
+    if isinstance(annotation, type) and issubclass(annotation, StrictModel):
+        return [annotation]
+    return [m for arg in typing.get_args(annotation) for m in _models(arg)]
 
 
 def varied(config: BridgeConfig, changes: dict[str, float]) -> BridgeConfig:
@@ -150,25 +214,29 @@ def varied(config: BridgeConfig, changes: dict[str, float]) -> BridgeConfig:
         A path does not name a number of this bridge, or the changed bridge is invalid.
     """
     data = config.model_dump(exclude_none=False)
-    for path, value in changes.items():
-        field_value(config, path)  # the path names a number
-        *parents, last = path.split(".")
-        node = data
-        for part in parents:
-            node = _child(node, part, path)
-        node[int(last) if isinstance(node, list) else last] = value
+    for named, value in changes.items():
+        for path in concrete_paths(config, named):
+            _number(config, path)  # the path names a number
+            *parents, last = path.split(".")
+            node = data
+            for part in parents:
+                node = _child(node, part, path)
+            node[int(last) if isinstance(node, list) else last] = value
     try:
         return BridgeConfig.model_validate(data)
     except ValidationError as exc:
         error = exc.errors()[0]
-        where = ".".join(str(p) for p in error["loc"])
-        raise ValueError(f"gives an invalid bridge: {where}: "
+        loc = ".".join(str(p) for p in error["loc"])
+        where = f"{loc}: " if loc else ""  # a check of the whole bridge names its field itself
+        raise ValueError(f"gives an invalid bridge: {where}"
                          f"{error['msg'].removeprefix('Value error, ')}") from None  # fmt: skip
 
 
 def variant_id(bridge: str, changes: dict[str, float]) -> str:
-    """``<bridge>+<path>_<value>`` for each change."""
-    return bridge + "".join(f"+{path}_{value:.6g}" for path, value in changes.items())
+    """``<bridge>+<path>_<value>`` for each change (a ``*`` of the path written ``all``)."""
+    return bridge + "".join(
+        f"+{path.replace('*', 'all')}_{value:.6g}" for path, value in changes.items()
+    )
 
 
 def _child(node: Any, part: str, path: str) -> Any:
@@ -181,15 +249,7 @@ def _child(node: Any, part: str, path: str) -> Any:
 
 def field_unit(path: str) -> str:
     """The unit of a bridge field at a dotted path, from its description (``-`` if it has none)."""
-    model: Any = BridgeConfig
-    description = ""
-    for part in path.split("."):
-        if part.isdigit():
-            continue
-        info = model.model_fields[part]
-        description = info.description or ""
-        inner = [a for a in getattr(info.annotation, "__args__", (info.annotation,))
-                 if isinstance(a, type) and issubclass(a, StrictModel)]  # fmt: skip
-        model = inner[0] if inner else None
+    info = _field_info(path)
+    description = (info.description if info is not None else None) or ""
     found = re.search(r"\[([^\]]+)\]\s*$", description)
     return found.group(1) if found else "-"
