@@ -41,6 +41,7 @@ def plot_fragility(
     found = fragilities(results, orientation=STUDY) if found is None else found
     bridges = list(dict.fromkeys(item.bridge for item in found))
     states = list(dict.fromkeys(item.limit_state for item in found))
+    paired = found[0].orientation if found else None
     rows = max(1, -(-len(states) // 2))
     figure = Figure(figsize=(9.0, 3.5 * rows), layout="constrained")
     grid = figure.subplots(rows, 2, sharex=True, sharey=True, squeeze=False)
@@ -69,7 +70,7 @@ def plot_fragility(
         if all(c is None for f in mine for c in f.capacities.values()):
             unreachable = all(len(f.unreachable) == len(f.capacities) for f in mine)
             why = ("unreachable: a failure ends\nevery curve first" if unreachable else
-                   "reached by no record\nat the levels run")  # fmt: skip
+                   f"reached by no {paired and 'pair' or 'record'}\nat the levels run")  # fmt: skip
             axes.text(0.5, 0.5, why, ha="center", va="center", transform=axes.transAxes,
                       color="0.4")  # fmt: skip
         axes.set_xscale("log")
@@ -79,7 +80,6 @@ def plot_fragility(
         panel_label(axes, letter)
     for axes in grid[-1]:
         axes.set_xlabel(MEASURES[found[0].measure].label if found else "")
-    paired = found[0].orientation if found else None
     for axes in grid[:, 0]:
         axes.set_ylabel(f"share of {'pairs' if paired else 'records'} reaching it [-]")
     handles, labels = grid[0, 0].get_legend_handles_labels()
