@@ -169,3 +169,34 @@ def test_an_orientation_for_the_fragility_needs_pairs(tmp_path):
     )
     with pytest.raises(InputError, match="intensity.orientation.*needs records.orientation"):
         load_study(path)
+
+
+def test_peaks_orientation_gives_the_fragility_three_ways(runs):
+    """``peaks --orientation --json`` of an orientation study with stripes carries, per limit
+    state, the fragility each angle a record and on the pairs' median and worst, the one the run
+    stored (worst here) equal to /fragility's; the text prints it as a third table."""
+    path = runs / "worst.h5"
+    runner = CliRunner()
+    data = json.loads(runner.invoke(main, ["peaks", str(path), "--orientation", "--json"]).output)
+    kept = stored(path)
+    assert [(r["bridge"], r["limit_state"]) for r in data["fragility"]] == list(kept)
+    for row in data["fragility"]:
+        median, beta = kept[row["bridge"], row["limit_state"]][:2]
+        assert row["stored"] == "worst"
+        assert np.allclose([row["worst_median"] or np.nan, row["worst_beta"] or np.nan],
+                           [median, beta], rtol=0, atol=0, equal_nan=True)  # fmt: skip
+    text = runner.invoke(main, ["peaks", str(path), "--orientation"]).output
+    assert "Fragility, median θ and β [pga_g]" in text and "the run stores the worst" in text
+
+
+@pytest.mark.slow
+def test_the_report_shows_the_fragility_of_the_pairs(runs):
+    """The report of an orientation study: its Fragility section's caption names the pairs and
+    how each is taken, and its Orientation section tabulates the three fits. (A report with its
+    figures: about 10 s under a load of 8.)"""
+    from rockbridge_cli.report import write_report
+
+    path = runs / "worst.h5"
+    page = write_report(path, path.with_suffix(".html")).read_text(encoding="utf-8")
+    assert "Share of the pairs of horizontal components (each reaching a state where its " in page
+    assert "<th>pairs&#x27; worst: θ</th>" in page and "median θ of pga_g [g]" in page
