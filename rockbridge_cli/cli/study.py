@@ -228,7 +228,8 @@ def _loaded(
 @click.option(
     "--orientation", is_flag=True, help="Instead: per bridge, swept pair and level, each "
     "quantity's median over the angles, its worst and the critical angle (a study whose records "
-    "section sweeps an orientation).",
+    "section sweeps an orientation); with an intensity section, the fragility each angle a "
+    "record, on the pairs' median and on their worst.",
 )  # fmt: skip
 def peaks(results: Path, csv_file: str | None, as_json: bool, orientation: bool) -> None:
     """Print the peak table of RESULTS (an HDF5 file written by 'rockbridge run'); --json also
