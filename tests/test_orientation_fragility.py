@@ -25,8 +25,8 @@ LEVELS = (0.15, 0.3, 0.6, 1.2)
 """The stripes [g]: from about the onset of rocking of the h̄ = 2 bridge (0.10–0.15 g) to
 well past it."""
 
-ANGLES = (0.0, 45.0, 90.0)
-"""The angles of each pair [deg]."""
+ANGLES = (0.0, 30.0, 90.0)
+"""The angles of each pair [deg]: P and Q, each the other mirrored, differ at 30°."""
 
 
 def paired_study(folder, orientation: str = ""):
