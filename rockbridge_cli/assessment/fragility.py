@@ -446,16 +446,17 @@ FAILURE_PHRASES = {"abutment_failure": "the abutment fails", "overturning": "a p
 
 def unreachable_note(item: Fragility) -> str:
     """Why a limit state of an IDA cannot be observed on some records, as one line ("" if it
-    can on all): ``overturning: unreachable — the abutment fails first on 10/10 records``."""
+    can on all): ``overturning: unreachable — the abutment fails first on 10/10 records``
+    (``pairs`` where the records are a swept orientation's pairs)."""
     if not item.unreachable:
         return ""
     causes: dict[str, int] = {}
     for ended_by, _ in item.unreachable.values():
         causes[ended_by] = causes.get(ended_by, 0) + 1
-    total = len(item.capacities)
-    which = "" if len(item.unreachable) == total else " on some records"
+    total, what = len(item.capacities), "pairs" if item.orientation else "records"
+    which = "" if len(item.unreachable) == total else f" on some {what}"
     return f"{item.limit_state}: unreachable{which} — " + ", ".join(
-        f"{FAILURE_PHRASES.get(by, by)} first on {n}/{total} records" for by, n in causes.items()
+        f"{FAILURE_PHRASES.get(by, by)} first on {n}/{total} {what}" for by, n in causes.items()
     )
 
 
