@@ -7,4 +7,5 @@ table's analyses form summaries per bridge and level (`levels`), IDA capacities 
 intensity measure (`measures`) and which measure predicts them best (`efficiency`), a site's
 hazard curve (`hazard`) and the annual frequency of each limit state there (`risk`), and the
 exports to OpenQuake and pelicun (`exports`); an overturning spectrum's map and boundaries
-(`spectrum`); the median and worst demand over the angles a pair was swept (`orientation`)."""
+(`spectrum`); the median and worst demand over the angles a pair was swept (`orientation`) and
+the fragility each angle a record against the pairs' median and worst (`orientation_fragility`)."""

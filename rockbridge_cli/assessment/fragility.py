@@ -18,7 +18,9 @@ can reach has no fit. Both fits are one likelihood, maximised by Newton's method
 For a study whose records section sweeps an orientation, the fit may take each pair of
 horizontal components as one record (``orientation``): it reaches a state where the median of its
 angles' responses does (at least half of the angles) or the worst does (any angle), so an IDA's
-pair capacity is the median or the smallest of its angles' (`assessment.orientation`).
+pair capacity is the median or the smallest of its angles' (`assessment.orientation`). The
+fragility the run stores, the report's and ``plot fragility``'s take the pairs so, by the study's
+``intensity.orientation`` (the median without one, `study_orientation`).
 
 The uncertainty of θ and β is a bootstrap over the records (the same record at every level is
 one draw; a pair's angles are one draw; `fragility_intervals`). A run stores the fits in its
@@ -47,7 +49,15 @@ from . import limit_states, lognormal
 from .fragility_intervals import Resampling, beta_interval
 from .ida import Rule, Walk
 from .limit_states import Verdict
-from .orientation import COMBINES, angles_in, groups_of, pair_capacities, pairs_of, pairs_reached
+from .orientation import (
+    COMBINED,
+    COMBINES,
+    angles_in,
+    groups_of,
+    pair_capacities,
+    pairs_of,
+    pairs_reached,
+)
 from .spectrum import store as store_spectrum
 
 if TYPE_CHECKING:
@@ -55,6 +65,9 @@ if TYPE_CHECKING:
 
 BOOTSTRAP = 100
 """Resamplings of the records for the interval of the median."""
+
+STUDY = "study"
+"""The ``orientation`` of `fragilities` that follows the study's (`study_orientation`)."""
 
 
 @dataclass(frozen=True)
@@ -79,6 +92,8 @@ class Fragility:
         is None, and the fit censors it at that level
     resampling : the records' rows the bootstrap resamples and their fit
         (`fragility_intervals`, which subsamples them for the records needed)
+    orientation : "median" or "worst" where each record is a pair of horizontal components
+        taken over its angles so (the records are the pairs), None where each is one record
     """
 
     bridge: str
@@ -93,6 +108,7 @@ class Fragility:
     draws: tuple[tuple[float, float], ...] = ()
     unreachable: dict[str, tuple[str, float]] = field(default_factory=dict)
     resampling: Resampling | None = field(default=None, repr=False, compare=False)
+    orientation: str | None = None
 
     @property
     def beta_90(self) -> tuple[float, float] | None:
@@ -109,6 +125,7 @@ class Fragility:
             "levels": self.levels, "fractions": self.fractions, "capacities": self.capacities,
             "unreachable": {record: {"ended_by": by, "level": level}
                             for record, (by, level) in self.unreachable.items()},
+            **({"orientation": self.orientation} if self.orientation else {}),
         }  # fmt: skip
 
 
@@ -222,7 +239,9 @@ def fragilities(
     orientation
         "median" or "worst": each pair of horizontal components is one record, reaching a
         state where the median over its angles or the worst angle does (a study whose records
-        section sweeps an orientation); None: each angle is a record.
+        section sweeps an orientation); None: each angle is a record; `STUDY`: as the study
+        states (`study_orientation`; each record one where no record was analysed along an
+        angle).
 
     Raises
     ------
@@ -244,6 +263,8 @@ def fragilities(
             from .measures import Conversion
 
             conversion = Conversion.of(file, path, measure, period, period_range)
+        if orientation == STUDY:
+            orientation = study_orientation(file)
         pairs = None if orientation is None else _pairs(file, path, columns, orientation)
     return fragilities_of(columns, intensity, bootstrap, seed, conversion, pairs, orientation)
 
@@ -257,6 +278,16 @@ def _pairs(file: h5py.File, path: str | Path, columns: dict, orientation: str) -
         why = "no record was analysed along an angle: the study has no orientation section"
         raise InputError(path, [("records", why)])
     return pairs
+
+
+def study_orientation(file: h5py.File) -> str | None:
+    """How a study's own fragility takes each pair of a swept orientation, from its open
+    results file: its intensity section's ``orientation``, "median" where it states none; None
+    where no record was analysed along an angle (each record one)."""
+    if not angles_in(file):
+        return None
+    intensity = read_intensity(file)
+    return (intensity.orientation if intensity is not None else None) or "median"
 
 
 def design_level(path: str | Path) -> tuple[str, float] | None:
@@ -320,6 +351,7 @@ def _stripe_fragility(bridge, mine, intensity, rng, bootstrap, by_pair) -> list[
             levels.tolist(), (counts[0] / np.maximum(counts[1], 1)).tolist(), reached_at, draws,
             resampling=Resampling(table, lambda t: fit_lognormal(levels, *_counts(t)),
                                   levels=levels),
+            orientation=None if by_pair is None else by_pair[1],
         ))  # fmt: skip
     return found
 
@@ -384,6 +416,7 @@ def _ida_fragility(bridge, mine, intensity, rng, bootstrap, conversion, by_pair)
             bridge, state, intensity.measure if conversion is None else conversion.measure,
             median, beta, _interval(draws), levels, fractions, capacities, draws, unreachable,
             Resampling.of_capacities(data, _fit_capacities),
+            None if by_pair is None else by_pair[1],
         ))  # fmt: skip
     return found
 
@@ -413,16 +446,17 @@ FAILURE_PHRASES = {"abutment_failure": "the abutment fails", "overturning": "a p
 
 def unreachable_note(item: Fragility) -> str:
     """Why a limit state of an IDA cannot be observed on some records, as one line ("" if it
-    can on all): ``overturning: unreachable — the abutment fails first on 10/10 records``."""
+    can on all): ``overturning: unreachable — the abutment fails first on 10/10 records``
+    (``pairs`` where the records are a swept orientation's pairs)."""
     if not item.unreachable:
         return ""
     causes: dict[str, int] = {}
     for ended_by, _ in item.unreachable.values():
         causes[ended_by] = causes.get(ended_by, 0) + 1
-    total = len(item.capacities)
-    which = "" if len(item.unreachable) == total else " on some records"
+    total, what = len(item.capacities), "pairs" if item.orientation else "records"
+    which = "" if len(item.unreachable) == total else f" on some {what}"
     return f"{item.limit_state}: unreachable{which} — " + ", ".join(
-        f"{FAILURE_PHRASES.get(by, by)} first on {n}/{total} records" for by, n in causes.items()
+        f"{FAILURE_PHRASES.get(by, by)} first on {n}/{total} {what}" for by, n in causes.items()
     )
 
 
@@ -477,22 +511,30 @@ def _counts(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def store(file: h5py.File) -> None:
     """Write the fragilities of an open results file into it, as the table ``/fragility``: one
     row per bridge × limit state (median, beta, the 90 % interval of the median) and, per row,
-    each record's capacity (``capacities``, rows × records, NaN where not reached). A spectrum
-    study's file gets its spectrum instead (`spectrum.store`)."""
+    each record's capacity (``capacities``, rows × records, NaN where not reached). Of a study
+    that swept an orientation, the records are its pairs, each taken over its angles as the
+    study states (`study_orientation`, the ``orientation`` attribute). A spectrum study's file
+    gets its spectrum instead (`spectrum.store`)."""
     intensity = read_intensity(file)
     if intensity is None:
         return
     if read_spectrum_section(file) is not None:  # its IDA finds a spectrum's boundaries
         store_spectrum(file)
         return
-    found = fragilities_of(peak_columns(file), intensity)
+    peaks = peak_columns(file)
+    orientation = study_orientation(file)
+    pairs = None if orientation is None else pairs_of(peaks, angles_in(file))
+    found = fragilities_of(peaks, intensity, pairs=pairs, orientation=orientation)
     records = list(dict.fromkeys(record for item in found for record in item.capacities))
     group = file.create_group("fragility")
     group.attrs["description"] = (
         "lognormal fragility per bridge and limit state (rockbridge_cli.assessment.fragility), "
         "as the run computed it; rockbridge fragility RESULTS.h5 prints the same"
-    )
+    ) + ("" if orientation is None else f"; the records are the pairs of horizontal components, "
+         f"each reaching a state where {COMBINED[orientation]} does")  # fmt: skip
     group.attrs["measure"] = intensity.measure
+    if orientation is not None:
+        group.attrs["orientation"] = orientation
     group.attrs["records"] = json.dumps(records)
     columns: dict[str, tuple[str, list[Any]]] = {
         "bridge": ("-", [item.bridge for item in found]),

@@ -190,6 +190,9 @@ COMBINES = ("median", "worst")
 state is reached when the quantity's median over the angles reaches it (at least half of the
 angles do: RotD50's counterpart) or its worst does (any angle: RotD100's)."""
 
+COMBINED = {"median": "the median over its angles", "worst": "its worst angle"}
+"""What reaches a state for a pair taken as one record, by `COMBINES`, as a sentence says it."""
+
 
 def pairs_of(columns: dict[str, Any], angles: dict[str, tuple[str, float]]) -> dict[str, str]:
     """The pair of each base record (``base_record``, the record before an intensity section

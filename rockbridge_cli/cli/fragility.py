@@ -48,10 +48,11 @@ from .output import echo_json, export_csv, figure_option, results_argument, tabl
     help="With --records-needed: subsets of n records drawn at each n below the study's count.",
 )  # fmt: skip
 @click.option(
-    "--orientation", type=click.Choice(["median", "worst"]), default=None,
+    "--orientation", type=click.Choice(["median", "worst", "angles"]), default=None,
     help="Of a study whose records section sweeps an orientation: each pair of horizontal "
     "components as one record, reaching a state where the median over its angles does (at "
-    "least half of them) or the worst angle does [default: each angle a record].",
+    "least half of them) or the worst angle does; angles: each angle a record [default: the "
+    "study's intensity.orientation, the median without one, as the run stores it].",
 )  # fmt: skip
 @click.option(
     "--fold-samples", is_flag=True,
@@ -78,8 +79,10 @@ def fragility(
     the records. The run stores the fits in RESULTS (/fragility). An IDA's capacities convert
     exactly to any other intensity measure (--measure): nothing is run again. --records-needed
     shows how the intervals narrow with the number of records; --fold-samples folds a sampled
-    study's parameter uncertainty in; --orientation fits a swept orientation's pairs."""
-    from ..assessment.fragility import design_level, fragilities, unreachable_note
+    study's parameter uncertainty in; a swept orientation's pairs are fitted as the study
+    states (--orientation chooses)."""
+    from ..assessment.fragility import STUDY, design_level, fragilities, unreachable_note
+    from ..assessment.orientation import COMBINED
 
     if orientation is not None and (fold_samples or compare_measures):
         raise click.UsageError("--orientation fits the fragilities, not with --fold-samples or "
@@ -91,8 +94,9 @@ def fragility(
     if compare_measures:
         _compare(results, period or 1.0, period_range or (0.2, 3.0), as_json, csv_file)
         return
+    combine = STUDY if orientation is None else None if orientation == "angles" else orientation
     found = fragilities(
-        results, measure=measure, period=period, period_range=period_range, orientation=orientation
+        results, measure=measure, period=period, period_range=period_range, orientation=combine
     )
     if records_needed:
         _records_needed(found, results, as_json, csv_file, subsets)
@@ -106,8 +110,9 @@ def fragility(
     design = design_level(results)
     if design is not None and found and found[0].measure != design[0]:
         design = None  # a level of the study's measure, not of the one fitted
+    paired = found[0].orientation if found else None
     headers = ["bridge", "limit state", "median", "beta", "median 5–95 %", "beta 5–95 %",
-               "records reaching"]  # fmt: skip
+               "pairs reaching" if paired else "records reaching"]  # fmt: skip
     headers += ["median / design"] if design else []
     rows = []
     for item in found:
@@ -120,6 +125,11 @@ def fragility(
     unit = f" {MEASURES[found[0].measure].unit}" if found else ""
     click.echo(f"measure: {found[0].measure if found else '-'}"
                + (f"; design level {design[1]:g}{unit}" if design else ""))  # fmt: skip
+    if paired:
+        click.echo(
+            f"records: the pairs of horizontal components, each reaching a state where "
+            f"{COMBINED[paired]} does (--orientation angles: each angle)"
+        )
     click.echo(table_text(headers, rows))
     for item in found:
         if note := unreachable_note(item):

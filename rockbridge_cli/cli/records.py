@@ -86,7 +86,8 @@ def select_records(config: Path, out: Path | None, with_plot: bool) -> None:
     report = select_record_set(request, folder, config_name=config.stem, source=config)
     click.echo(f"Wrote {len(report.chosen)} records and {MANIFEST} to {report.folder}")
     click.echo(compliance_text(request, report))
-    click.echo(f"Selection (the pool's spectra once, the choice): {report.selection_time:.2f} s; "
+    took = f"{report.selection_time:.2f} s ({report.selection_cpu:.2f} s of CPU)"
+    click.echo(f"Selection (the pool's spectra once, the choice): {took}; "
                f"wall time {report.wall_time:.1f} s")  # fmt: skip
     if with_plot:
         from ..plots.selection import plot_selection

@@ -228,7 +228,8 @@ def _loaded(
 @click.option(
     "--orientation", is_flag=True, help="Instead: per bridge, swept pair and level, each "
     "quantity's median over the angles, its worst and the critical angle (a study whose records "
-    "section sweeps an orientation).",
+    "section sweeps an orientation); with an intensity section, the fragility each angle a "
+    "record, on the pairs' median and on their worst.",
 )  # fmt: skip
 def peaks(results: Path, csv_file: str | None, as_json: bool, orientation: bool) -> None:
     """Print the peak table of RESULTS (an HDF5 file written by 'rockbridge run'); --json also
@@ -266,8 +267,11 @@ def peaks(results: Path, csv_file: str | None, as_json: bool, orientation: bool)
 
 def _orientation_table(results: Path, as_json: bool) -> None:
     """`peaks --orientation`: the summary over angles of each pair and over the pairs
-    (`assessment.orientation.summary_of`, `across_pairs`)."""
+    (`assessment.orientation.summary_of`, `across_pairs`); with an intensity section, the
+    fragility each angle a record and on the pairs' median and worst
+    (`assessment.orientation_fragility`)."""
     from ..assessment.orientation import across_pairs, summary_of
+    from ..assessment.orientation_fragility import fragility_by_orientation
     from ..results.reading import open_results, peak_units
 
     summary = summary_of(results)
@@ -275,13 +279,15 @@ def _orientation_table(results: Path, as_json: bool) -> None:
         why = "no record was analysed along an angle: the study has no orientation section"
         raise InputError(results, [("records", why)])
     suite = across_pairs(summary)
+    fragility = fragility_by_orientation(results)
     with open_results(results) as file:
         units = {name: peak_units(file)[name] for name in summary["quantity"].unique()}
     if as_json:
         units = {**units, "critical_angle_deg": "deg", "worst_over_first_median": "-",
                  "worst_over_first_max": "-"}  # fmt: skip
         pairs, over = summary.to_dict("records"), suite.to_dict("records")
-        echo_json({"units": units, "rows": pairs, "across_pairs": over})
+        echo_json({"units": units, "rows": pairs, "across_pairs": over,
+                   **({"fragility": fragility} if fragility else {})})  # fmt: skip
         return
     headers = ["bridge", "pair", "level", "quantity", "0° (first)", "median", "worst",
                "critical [deg]", "angles"]  # fmt: skip
@@ -291,6 +297,17 @@ def _orientation_table(results: Path, as_json: bool) -> None:
     headers = ["bridge", "level", "quantity", "pairs", "0° (first)", "median", "worst",
                "worst/first, median", "worst/first, max"]  # fmt: skip
     click.echo(table_text(headers, _shown_in_units(suite, units)))
+    if fragility:
+        click.echo(f"\nFragility, median θ and β [{fragility[0]['measure']}]: each angle a record, "
+                   "each pair by the median over its angles, by its worst angle (the run stores "
+                   f"the {fragility[0]['stored']}; rockbridge fragility RESULTS):")  # fmt: skip
+        keys = [
+            f"{way}_{part}" for way in ("angles", "median", "worst") for part in ("median", "beta")
+        ]
+        click.echo(table_text(
+            ["bridge", "limit state", "angles: θ", "β", "median: θ", "β", "worst: θ", "β"],
+            [[row["bridge"], row["limit_state"], *(row[k] for k in keys)] for row in fragility],
+        ))  # fmt: skip
 
 
 def _shown_in_units(table, units: dict[str, str]) -> list[list]:

@@ -105,6 +105,12 @@ class Intensity(StrictModel):
         "design earthquake' and, in spirit, FEMA P695's collapse margin ratio [the measure's "
         "unit]",
     )  # fmt: skip
+    orientation: Literal["median", "worst"] | None = Field(
+        None, description="Of records swept over angles (records.orientation): the fragility the "
+        "run stores, the report's and plot fragility's take each pair of horizontal components "
+        "as one record, reaching a state where the median over its angles does (at least half "
+        "of them; the default) or its worst angle does",
+    )  # fmt: skip
 
     @model_validator(mode="after")
     def _period_for_sa(self) -> Intensity:

@@ -32,7 +32,14 @@ from .intensity import Intensity
 from .loading import ConfigFolder
 from .plausibility import bridge_warnings, record_warnings, scale_warning
 from .spectrum import Spectrum
-from .study_checks import check_ids, check_levels, check_map, check_size, check_states
+from .study_checks import (
+    check_ids,
+    check_levels,
+    check_map,
+    check_orientation,
+    check_size,
+    check_states,
+)
 from .study_models import InlineBridge, StudyConfig
 from .study_records import StudyRecord, resolve_records, scalable, scaled, study_record
 from .sweep import Sweep, field_value, variant_id, varied
@@ -250,6 +257,7 @@ def _study(
         bridges = _sampled(bridges, config.uncertainty, path)
     if config.intensity is not None:
         check_levels(config.intensity, path)
+        check_orientation(config.intensity, config.records, path)
     intensity = None if config.intensity is None else _intensity_section(config.intensity)
     spectrum = None
     if config.spectrum is not None:
@@ -329,7 +337,8 @@ def _intensity_section(intensity: Intensity) -> dict[str, Any]:
     """The intensity section as the study states it, without the parts its measure and kind do
     not use (so that a study's hash is the same as before they existed)."""
     unused = {"ida"} if intensity.ida is None else set()
-    unused |= {key for key in ("period_range", "design") if getattr(intensity, key) is None}
+    unused |= {key for key in ("period_range", "design", "orientation")
+               if getattr(intensity, key) is None}  # fmt: skip
     return intensity.model_dump(exclude=unused)
 
 

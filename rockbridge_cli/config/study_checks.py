@@ -1,6 +1,6 @@
 """A study's checks as a whole, before anything runs: its size against `MAX_ANALYSES`, an
 overturning spectrum's map, the limit states asked of bridges without abutments, intensity levels
-beyond any ground motion, and its ids."""
+beyond any ground motion, a fragility on pairs without pairs, and its ids."""
 
 from __future__ import annotations
 
@@ -14,6 +14,7 @@ from ..core.quantities import DEVICE_LIMIT_STATES
 from ..errors import InputError
 from .intensity import Intensity, absurd_levels
 from .loading import ID_PATTERN
+from .records import Records
 from .spectrum import Spectrum
 
 MAX_ANALYSES = 1_000_000
@@ -72,6 +73,15 @@ def check_levels(intensity: Intensity, study: Path) -> None:
     problems = absurd_levels(intensity)
     if problems:
         raise InputError(study, problems)
+
+
+def check_orientation(intensity: Intensity, records: Records | None, study: Path) -> None:
+    """Refuse a fragility on pairs (``intensity.orientation``) of a study whose records are not
+    pairs swept over angles (no ``records.orientation``)."""
+    if intensity.orientation is not None and (records is None or records.orientation is None):
+        reason = (f"{intensity.orientation} over each pair's angles needs records.orientation "
+                  "(pairs of horizontal components along angles): drop it or add one")  # fmt: skip
+        raise InputError(study, [("intensity.orientation", reason)])
 
 
 def check_ids(field: str, ids: list[str]) -> list[tuple[str, str]]:

@@ -170,8 +170,9 @@ def _find_crests(acceleration, time_step, omegas, damping, substeps, count):
     for j in range(omegas.size):
         crests = np.zeros((2, count + 1))  # one spare: the peak is usually a turning point too
         _integrate(acceleration, time_step, omegas[j], damping, substeps[j], no_history, crests)
-        values[j] = crests[0, :count]
-        times[j] = crests[1, :count]
+        for k in range(count):  # element by element: numba takes 3 s longer to compile
+            values[j, k] = crests[0, k]  # the assignment of a slice (2.4 s for the kernel)
+            times[j, k] = crests[1, k]
     return values, times
 
 

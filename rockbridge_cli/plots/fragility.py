@@ -1,7 +1,9 @@
 """Fragility curves of a study with an intensity section: per limit state, the share of records
 that reach it at each intensity level (markers; from an IDA, at or below each capacity), the
 fitted lognormal (lines), one style per bridge, and the 90 % band of the bootstrap's curves
-(grey, `fragility_intervals.band`); and how the intervals narrow with the number of records."""
+(grey, `fragility_intervals.band`); and how the intervals narrow with the number of records.
+Of a study that swept an orientation, the records are its pairs, as the study takes them
+(`fragility.study_orientation`), and the figure says so."""
 
 from __future__ import annotations
 
@@ -12,8 +14,9 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import NullFormatter
 from scipy.special import ndtr
 
-from ..assessment.fragility import Fragility, fragilities
+from ..assessment.fragility import STUDY, Fragility, fragilities
 from ..assessment.fragility_intervals import SETTLED, RecordsNeeded, all_records_needed, band
+from ..assessment.orientation import COMBINED
 from ..motions.intensity import MEASURES
 from .common import PLAIN, check_format, panel_label, save, style
 
@@ -26,7 +29,8 @@ def plot_fragility(
     Parameters
     ----------
     found
-        The file's fits (`fragility.fragilities`), when the caller has them already.
+        The file's fits (`fragility.fragilities`), when the caller has them already; default:
+        the study's (each pair one record, where it swept an orientation).
 
     Returns
     -------
@@ -34,9 +38,10 @@ def plot_fragility(
         The figure file.
     """
     output = check_format(output)
-    found = fragilities(results) if found is None else found
+    found = fragilities(results, orientation=STUDY) if found is None else found
     bridges = list(dict.fromkeys(item.bridge for item in found))
     states = list(dict.fromkeys(item.limit_state for item in found))
+    paired = found[0].orientation if found else None
     rows = max(1, -(-len(states) // 2))
     figure = Figure(figsize=(9.0, 3.5 * rows), layout="constrained")
     grid = figure.subplots(rows, 2, sharex=True, sharey=True, squeeze=False)
@@ -65,7 +70,7 @@ def plot_fragility(
         if all(c is None for f in mine for c in f.capacities.values()):
             unreachable = all(len(f.unreachable) == len(f.capacities) for f in mine)
             why = ("unreachable: a failure ends\nevery curve first" if unreachable else
-                   "reached by no record\nat the levels run")  # fmt: skip
+                   f"reached by no {paired and 'pair' or 'record'}\nat the levels run")  # fmt: skip
             axes.text(0.5, 0.5, why, ha="center", va="center", transform=axes.transAxes,
                       color="0.4")  # fmt: skip
         axes.set_xscale("log")
@@ -76,10 +81,12 @@ def plot_fragility(
     for axes in grid[-1]:
         axes.set_xlabel(MEASURES[found[0].measure].label if found else "")
     for axes in grid[:, 0]:
-        axes.set_ylabel("share of records reaching it [-]")
+        axes.set_ylabel(f"share of {'pairs' if paired else 'records'} reaching it [-]")
     handles, labels = grid[0, 0].get_legend_handles_labels()
-    figure.legend(handles, labels, loc="outside upper center", ncols=min(len(labels), 3),
-                  frameon=False)  # fmt: skip
+    legend = figure.legend(handles, labels, loc="outside upper center",
+                           ncols=min(len(labels), 3), frameon=False)  # fmt: skip
+    if paired:
+        legend.set_title(f"each pair of horizontal components: {COMBINED[paired]}")
     return save(figure, output)
 
 
@@ -102,7 +109,9 @@ def plot_records_needed(
         The figure file.
     """
     output = check_format(output)
-    needed = all_records_needed(fragilities(results)) if needed is None else needed
+    needed = (
+        all_records_needed(fragilities(results, orientation=STUDY)) if needed is None else needed
+    )
     bridges = list(dict.fromkeys(item.bridge for item in needed))
     states = list(dict.fromkeys(item.limit_state for item in needed)) or ["-"]
     counts_tried = sorted({w.records for item in needed for w in item.widths})

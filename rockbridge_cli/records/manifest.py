@@ -10,12 +10,13 @@ import numpy as np
 import scipy
 
 from .. import __version__
-from ..motions import ec8, seeds, spectral_fit
+from ..motions import ec8, spectral_fit
 from .files import Record
 from .target import TargetDefinition
 
 if TYPE_CHECKING:
     from ..config.record_sets import RecordSetConfig
+    from ..motions import seeds  # scipy.signal: 1-2 s to import, which select-records needs not
     from .summary import RecordSummary
 
 

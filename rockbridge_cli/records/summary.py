@@ -5,8 +5,12 @@ keeps."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
-from ..motions import seeds, spectral_fit
+from ..motions import spectral_fit
+
+if TYPE_CHECKING:
+    from ..motions import seeds  # scipy.signal: 1-2 s to import, which select-records needs not
 
 SEED_CHANGE = 0.25
 """The report flags a matched seed whose D5–95, D5–75 or PGV changed by more than this share of

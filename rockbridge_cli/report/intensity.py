@@ -41,11 +41,11 @@ def intensity_section(
     hazard: HazardCurve | None,
     years: float,
 ) -> str:  # fmt: skip
-    from ..assessment.fragility import fragilities
+    from ..assessment.fragility import STUDY, fragilities
     from ..plots.fragility import plot_fragility
     from ..plots.ida import plot_ida
 
-    found = fragilities(results)
+    found = fragilities(results, orientation=STUDY)
     design = intensity.design
     rows = [[item.bridge, item.limit_state, number(item.median), number(item.beta),
              _interval(item.median_90), _interval(item.beta_90)]
@@ -61,8 +61,9 @@ def intensity_section(
                  "the bridge failed.") if is_ida(intensity) else "",
         section(f"Fragility ({MEASURES[measure].label})",
                  figure(plot_fragility, results, found=found),
-                 "Share of the records reaching each limit state, and the fitted lognormal; "
-                 "grey, the 90 % band of the curves the bootstrap over the records fits."),
+                 f"Share of the {_records(found)} reaching each limit state, and the fitted "
+                 "lognormal; grey, the 90 % band of the curves the bootstrap over the "
+                 f"{'pairs' if found and found[0].orientation else 'records'} fits."),
         f"<p>{margin}</p>" if margin else "",
         f'<p class="note">{escaped(INTERVALS)}</p>',
         table_html(["bridge", "limit state", f"median [{unit}]", "β", f"median, 5–95 % [{unit}]",
@@ -83,6 +84,18 @@ INTERVALS = (
     "shows how they narrow with the number of records."
 )
 """What the report says of the fragility's intervals (`assessment.fragility_intervals`)."""
+
+
+def _records(found: list) -> str:
+    """What the fragility's records are: the records, or a swept orientation's pairs and how
+    each is taken over its angles."""
+    from ..assessment.orientation import COMBINED
+
+    paired = found[0].orientation if found else None
+    if paired is None:
+        return "records"
+    return (f"pairs of horizontal components (each reaching a state where {COMBINED[paired]} "
+            "does: the study's intensity.orientation, the median without one)")  # fmt: skip
 
 
 def _interval(pair: tuple[float, float] | None) -> str:

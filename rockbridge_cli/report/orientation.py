@@ -1,7 +1,8 @@
 """The report's section of a study whose records section has an orientation
 (`config.orientation`): what the direction the bridge feels does to its demand, over the pairs
 (`assessment.orientation.across_pairs`) and pair by pair (`orientation_summary`), each quantity
-in the unit the peak table shows it in."""
+in the unit the peak table shows it in; with an intensity section, to its fragility
+(`assessment.orientation_fragility`)."""
 
 from __future__ import annotations
 
@@ -9,7 +10,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..core.quantities import display_unit
-from .markup import MAX_ROWS, cell, escaped, table_html
+from ..motions.intensity import MEASURES
+from .markup import MAX_ROWS, cell, escaped, number, table_html
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -54,7 +56,31 @@ def orientation_section(results: Path, units: dict[str, str]) -> str:
         "component alone):</p>\n"
         f"{table_html(over, suite_rows, text_columns=(0, 1 + levels))}\n<p>Pair by pair:</p>\n"
         f"{table_html(each, pair_rows, text_columns=(0, 1, 2 + levels))}{more}"
+        f"{_fragility(results)}"
     )
+
+
+def _fragility(results: Path) -> str:
+    """The fragility's median and β each angle a record and on the pairs' median and worst
+    (`fragility_by_orientation`), "" without an intensity section."""
+    from ..assessment.orientation_fragility import WAYS, fragility_by_orientation
+
+    rows = fragility_by_orientation(results)
+    if not rows:
+        return ""
+    measure = rows[0]["measure"]
+    text = (f"The fragility (median θ of {measure} [{MEASURES[measure].unit}], and β) fitted "
+            "three ways: each angle a record of its own, each pair of components one record "
+            "reaching a state where the median over its angles does, or where its worst angle "
+            "does. The run stores, and the "
+            f"Fragility section shows, the {rows[0]['stored']} (the study's "
+            "intensity.orientation; rockbridge fragility --orientation chooses).")  # fmt: skip
+    cells = [[row["bridge"], row["limit_state"],
+              *(number(row[f"{way}_{part}"]) for way in WAYS for part in ("median", "beta"))]
+             for row in rows]  # fmt: skip
+    headers = ["bridge", "limit state", "each angle: θ", "β", "pairs' median: θ", "β",
+               "pairs' worst: θ", "β"]  # fmt: skip
+    return f"\n<p>{escaped(text)}</p>\n" + table_html(headers, cells, text_columns=(0, 1))
 
 
 def _rows(table: pd.DataFrame, units: dict[str, str], levels: bool, pair: bool) -> list[list]:

@@ -50,6 +50,9 @@ class IntensitySection:
     period_range : the shortest and longest period of ``avgsa_g`` [s], None for another measure
     damping : the damping ratio of Sa [-]
     design : the design level in the measure, None where the study states none
+    orientation : how a fragility takes each pair of a swept orientation as one record,
+        "median" or "worst" over its angles; None where the study states none (the median,
+        `assessment.orientation.study_orientation`)
     """
 
     measure: str
@@ -59,6 +62,7 @@ class IntensitySection:
     period_range: tuple[float, float] | None = None
     damping: float = 0.05
     design: float | None = None
+    orientation: str | None = None
 
     @classmethod
     def of(cls, data: Mapping[str, Any]) -> IntensitySection:
@@ -84,6 +88,7 @@ class IntensitySection:
             None if period_range is None else (float(period_range[0]), float(period_range[1])),
             float(data.get("damping", 0.05)),
             _optional(data, "design"),
+            _combine(data.get("orientation")),
         )
 
     @property
@@ -141,3 +146,10 @@ def _number(data: Mapping[str, Any], key: str) -> float:
 
 def _optional(data: Mapping[str, Any], key: str) -> float | None:
     return None if data.get(key) is None else _number(data, key)
+
+
+def _combine(value: Any) -> str | None:
+    """An intensity section's ``orientation``: None, "median" or "worst"."""
+    if value is not None and value not in ("median", "worst"):
+        raise ValueError(f"orientation must be median or worst, not {value!r}")
+    return value
