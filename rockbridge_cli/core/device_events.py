@@ -125,30 +125,35 @@ def _compiled_settle(devices, model, s, theta1, omega, t, kin):
 
 @jit
 def _settled(devices: np.ndarray, model: Model, s, theta1, omega, t, kin) -> None:
-    """The state change of `settle`: a device past its rupture elongation breaks; on the elastic
-    branch, one whose force is past a yield line yields onto it (its first yield time noted); on
-    a yield line, one whose Δ̇ turned against it unloads elastically with the Δp that keeps its
-    force, P0 + k·(Δ − Δp) = the line's."""
+    """The state change of `settle`, device by device (`shifted`)."""
     turned = turns(model, s, theta1, kin)
     for i in range(devices.shape[0]):
-        row = devices[i]
-        branch = row[BRANCH]
-        if row[KIND] == DAMPER or branch == BROKEN:
-            continue
-        length, lever = stretch(model, row, s, turned)
-        if length >= row[LIMIT]:
-            row[BRANCH], row[BROKEN_AT] = BROKEN, t
-        elif branch == ELASTIC:
-            force = _spring(row, length)
-            for side in (LOADING, UNLOADING):
-                if side * (force - yield_line(row, length, side)) > 0.0:
-                    row[BRANCH] = side
-                    if np.isnan(row[YIELDED_AT]):
-                        row[YIELDED_AT] = t
-        elif -branch * lever * omega > 0.0:
-            line = yield_line(row, length, branch)
-            row[PLASTIC] = length - (line - row[PRESTRESS]) / row[STIFFNESS]
-            row[BRANCH] = ELASTIC
+        if devices[i, KIND] != DAMPER and devices[i, BRANCH] != BROKEN:
+            length, lever = stretch(model, devices[i], s, turned)
+            shifted(devices[i], length, lever * omega, t)
+
+
+@jit
+def shifted(row: np.ndarray, length: float, speed: float, t: float) -> None:
+    """Move one yielding device (a row of `devices.table`, not broken) to the branch it is on at
+    elongation Δ [m] and rate Δ̇ [m/s] at time t [s]: past its rupture elongation it breaks; on
+    the elastic branch, with its force past a yield line, it yields onto it (its first yield time
+    noted); on a yield line, with Δ̇ against it, it unloads elastically with the Δp that keeps
+    its force, P0 + k·(Δ − Δp) = the line's."""
+    branch = row[BRANCH]
+    if length >= row[LIMIT]:
+        row[BRANCH], row[BROKEN_AT] = BROKEN, t
+    elif branch == ELASTIC:
+        force = _spring(row, length)
+        for side in (LOADING, UNLOADING):
+            if side * (force - yield_line(row, length, side)) > 0.0:
+                row[BRANCH] = side
+                if np.isnan(row[YIELDED_AT]):
+                    row[YIELDED_AT] = t
+    elif -branch * speed > 0.0:
+        line = yield_line(row, length, branch)
+        row[PLASTIC] = length - (line - row[PRESTRESS]) / row[STIFFNESS]
+        row[BRANCH] = ELASTIC
 
 
 def fresh(devices):

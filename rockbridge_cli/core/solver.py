@@ -162,7 +162,9 @@ class Integration(NamedTuple):
         `NOT_FAILED`
     steps, rejected : steps taken and rejected by the error control [-]
     error : `NO_ERROR` or why the integrator stopped early (`SOLVER_ERRORS`)
-    device_peaks : one row per device (`devices.PEAK_LENGTH` …), none without devices
+    device_peaks : one row per device (`device_mechanics.PEAK_LENGTH` …), none without devices
+    devices : the devices' table (`devices.table`) in its state at the end (branch, plastic
+        elongation Δp, …), None without devices
     """
 
     theta1: np.ndarray
@@ -176,6 +178,7 @@ class Integration(NamedTuple):
     rejected: int
     error: int
     device_peaks: np.ndarray
+    devices: np.ndarray | None
 
 
 class Problem(NamedTuple):
@@ -547,5 +550,16 @@ def integrate(
         rate[motion.sample :] = np.nan
     events = log.rows[: log.written].copy()
     return Integration(
-        theta1, rate, mode, events, peaks, motion.t, failure, steps, rejected, error, device_peaks
+        theta1,
+        rate,
+        mode,
+        events,
+        peaks,
+        motion.t,
+        failure,
+        steps,
+        rejected,
+        error,
+        device_peaks,
+        devices,
     )
