@@ -1,16 +1,19 @@
-"""Yielding tendons and hysteretic dissipators (issue 41; docs/model.md §13, "Yielding devices"):
-their laws against closed forms, their events against an independent integration, the energy
-they take, their configs and their flags in the results."""
+"""Yielding tendons and hysteretic dissipators (issue 41; docs/model.md §13, "Yield and rupture
+of a tendon", "Dissipator", "Yield, unloading and rupture as events"): their laws against closed
+forms, their events against an independent integration, the energy they take, their configs and
+their flags in the results."""
 
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 from conftest import G, studied_bridge
 from scipy.integrate import solve_ivp
 
+from rockbridge_cli.assessment.limit_states import Verdict
 from rockbridge_cli.config.bridge import load_bridge
 from rockbridge_cli.core import fidelity, impacts
 from rockbridge_cli.core.analysis import analyze
@@ -32,6 +35,7 @@ from rockbridge_cli.core.devices import (
 from rockbridge_cli.core.dynamics import coefficients, energy
 from rockbridge_cli.core.geometry import single_block
 from rockbridge_cli.core.kinematics import EXACT
+from rockbridge_cli.core.quantities import check_limit_state
 from rockbridge_cli.core.solver import NO_ERROR, Laws, integrate
 from rockbridge_cli.results.packing import device_rows, device_states
 
@@ -249,6 +253,22 @@ def test_energy_balances_with_yielding_tendons():
     assert yielded  # the tendons did yield
 
 
+def test_the_bundled_dissipator_bridge_carries_the_dissipators_its_comment_states():
+    """studied-hbar1.25-dissipators.yaml: 40 mm mild-steel bars over 0.5 m at ±1.0 m across
+    each pier's base: k1 = 200 GPa × π·20² mm² / 0.5 m, F_y = 300 MPa × π·20² mm² (rounded to
+    four digits in the file), k2 = 0.01·k1, fracture at 8 % of 0.5 m."""
+    path = Path(__file__).resolve().parents[1] / "configs/bridges/studied-hbar1.25-dissipators.yaml"
+    devices = load_bridge(path).to_bridge().devices
+    area = math.pi * 0.020**2
+    for device, (pier, offset) in zip(devices, [(p, d) for p in (0, 1) for d in (-1.0, 1.0)],
+                                      strict=True):  # fmt: skip
+        assert (device.pier, device.offset, device.base, device.top) == (pier, offset, True, False)
+        assert device.stiffness == pytest.approx(200e9 * area / 0.5, rel=1e-3)
+        assert device.yield_force == pytest.approx(300e6 * area, rel=1e-3)
+        assert device.hardening == pytest.approx(0.01 * device.stiffness, rel=1e-12)
+        assert device.fracture == pytest.approx(0.04, rel=1e-12)
+
+
 CONFIG = """
 name: frame
 piers: {{width: 2.6, heights: [26.0, 20.8]}}
@@ -299,21 +319,29 @@ def test_impossible_dissipators_are_refused_naming_the_field(tmp_path, extra, me
 def test_the_device_rows_flags_are_the_solvers_states():
     """/devices takes yielded and ruptured from the solver's state (``<name>_yielded``,
     ``<name>_broken``), not from the largest force; a limit the device does not state is −1;
-    the tendon states count the tendons only, not a dissipator that yielded by design."""
+    the tendon states count the tendons only, not a dissipator that yielded by design, and
+    ``dissipator_fracture`` the dissipators (a strain: Δ_max/length)."""
     devices = (
         Tendon(0, 0.0, 1e6, 1e8, yield_force=2e6, rupture_strain=0.03, rigidity=1e9),
         Dissipator(1, 0.0, 4e8, 1e6),
+        Dissipator(1, 0.5, 4e8, 1e6, fracture=0.05, length=0.5),
     )
     peaks = {
         "tendon1_elongation": (0.02, 3.0), "tendon1_force": (2e6, 2.5),
         "tendon1_yielded": (0.0, math.nan), "tendon1_broken": (0.0, math.nan),
         "dissipator1_elongation": (0.01, 3.0), "dissipator1_force": (1.1e6, 3.0),
         "dissipator1_yielded": (1.0, 1.2), "dissipator1_broken": (0.0, math.nan),
+        "dissipator2_elongation": (0.06, 3.0), "dissipator2_force": (1.1e6, 2.9),
+        "dissipator2_yielded": (1.0, 1.3), "dissipator2_broken": (1.0, 2.95),
     }  # fmt: skip
     rows = device_rows(devices, peaks)
-    assert list(rows["yielded"]) == [0, 1]
-    assert list(rows["ruptured"]) == [0, -1]
+    assert list(rows["yielded"]) == [0, 1, 1]
+    assert list(rows["ruptured"]) == [0, -1, 1]
     # ε0 + Δ/L_free = (P0 + k·Δ)/(E·A) = (1e6 + 1e8·0.02)/1e9
     assert rows["strain_max"][0] == pytest.approx(3e-3, rel=1e-12)
     assert math.isnan(rows["strain_max"][1])  # no length stated
-    assert device_states(rows) == {"tendon_yield": 0.0, "tendon_rupture": 0.0}
+    assert rows["strain_max"][2] == pytest.approx(0.06 / 0.5, rel=1e-15)
+    states = {"tendon_yield": 0.0, "tendon_rupture": 0.0, "dissipator_fracture": 1.0}
+    assert device_states(rows) == states
+    assert check_limit_state("dissipator_fracture") == "dissipator_fracture"
+    assert Verdict("ok", "none", 0.0, *states.values()).reaches(states) == {"dissipator_fracture"}

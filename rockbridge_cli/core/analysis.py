@@ -11,15 +11,8 @@ import numpy as np
 
 from ._jit import jit
 from .bridge import Bridge
-from .device_mechanics import (
-    PEAK_BROKEN,
-    PEAK_FORCE,
-    PEAK_FORCE_TIME,
-    PEAK_LENGTH,
-    PEAK_LENGTH_TIME,
-    PEAK_YIELDED,
-)
-from .devices import Damper, names
+from .device_mechanics import PEAK_FORCE, PEAK_FORCE_TIME, PEAK_LENGTH, PEAK_LENGTH_TIME
+from .devices import BROKEN_AT, YIELDED_AT, Damper, names
 from .fidelity import Fidelity, check_work, resolve
 from .geometry import Model, kind
 from .kinematics import EXACT, Displacements, Kinematics, displacements, simplified
@@ -299,19 +292,21 @@ def _device_peaks(bridge: Bridge, result: Integration) -> dict[str, tuple[float,
     dissipator whether it yielded and broke (ruptured, fractured), as ``<name>_yielded`` and
     ``<name>_broken``: (1.0, the first time) or (0.0, NaN), from the solver's state; NaN where the
     integrator stopped early."""
-    rows = result.device_peaks
+    rows, states = result.device_peaks, result.devices
+    if states is None:  # no devices
+        return {}
     if result.error != NO_ERROR:  # the integrator stopped early: no peak of the record is known
-        rows = np.full_like(rows, np.nan)
+        rows, states = np.full_like(rows, np.nan), np.full_like(states, np.nan)
     out = {}
-    for (length, force), row, device in zip(
-        device_peak_names(bridge), rows, bridge.devices, strict=True
+    for (length, force), row, state, device in zip(
+        device_peak_names(bridge), rows, states, bridge.devices, strict=True
     ):
         out[length] = (float(row[PEAK_LENGTH]), float(row[PEAK_LENGTH_TIME]))
         out[force] = (float(row[PEAK_FORCE]), float(row[PEAK_FORCE_TIME]))
         if not isinstance(device, Damper):
             stem = length.removesuffix("_elongation")
-            for suffix, column in (("_yielded", PEAK_YIELDED), ("_broken", PEAK_BROKEN)):
-                when = float(row[column])
+            for suffix, column in (("_yielded", YIELDED_AT), ("_broken", BROKEN_AT)):
+                when = float(state[column])
                 reached = math.nan if result.error != NO_ERROR else float(not math.isnan(when))
                 out[stem + suffix] = (reached, when)
     return out

@@ -20,7 +20,6 @@ from .devices import (
     BASE,
     BRANCH,
     BROKEN,
-    BROKEN_AT,
     DAMPER,
     DAMPING,
     ELASTIC,
@@ -35,7 +34,6 @@ from .devices import (
     TENDON,
     TOP,
     YIELD,
-    YIELDED_AT,
 )
 from .geometry import Model
 from .kinematics import (
@@ -202,12 +200,12 @@ def prestress_moment(model: Model, devices: np.ndarray, s: float) -> float:
     )
 
 
-PEAK_LENGTH, PEAK_LENGTH_TIME, PEAK_FORCE, PEAK_FORCE_TIME, PEAK_YIELDED, PEAK_BROKEN = range(6)
+PEAK_LENGTH, PEAK_LENGTH_TIME, PEAK_FORCE, PEAK_FORCE_TIME = range(4)
 """Columns of the devices' peaks (`peaks_of`, `tracked`): the largest elongation Δ [m] and its
-time [s], the largest |force| [N] and its time [s], and the times it first yielded and broke
-(ruptured or fractured; NaN: never) [s], from its state."""
+time [s], the largest |force| [N] and its time [s]. When a device first yielded and broke is in
+its state (`devices.YIELDED_AT`, `devices.BROKEN_AT`)."""
 
-PEAK_COLUMNS = 6
+PEAK_COLUMNS = 4
 
 
 def peaks_of(devices) -> np.ndarray:
@@ -249,7 +247,3 @@ def _tracked(devices: np.ndarray, peaks: np.ndarray, model: Model, s, theta1, om
             peaks[i, PEAK_LENGTH], peaks[i, PEAK_LENGTH_TIME] = length, t
         if force > peaks[i, PEAK_FORCE]:
             peaks[i, PEAK_FORCE], peaks[i, PEAK_FORCE_TIME] = force, t
-        peaks[i, PEAK_YIELDED], peaks[i, PEAK_BROKEN] = (
-            devices[i, YIELDED_AT],
-            devices[i, BROKEN_AT],
-        )

@@ -208,7 +208,7 @@ class Motion(NamedTuple):
     t: float
     k: int
     state: State
-    g: tuple[float, float, float, float, float, float]
+    g: tuple[float, float, float, float, float, float, float]
     sample: int
 
 

@@ -13,7 +13,7 @@
                                peaks, counts, timings
     /events/<column>           the events of every analysis, the analyses one after the other
                                in the order of /peaks
-    /devices/<column>          only where a bridge has tendons or dampers (docs/model.md §13):
+    /devices/<column>          only where a bridge has devices (docs/model.md §13):
                                one row per device of each analysis that ran, in the order of
                                /peaks: its peaks and whether it reached its limits
     /fragility/<column>        with an intensity section: fragility per bridge × limit state
