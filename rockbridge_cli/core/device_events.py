@@ -37,6 +37,7 @@ from .devices import (
     PRESTRESS,
     STIFFNESS,
     UNLOADING,
+    YIELD,
     YIELDED_AT,
 )
 from .geometry import Model
@@ -72,6 +73,8 @@ def _compiled_watch(devices, model, s, theta1, omega, kin):
 
 @jit
 def _watch(devices: np.ndarray, model: Model, s: float, theta1, omega, kin) -> float:
+    if not _changing(devices):  # the linkage is not even computed (dampers, elastic tendons)
+        return -1.0
     g, turned = -np.inf, turns(model, s, theta1, kin)
     for i in range(devices.shape[0]):
         row = devices[i]
@@ -79,6 +82,18 @@ def _watch(devices: np.ndarray, model: Model, s: float, theta1, omega, kin) -> f
             length, lever = stretch(model, row, s, turned)
             g = max(g, _distance(row, length, lever * omega))
     return g if g > -np.inf else -1.0
+
+
+@jit
+def _changing(devices: np.ndarray) -> bool:
+    """Whether some device can still change branch: a tendon or dissipator, not broken, that
+    states a yield force or a rupture elongation."""
+    for i in range(devices.shape[0]):
+        row = devices[i]
+        if row[KIND] != DAMPER and row[BRANCH] != BROKEN:
+            if row[YIELD] < np.inf or row[LIMIT] < np.inf:
+                return True
+    return False
 
 
 @jit
