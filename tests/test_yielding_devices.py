@@ -206,6 +206,89 @@ def test_free_rocking_with_a_yielding_tendon_matches_an_independent_integration(
     assert rows[0, PLASTIC] == 0.0  # the caller's table is not the integrator's
 
 
+def _dissipating_block(d: float, k1: float, fy: float, k2: float, rate0: float, wanted: int):
+    """The impacts (time, θ̇ after) of Housner's block with a bilinear dissipator across its base
+    at offset d, released at θ = 0 with θ̇ = rate0 > 0, by scipy's DOP853 on the block's own
+    equation I_O·θ̈ = −m·g·R·sin(s·α − θ) − F·ℓ·cos(θ/2)·s (ℓ = B + s·d, Δ = 2ℓ·|sin(θ/2)|),
+    the law written here: F = k1·(Δ − Δp) elastic, k2·Δ ± c on the lines (c = (1 − k2/k1)·F_y);
+    events: the force reaching a line, Δ̇ turning against the line (unloading, Δp = Δ − F/k1),
+    the impacts (η = 1 − 1.5·sin²α; after one, Δ̇ > 0, so a device on its lower line unloads)."""
+    m, B, H = BLOCK.m1, BLOCK.B, BLOCK.H1
+    R, alpha = math.hypot(B, H), math.atan2(B, H)
+    inertia, c = 4.0 / 3.0 * m * R * R, (1.0 - k2 / k1) * fy
+    eta = 1.0 - 1.5 * math.sin(alpha) ** 2
+
+    def geometry(theta):
+        s = 1.0 if theta > 0 else -1.0
+        ell = B + s * d
+        return s, ell, 2 * ell * abs(math.sin(theta / 2)), ell * math.cos(theta / 2)
+
+    def force(theta, branch, dp):
+        length = geometry(theta)[2]
+        return k1 * (length - dp) if branch == 0 else k2 * length + branch * c
+
+    y, t, branch, dp, hits = [0.0, rate0], 0.0, 0, 0.0, []
+    while len(hits) < wanted:
+        sign = 1.0 if y[0] > 0 or (y[0] == 0 and y[1] > 0) else -1.0
+        y0 = [sign * 1e-15 if y[0] == 0 else y[0], y[1]]
+
+        def rhs(_t, state, branch=branch, dp=dp):
+            s, ell, _, arm = geometry(state[0])
+            moment = (
+                -m * G * R * math.sin(s * alpha - state[0]) - force(state[0], branch, dp) * arm * s
+            )
+            return [state[1], moment / inertia]
+
+        def hit(_t, state, sign=sign):
+            return state[0] * sign
+
+        def upper(_t, state, dp=dp):
+            return force(state[0], 0, dp) - force(state[0], 1, dp)
+
+        def lower(_t, state, dp=dp):
+            return force(state[0], -1, dp) - force(state[0], 0, dp)
+
+        def turned(_t, state, sign=sign, branch=branch):  # Δ̇ = ∂Δ/∂θ·θ̇, ∂Δ/∂θ of sign s
+            return -branch * sign * state[1]
+
+        for event in (hit, upper, lower, turned):
+            event.terminal, event.direction = True, 1.0
+        hit.direction = -1.0
+        events = [hit, upper, lower] if branch == 0 else [hit, turned]
+        solution = solve_ivp(rhs, (t, t + 10.0), y0, method="DOP853", rtol=1e-13, atol=1e-15,
+                             events=events)  # fmt: skip
+        which = next(i for i, times in enumerate(solution.t_events) if times.size)
+        t, y = solution.t_events[which][0], list(solution.y_events[which][0])
+        if which == 0:  # an impact: Δ = 0, the mode and Δ̇ reverse
+            y = [0.0, eta * y[1]]
+            hits.append((t, y[1]))
+            if branch == -1:  # Δ̇ > 0 after it: unloads from the lower line at Δ = 0
+                branch, dp = 0, -force(0.0, -1, dp) / k1
+        elif branch == 0:
+            branch = 1 if which == 1 else -1
+        else:
+            dp, branch = geometry(y[0])[2] - force(y[0], branch, dp) / k1, 0
+    return np.array(hits)
+
+
+@pytest.mark.slow  # compiles the kernels of a bridge with devices (about 1–3 min cold)
+def test_free_rocking_with_a_dissipator_matches_an_independent_integration():
+    """Released at θ = 0 with θ̇ = 0.3 rad/s, the block's dissipator (Δ_y = 1.5 mm; its
+    compressive line, (1 − k2/k1)·F_y·ℓ ≈ 21 kN·m, below the weight's restoring m·g·B ≈ 61 kN·m,
+    so that the block comes back) yields in tension, unloads, is pushed into compression as the
+    base closes: the first six impacts' times and rates against scipy's DOP853 on the block's
+    own equation with the bilinear law and its branch changes as events (`_dissipating_block`)."""
+    d, k1, fy, k2 = 0.2, 2.0e7, 3.0e4, 2.0e5
+    dissipator = Dissipator(0, d, k1, fy, hardening=k2)
+    response = analyze(Bridge(BLOCK, devices=(dissipator,)), np.zeros(401), DT, "reference",
+                       initial=(0.0, 0.3))  # fmt: skip
+    hits = _dissipating_block(d, k1, fy, k2, 0.3, 6)
+    assert response.peaks["dissipator1_yielded"][0] == 1.0
+    impacts_ = response.events["kind"] == "impact"
+    np.testing.assert_allclose(response.events["time"][impacts_][:6], hits[:, 0], rtol=1e-8)
+    np.testing.assert_allclose(response.events["rate_after"][impacts_][:6], hits[:, 1], rtol=1e-7)
+
+
 @pytest.mark.slow  # compiles the kernels of a bridge with devices (about 1–3 min cold)
 def test_energy_balances_with_yielding_tendons():
     """Free rocking of the h̄ = 1.25 frame with two tendons that yield (no ground motion, so
