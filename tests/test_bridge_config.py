@@ -30,6 +30,7 @@ EXPECTED_MODELS = {
     "studied-hbar1.25.yaml": studied_bridge(1.25),
     "studied-hbar1.25-tendons.yaml": studied_bridge(1.25),  # its devices: tests/test_devices.py
     "studied-hbar1.25-dampers.yaml": studied_bridge(1.25),
+    "studied-hbar1.25-dissipators.yaml": studied_bridge(1.25),
     "studied-hbar2.00.yaml": studied_bridge(2.0),
     "fig3-hbar6.4.yaml": studied_bridge(6.4),
     "fig8-hbar1.5.yaml": fig78_bridge(1.5),

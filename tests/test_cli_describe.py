@@ -133,8 +133,8 @@ def cli():
 
 
 def test_every_shipped_config_has_published_values():
-    """Every bridge of the paper; the variants with tendons or dampers (issue 41, not the paper's)
-    are checked in tests/test_devices.py."""
+    """Every bridge of the paper; the variants with devices (issue 41, not the paper's)
+    are checked in tests/test_devices.py and tests/test_yielding_devices.py."""
     from rockbridge_cli.config.bridge import load_bridge
 
     paper = {p.name for p in CONFIGS.glob("*.yaml") if not load_bridge(p).devices}

@@ -35,19 +35,26 @@ DAMPER = Damper(0, 0.5, 1.0e7)
 
 def _peaks(stretch: float) -> dict[str, tuple[float, float]]:
     """Peaks of the three devices as `core.analysis.Response.peaks` names them, the tendons
-    stretched by ``stretch`` [m] at 3 s (force P0 + k·Δ), the damper's 0.5 MN at 2 s."""
+    stretched by ``stretch`` [m] at 3 s (force P0 + k·Δ, as if elastic), the damper's 0.5 MN at
+    2 s; whether the tendons yielded and broke is what the solver would say of `LIMITED`'s
+    limits (T ≥ F_y, (P0 + k·Δ)/(E·A) ≥ ε_u), at 2.9 s."""
     force = 4.0e6 + 1.0e8 * stretch
+    yielded = (1.0, 2.9) if force >= 5.0e6 else (0.0, math.nan)
+    broken = (1.0, 2.9) if force / 1e9 >= 0.0055 else (0.0, math.nan)
     return {
         "tendon1_elongation": (stretch, 3.0), "tendon1_force": (force, 3.0),
         "tendon2_elongation": (stretch, 3.0), "tendon2_force": (force, 3.0),
+        "tendon1_yielded": yielded, "tendon2_yielded": yielded,
+        "tendon1_broken": broken, "tendon2_broken": broken,
         "damper1_elongation": (0.01, 2.5), "damper1_force": (5.0e5, 2.0),
     }  # fmt: skip
 
 
 def test_a_devices_row_judges_a_tendon_against_its_limits():
-    """Δ = 0.02 m: T = 4 + 0.1·20 = 6 MN ≥ F_y = 5 MN, ε = T/(E·A) = 0.006 ≥ 0.0055: both
-    reached. Δ = 0.012 m: T = 5.2 MN ≥ 5 MN, ε = 0.0052 < 0.0055: yield only. Δ = 0.005 m:
-    T = 4.5 MN, neither. The tendon without limits and the damper state none (−1)."""
+    """Δ = 0.02 m: P0 + k·Δ = 4 + 0.1·20 = 6 MN ≥ F_y = 5 MN, ε = ε0 + Δ/L_free =
+    (P0 + k·Δ)/(E·A) = 0.006 ≥ 0.0055: both reached. Δ = 0.012 m: 5.2 MN ≥ 5 MN, ε = 0.0052 <
+    0.0055: yield only. Δ = 0.005 m: 4.5 MN, neither. The flags are the solver's states
+    (`_peaks`); the tendon without limits and the damper state none (−1)."""
     devices = (LIMITED, PLAIN, DAMPER)
     for stretch, yielded, ruptured in ((0.02, 1, 1), (0.012, 1, 0), (0.005, 0, 0)):
         rows = device_rows(devices, _peaks(stretch))
@@ -59,7 +66,9 @@ def test_a_devices_row_judges_a_tendon_against_its_limits():
         assert list(rows["ruptured"]) == [ruptured, -1, -1]
         assert np.isnan(rows["strain_max"][1:]).all()
         assert (rows["force_max"][2], rows["force_time"][2]) == (5.0e5, 2.0)
-        assert device_states(rows) == {"tendon_yield": yielded, "tendon_rupture": ruptured}
+        states = device_states(rows)
+        assert (states["tendon_yield"], states["tendon_rupture"]) == (yielded, ruptured)
+        assert math.isnan(states["dissipator_fracture"])  # no dissipator
     states = device_states(device_rows((PLAIN, DAMPER), {**_peaks(0.02)}))
     assert all(math.isnan(value) for value in states.values())  # no limit stated
     assert all(math.isnan(value) for value in device_states(np.zeros(0, DEVICE_RECORD)).values())
@@ -176,7 +185,7 @@ def test_a_studys_device_table_is_its_analyses_peaks_and_a_resumed_run_gives_it_
     """A study of the free bridge of h̄ = 1 and the bundled bridge with tendons (its yield force
     lowered to 5 MN, 0.31 MN above the prestress: about 8 mm of stretch) × two records: /devices
     holds the restrained bridge's two tendons for each record, their peaks those of `analyze`
-    run here on the same record and bridge, their flags the limits applied to them; a run
+    run here on the same record and bridge, their flags the solver's states there; a run
     interrupted after its first analysis and resumed writes the same file."""
     from studies import contents, write_study
 
@@ -210,11 +219,13 @@ def test_a_studys_device_table_is_its_analyses_peaks_and_a_resumed_run_gives_it_
         assert (table["elongation_max"][i], table["elongation_time"][i]) == peaks[
             f"{name}_elongation"
         ]
-        force = peaks[f"{name}_force"][0]
-        assert table["force_max"][i] == force
-        assert table["strain_max"][i] == pytest.approx(force / (195e9 * 5.04e-3), rel=1e-15)
-        assert table["yielded"][i] == int(force >= 5.0e6)
-        assert table["ruptured"][i] == int(force / (195e9 * 5.04e-3) >= 0.035)
+        assert table["force_max"][i] == peaks[f"{name}_force"][0]
+        # ε = ε0 + Δ_max/L_free = (P0 + k·Δ_max)/(E·A), k = E·A/2H
+        rigidity, height = 195e9 * 5.04e-3, 26.0 if i % 2 == 0 else 20.8
+        stretch = 4.6872e6 + rigidity / height * table["elongation_max"][i]
+        assert table["strain_max"][i] == pytest.approx(stretch / rigidity, rel=1e-12)
+        assert table["yielded"][i] == int(peaks[f"{name}_yielded"][0])
+        assert table["ruptured"][i] == int(peaks[f"{name}_broken"][0])
     assert table["yielded"].max() == 1  # the lowered yield force is reached
     peaks = read_peaks(study.output)
     assert peaks["tendon_yield"].isna().tolist() == [True, True, False, False]

@@ -324,7 +324,7 @@ def test_a_mirrored_bridges_devices_are_mirrored_with_it(tmp_path):
     [
         (TENDON.format(pier=1, offset=1.3), "devices.0.offset: 1.3 m lies outside the section"),
         (TENDON.format(pier=3, offset=0.0), "devices.0.tendon.pier: Input should be less than"),
-        ("  - {kind: spring, pier: 1}", "kind is tendon or damper"),
+        ("  - {kind: spring, pier: 1}", "kind is tendon, damper or dissipator"),
         ("  - {kind: tendon, pier: 1, prestress: -1.0, area: 0.005}", "devices.0.tendon.prestress"),
         ("  - {kind: damper, pier: 1, coefficient: 0.0}", "devices.0.damper.coefficient"),
     ],

@@ -268,6 +268,9 @@ def test_compiled_and_plain_python_kernels_agree():
     compiled = integrate(bridge, Bridge(bridge).laws(), EXACT, acc, DT, settings, 0.0, 0.0)
     plain = integrate.py_func(bridge, Bridge(bridge).laws(), EXACT, acc, DT, settings, 0.0, 0.0)
     for x, y in zip(compiled, plain, strict=True):
+        if x is None:  # the devices' final state, without devices
+            assert y is None
+            continue
         np.testing.assert_allclose(x, y, rtol=1e-12, atol=1e-15)
 
 

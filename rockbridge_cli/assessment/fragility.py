@@ -361,8 +361,8 @@ def _ida_fragility(bridge, mine, intensity, rng, bootstrap, conversion, by_pair)
     lattice, states = rule.lattice, rule.states
     nothing = np.full(len(mine["record"]), np.nan)  # a bridge without tendons' limits
     verdicts = {
-        record: Verdict(status, mode, ratio, yielded, ruptured)
-        for record, status, mode, ratio, yielded, ruptured in zip(
+        record: Verdict(status, mode, ratio, *flags)
+        for record, status, mode, ratio, *flags in zip(
             mine["record"], mine["status"], mine["failure_mode"], mine["dcr_backfill"],
             *(mine.get(state, nothing) for state in DEVICE_LIMIT_STATES), strict=True,
         )

@@ -7,11 +7,10 @@ An analysis reaches
   for any whole p from 1 to 100 (``backfill_50``: half its capacity);
 - ``abutment_failure`` when the abutment–backfill fails (``failure_mode`` ``abutment``);
 - ``overturning`` when a pier overturns (``failure_mode`` ``overturning_*``);
-- ``tendon_yield`` when a tendon's largest force reaches its yield force, ``tendon_rupture`` when
-  its largest strain reaches its rupture strain (columns of those names, 1 reached, 0 not, NaN
-  for a bridge whose tendons state no such limit: `results.packing.device_states`). The limit
-  state marks the first yield (or rupture); the tendon stays elastic past it, since its
-  post-yield behaviour is not modelled yet (docs/model.md §13).
+- ``tendon_yield`` when a tendon yields, ``tendon_rupture`` when it ruptures,
+  ``dissipator_fracture`` when a dissipator fractures (the solver's state; columns of those
+  names, 1 reached, 0 not, NaN for a bridge whose devices state no such limit:
+  `results.packing.device_states`; the behaviour past them: docs/model.md §13).
 
 (docs/model.md §7–8, §13; their names are `core.quantities.LIMIT_STATES` and
 `DEVICE_LIMIT_STATES`.) The tests take the columns of a peak table, or the scalars of one
@@ -78,6 +77,7 @@ class Verdict(NamedTuple):
     dcr_backfill: float
     tendon_yield: float = float("nan")
     tendon_rupture: float = float("nan")
+    dissipator_fracture: float = float("nan")
 
     def reaches(self, names: Iterable[str]) -> frozenset[str]:
         """The limit states among ``names`` this analysis reaches (none unless it ran)."""

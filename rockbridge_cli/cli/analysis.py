@@ -197,7 +197,7 @@ def _device_units(summary: dict) -> dict[str, str]:
         key: unit
         for key in summary
         for suffix, unit in units.items()
-        if key.endswith(suffix) and key.startswith(("tendon", "damper"))
+        if key.endswith(suffix) and key.startswith(("tendon", "damper", "dissipator"))
     }
 
 

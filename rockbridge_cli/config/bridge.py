@@ -147,7 +147,8 @@ class BridgeConfig(StrictModel):
     gravity: PositiveFloat = Field(9.81, description="Acceleration of gravity g [m/s²]")
     devices: list[DeviceConfig] = Field(
         default_factory=list,
-        description="Post-tensioned tendons and viscous dampers on the piers (docs/model.md §13); "
+        description="Post-tensioned tendons, viscous dampers and hysteretic dissipators on the "
+        "piers (docs/model.md §13); "
         "none: the paper's free-standing piers",
     )
     rocking_restitution: float | None = Field(

@@ -50,7 +50,8 @@ class Ida(StrictModel):
         default_factory=lambda: list(LIMIT_STATES),
         min_length=1,
         description="Limit states: gap_closure, backfill_<p>, abutment_failure, overturning; "
-        "tendon_yield, tendon_rupture (bridges whose tendons state those limits)",
+        "tendon_yield, tendon_rupture, dissipator_fracture (bridges whose devices state those "
+        "limits)",
     )
 
     @field_validator("limit_states")

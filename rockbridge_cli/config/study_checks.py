@@ -22,16 +22,27 @@ MAX_ANALYSES = 1_000_000
 hundred MB; a larger one is several studies, or shards (`study.shards`)."""
 
 
+_STATED_BY = {
+    "tendon_yield": ("tendon", "yield_force"), "tendon_rupture": ("tendon", "rupture_strain"),
+    "dissipator_fracture": ("dissipator", "fracture_strain"),
+}  # fmt: skip
+"""The kind of device and the field of its config that state each device limit state."""
+
+
 def check_states(bridges: Sequence[Any], states: Sequence[str] | None, where: str,
                   study: Path) -> None:  # fmt: skip
     """Refuse a limit state of the abutments (gap closure, their failure, the backfill's) asked
     of a bridge without abutments (a block, a frame): its IDA or boundary could never end
-    there, and ran to the top of its scan without a word. Refuse a tendon's limit state
-    (`DEVICE_LIMIT_STATES`) when no bridge has a tendon that states that limit."""
+    there, and ran to the top of its scan without a word. Refuse a device's limit state
+    (`DEVICE_LIMIT_STATES`) when no bridge has a device of its kind that states that limit."""
     for state in (s for s in states or () if s in DEVICE_LIMIT_STATES):
-        field = "yield_force" if state == "tendon_yield" else "rupture_strain"
-        if not any(getattr(d, field, None) is not None for b in bridges for d in b.config.devices):
-            reason = f"{state}: no bridge has a tendon with a {field}"
+        kind, field = _STATED_BY[state]
+        if not any(
+            d.kind == kind and getattr(d, field, None) is not None
+            for b in bridges
+            for d in b.config.devices
+        ):
+            reason = f"{state}: no bridge has a {kind} with a {field}"
             raise InputError(study, [(where, reason)])
     needs = [s for s in states or () if s != "overturning" and s not in DEVICE_LIMIT_STATES]
     without = [

@@ -1,5 +1,6 @@
 """The bridge's mechanics: the model (`geometry`, `kinematics`, `dynamics`, `impacts`), the
-tendons and dampers a pier may carry (`devices`, and their mechanics `device_mechanics`), one
+devices a pier may carry (`devices`, their mechanics `device_mechanics` and the events of the
+yielding ones `device_events`), one
 bridge as analyzed (`bridge`) and its summary (`summary`), the event-driven integrator (`solver`,
 `schemes`, `tables`, its event location `events`, `analysis`) at a fidelity (`fidelity`), a cache
 bounded by its bytes (`memo`) and the vocabulary of what an analysis reports (`quantities`). It

@@ -11,7 +11,8 @@ import numpy as np
 
 from ._jit import jit
 from .bridge import Bridge
-from .devices import names
+from .device_mechanics import PEAK_FORCE, PEAK_FORCE_TIME, PEAK_LENGTH, PEAK_LENGTH_TIME
+from .devices import BROKEN_AT, YIELDED_AT, Damper, names
 from .fidelity import Fidelity, check_work, resolve
 from .geometry import Model, kind
 from .kinematics import EXACT, Displacements, Kinematics, displacements, simplified
@@ -69,7 +70,8 @@ class Response:
     peaks : name → (peak value, time [s]); units in `PEAK_UNITS`; NaN for the parts a model
         does not have (a single block has no deck and no pier 2); for each device, its largest
         elongation [m] and force [N] as ``<kind><n>_elongation`` and ``<kind><n>_force``
-        (`device_peak_names`)
+        (`device_peak_names`), and for a tendon or dissipator whether (1.0 or 0.0) and when it
+        first yielded and broke as ``<kind><n>_yielded`` and ``<kind><n>_broken``
     t_onset : time of the first onset of rocking, NaN if the bridge never rocks [s]
     n_impacts, n_poundings : counts of impacts at the rocking interfaces and on the backwall [-]
     failure_mode : `quantities.NO_FAILURE` or one of `quantities.FAILURE_MODES`
@@ -286,15 +288,27 @@ def device_peak_names(bridge: Bridge) -> list[tuple[str, str]]:
 
 
 def _device_peaks(bridge: Bridge, result: Integration) -> dict[str, tuple[float, float]]:
-    """The devices' peaks of an integration, by name (`device_peak_names`); NaN where the
+    """The devices' peaks of an integration, by name (`device_peak_names`), and for a tendon or
+    dissipator whether it yielded and broke (ruptured, fractured), as ``<name>_yielded`` and
+    ``<name>_broken``: (1.0, the first time) or (0.0, NaN), from the solver's state; NaN where the
     integrator stopped early."""
-    rows = result.device_peaks
+    rows, states = result.device_peaks, result.devices
+    if states is None:  # no devices
+        return {}
     if result.error != NO_ERROR:  # the integrator stopped early: no peak of the record is known
-        rows = np.full_like(rows, np.nan)
+        rows, states = np.full_like(rows, np.nan), np.full_like(states, np.nan)
     out = {}
-    for (length, force), row in zip(device_peak_names(bridge), rows, strict=True):
-        out[length] = (float(row[0]), float(row[1]))
-        out[force] = (float(row[2]), float(row[3]))
+    for (length, force), row, state, device in zip(
+        device_peak_names(bridge), rows, states, bridge.devices, strict=True
+    ):
+        out[length] = (float(row[PEAK_LENGTH]), float(row[PEAK_LENGTH_TIME]))
+        out[force] = (float(row[PEAK_FORCE]), float(row[PEAK_FORCE_TIME]))
+        if not isinstance(device, Damper):
+            stem = length.removesuffix("_elongation")
+            for suffix, column in (("_yielded", YIELDED_AT), ("_broken", BROKEN_AT)):
+                when = float(state[column])
+                reached = math.nan if result.error != NO_ERROR else float(not math.isnan(when))
+                out[stem + suffix] = (reached, when)
     return out
 
 

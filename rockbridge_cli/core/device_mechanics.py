@@ -1,7 +1,8 @@
 """The mechanics of the piers' devices (`devices`), compiled: each one's elongation and force,
 their generalised force on θ1 (`restrained`, which `dynamics.acceleration` calls), the moment of
-the tendons' prestress at the onset of rocking, the energy the tendons store, and the devices'
-peaks along a response (docs/model.md §13).
+the tendons' prestress at the onset of rocking, the energy the devices store, and the devices'
+peaks along a response (docs/model.md §13). The yielding devices' events (yield, unloading,
+rupture or fracture) are `device_events`'s.
 
 Each function that the integrator calls is compiled for the type of its ``devices``: a table
 (`devices.table`), or None, for which it does nothing (`restrained` returns the force it is
@@ -17,14 +18,22 @@ from numba.extending import overload
 from ._jit import jit
 from .devices import (
     BASE,
+    BRANCH,
+    BROKEN,
+    DAMPER,
     DAMPING,
+    ELASTIC,
+    HARDENING,
     KIND,
+    LOADING,
     OFFSET,
     PIER,
+    PLASTIC,
     PRESTRESS,
     STIFFNESS,
     TENDON,
     TOP,
+    YIELD,
 )
 from .geometry import Model
 from .kinematics import (
@@ -100,11 +109,37 @@ def elongation(model: Model, row: np.ndarray, s: float, theta1: float):
 
 @jit
 def pull(row: np.ndarray, length: float, speed: float) -> float:
-    """The force of one device (a row of `table`) at elongation Δ [m] and its rate Δ̇ [m/s],
-    positive in tension [N]."""
+    """The force of one device (a row of `table`, in its state) at elongation Δ [m] and its rate
+    Δ̇ [m/s], positive in tension [N]: the damper's c·Δ̇, else the yielding devices' law on their
+    branch (`elastic_pull` on the elastic one, the yield line on a plastic one, 0 when broken)."""
+    if row[KIND] == DAMPER:
+        return row[DAMPING] * speed
+    branch = row[BRANCH]
+    if branch == ELASTIC:
+        return elastic_pull(row, length)
+    if branch == BROKEN:
+        return 0.0
+    return yield_line(row, length, branch)
+
+
+@jit
+def elastic_pull(row: np.ndarray, length: float) -> float:
+    """The force of a tendon or dissipator on its elastic branch at elongation Δ [m] [N]: the
+    tendon's max(0, P0 + k·(Δ − Δp)) (slack below zero), the dissipator's k1·(Δ − Δp)."""
     if row[KIND] == TENDON:
-        return row[PRESTRESS] + row[STIFFNESS] * length
-    return row[DAMPING] * speed
+        return max(0.0, row[PRESTRESS] + row[STIFFNESS] * (length - row[PLASTIC]))
+    return row[STIFFNESS] * (length - row[PLASTIC])
+
+
+@jit
+def yield_line(row: np.ndarray, length: float, side: float) -> float:
+    """The yield line of a tendon or dissipator on the ``side`` `LOADING` (+1, tension) or
+    `UNLOADING` (−1) at elongation Δ [m] [N]: the tendon's F_y (it has no lower line: it goes
+    slack instead, −inf), the dissipator's k2·Δ ± (1 − k2/k1)·F_y."""
+    if row[KIND] == TENDON:
+        return row[YIELD] if side == LOADING else -np.inf
+    k1, k2 = row[STIFFNESS], row[HARDENING]
+    return k2 * length + side * (1.0 - k2 / k1) * row[YIELD]
 
 
 def restrained(force: float, devices, model: Model, s: float, theta1: float, omega: float, kin):
@@ -138,12 +173,17 @@ def _device_moment(devices: np.ndarray, model: Model, s, theta1, omega, kin: Kin
 
 @jit
 def strain_energy(devices: np.ndarray, model: Model, s: float, theta1: float) -> float:
-    """Energy stored in the tendons, Σ (P0·Δ + ½k·Δ²) [J] (dampers store none)."""
+    """Elastic energy the devices store in their state, above that of the prestress at rest [J]:
+    Σ (T² − P0²)/(2k) of the tendons (P0·Δ + ½k·Δ² while elastic with Δp = 0; a slack or
+    ruptured tendon's is −P0²/(2k)) and Σ F²/(2k1) of the dissipators (0 when fractured);
+    dampers store none. What the yielding devices' work ∫F·dΔ leaves beyond its change is their
+    plastic work (and the energy released at a rupture)."""
     energy, turned = 0.0, turns(model, s, theta1, EXACT)
     for i in range(devices.shape[0]):
-        if devices[i, KIND] == TENDON:
-            length = stretch(model, devices[i], s, turned)[0]
-            energy += (devices[i, PRESTRESS] + 0.5 * devices[i, STIFFNESS] * length) * length
+        row = devices[i]
+        if row[KIND] != DAMPER:
+            force = pull(row, stretch(model, row, s, turned)[0], 0.0)
+            energy += 0.5 * (force * force - row[PRESTRESS] ** 2) / row[STIFFNESS]
     return energy
 
 
@@ -162,19 +202,22 @@ def prestress_moment(model: Model, devices: np.ndarray, s: float) -> float:
 
 PEAK_LENGTH, PEAK_LENGTH_TIME, PEAK_FORCE, PEAK_FORCE_TIME = range(4)
 """Columns of the devices' peaks (`peaks_of`, `tracked`): the largest elongation Δ [m] and its
-time [s], the largest |force| [N] and its time [s]."""
+time [s], the largest |force| [N] and its time [s]. When a device first yielded and broke is in
+its state (`devices.YIELDED_AT`, `devices.BROKEN_AT`)."""
+
+PEAK_COLUMNS = 4
 
 
 def peaks_of(devices) -> np.ndarray:
     """The devices' peaks at the start, one row each (none without devices)."""
-    return np.zeros((0 if devices is None else devices.shape[0], 4))
+    return np.zeros((0 if devices is None else devices.shape[0], PEAK_COLUMNS))
 
 
 @overload(peaks_of)
 def _compiled_peaks_of(devices):
     if isinstance(devices, (types.NoneType, types.Omitted)):
-        return lambda devices: np.zeros((0, 4))
-    return lambda devices: np.zeros((devices.shape[0], 4))
+        return lambda devices: np.zeros((0, PEAK_COLUMNS))
+    return lambda devices: np.zeros((devices.shape[0], PEAK_COLUMNS))
 
 
 def tracked(devices, peaks: np.ndarray, model: Model, s: float, theta1, omega, t, kin) -> None:

@@ -16,15 +16,20 @@ from typing import NamedTuple
 import numpy as np
 
 from ._jit import inlined, jit
+from .device_events import watch as device_watch
 from .kinematics import Kinematics, displacements
 from .schemes import Segment, Step, take_step
 
-WATCH_IMPACT, WATCH_GAP, WATCH_ABUTMENT, WATCH_PIER1, WATCH_PIER2, WATCH_TURNING = range(6)
+WATCH_IMPACT, WATCH_GAP, WATCH_ABUTMENT, WATCH_PIER1, WATCH_PIER2, WATCH_DEVICES, WATCH_TURNING = (
+    range(7)
+)
 """What the integrator watches while rocking, one signed function each (`watched`): the return to
 θ1 = 0 (an impact), the end gap (closing while open, reopening while closed), the abutment–backfill
-limit, the overturning of each pier, and θ̇1 = 0 (a turning point, only when asked for). Events
-within the event tolerance of each other are taken in this order, except the two piers'
-overturning, taken in the order of their limits in θ1 (`_first_of`)."""
+limit, the overturning of each pier, a yielding device's change of branch (`device_events.watch`:
+the constant −1 without devices), and θ̇1 = 0 (a turning point, only when asked for: the last, so
+that the first ``count`` functions are watched). Events within the event tolerance of each other
+are taken in this order, except the two piers' overturning, taken in the order of their limits in
+θ1 (`_first_of`); a device's unloading, at a turning point, is taken before it."""
 
 _ESTIMATED_TRIALS = 4
 """Trials of an event's location placed by its estimated time (`locate`); Illinois after them."""
@@ -43,6 +48,7 @@ def watched(segment: Segment, kin: Kinematics, theta: float, rate: float):
         abs(d.u_deck) - (model.u_jo + model.u_ab),  # WATCH_ABUTMENT
         abs(d.u_pier1) - model.B,  # WATCH_PIER1
         abs(d.u_pier2) - model.B if model.m2 > 0.0 else -1.0,  # WATCH_PIER2 (a block has none)
+        device_watch(segment.devices, model, s, theta, rate, kin),  # WATCH_DEVICES
         -s * rate,  # WATCH_TURNING
     )
     return functions, d

@@ -86,11 +86,13 @@ LIMIT_STATES = ("gap_closure", "backfill_50", "abutment_failure", "overturning")
 """The limit states a study reports when it names none (`assessment.limit_states` decides which
 an analysis reaches); ``backfill_<p>`` for any whole p from 1 to 100 is one too."""
 
-DEVICE_LIMIT_STATES = {"tendon_yield": "yielded", "tendon_rupture": "ruptured"}
-"""The limit states of a bridge's tendons, each with the device table's column that says which
-tendon reached it (a tendon's largest force reaches its yield force; its largest strain its
-rupture strain). A study reports them for the bridges whose tendons state those limits; the
-tendon stays elastic past them (docs/model.md §13)."""
+DEVICE_LIMIT_STATES = {
+    "tendon_yield": "yielded", "tendon_rupture": "ruptured", "dissipator_fracture": "ruptured",
+}  # fmt: skip
+"""The limit states of a bridge's devices, each with the device table's column that says which
+device of the kind the name starts with reached it (a tendon yielded, ruptured; a dissipator
+fractured: the solver's state). A study reports them for the bridges whose devices state those
+limits (docs/model.md §13)."""
 
 _BACKFILL_STATE = re.compile(r"^backfill_([1-9][0-9]?|100)$")
 
@@ -107,5 +109,6 @@ def check_limit_state(name: str) -> str:
         return name
     raise ValueError(
         f"unknown limit state {name!r}: choose gap_closure, abutment_failure, overturning, "
-        "backfill_<p> (p % of the backfill's capacity, 1-100), tendon_yield or tendon_rupture"
+        "backfill_<p> (p % of the backfill's capacity, 1-100), tendon_yield, tendon_rupture or "
+        "dissipator_fracture"
     )

@@ -16,6 +16,8 @@ small state machine:
   - *reopening* (|u_deck| back to u_jo): gap open, no impulse;
   - *failure* of the abutment–backfill (|u_deck| = u_jo + u_ab) or overturning of a pier
     (|u_pier| = B): the analysis stops;
+  - a yielding device's *change of branch* (yield, elastic unloading, rupture or fracture,
+    `device_events`): its state changes, θ1 and θ̇1 do not;
   - optionally a *turning point* (θ̇1 = 0) to catch each peak exactly.
 
 Steps never straddle a record sample, so the ground acceleration is linear within each step. An
@@ -38,10 +40,12 @@ import numpy as np
 
 from . import quantities
 from ._jit import inlined, jit
+from .device_events import fresh, settle
 from .device_mechanics import peaks_of, tracked
 from .dynamics import acceleration
 from .events import (
     WATCH_ABUTMENT,
+    WATCH_DEVICES,
     WATCH_GAP,
     WATCH_IMPACT,
     WATCH_PIER1,
@@ -158,7 +162,9 @@ class Integration(NamedTuple):
         `NOT_FAILED`
     steps, rejected : steps taken and rejected by the error control [-]
     error : `NO_ERROR` or why the integrator stopped early (`SOLVER_ERRORS`)
-    device_peaks : one row per device (`devices.PEAK_LENGTH` …), none without devices
+    device_peaks : one row per device (`device_mechanics.PEAK_LENGTH` …), none without devices
+    devices : the devices' table (`devices.table`) in its state at the end (branch, plastic
+        elongation Δp, …), None without devices
     """
 
     theta1: np.ndarray
@@ -172,6 +178,7 @@ class Integration(NamedTuple):
     rejected: int
     error: int
     device_peaks: np.ndarray
+    devices: np.ndarray | None
 
 
 class Problem(NamedTuple):
@@ -201,7 +208,7 @@ class Motion(NamedTuple):
     t: float
     k: int
     state: State
-    g: tuple[float, float, float, float, float, float]
+    g: tuple[float, float, float, float, float, float, float]
     sample: int
 
 
@@ -222,7 +229,7 @@ class Log(NamedTuple):
     written: int
 
 
-_AT_REST = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+_AT_REST = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 """`Motion.g` at rest, where nothing is watched (and of a motion not yet `_refreshed`)."""
 
 
@@ -430,8 +437,10 @@ def _failure_event(watch: int) -> int:
 @jit
 def _applied(problem: Problem, segment: Segment, motion: Motion, log: Log, watch: int):
     """Apply the event of ``watch`` that ends the segment: the state jumps and the event is
-    logged. Returns the next segment, the motion at its start, the log, and the failure event (the
-    segment and motion unchanged) or `NOT_FAILED`."""
+    logged (a device's change of branch, `WATCH_DEVICES`, is not: its times are in the devices'
+    peaks); then the yielding devices take their branches at the new state
+    (`device_events.settle`). Returns the next segment, the motion at its start, the log, and the
+    failure event (the segment and motion unchanged) or `NOT_FAILED`."""
     t, s, contact = motion.t, segment.s, segment.contact
     theta, w = motion.state.theta, motion.state.rate
     if watch == WATCH_IMPACT:
@@ -445,9 +454,10 @@ def _applied(problem: Problem, segment: Segment, motion: Motion, log: Log, watch
         w *= problem.laws.pounding
         contact = problem.laws.pounding > 0.0
         log = _logged(log, t, POUNDING, s, before, w)
-    else:  # a failure ends the analysis
+    elif watch != WATCH_DEVICES:  # a failure ends the analysis
         failure = _failure_event(watch)
         return segment, motion, _logged(log, t, failure, s, w, w), failure
+    settle(problem.devices, problem.model, s, theta, w, t, problem.kin)  # a device's new branch
     segment = Segment(problem.model, s, contact, problem.devices)
     motion = Motion(t, motion.k, State(theta, w, np.nan), _AT_REST, motion.sample)
     return segment, _refreshed(segment, problem.kin, problem.ground, motion), log, NOT_FAILED
@@ -485,14 +495,15 @@ def integrate(
         None without one (the kernels are then compiled for a `Ground`, else for a
         `VerticalGround`).
     devices
-        The piers' tendons and dampers (`devices.table`), or None without any (the kernels are
-        then compiled without them).
+        The piers' tendons, dampers and dissipators (`devices.table`), or None without any (the
+        kernels are then compiled without them); the integrator changes the state of a copy.
 
     Returns
     -------
     `Integration`
     """
     ground = ground_of(acc, dt, vertical)
+    devices = fresh(devices)  # its state changes at the events
     problem = Problem(model, laws, kin, ground, settings, devices)
     histories, peaks, segment, motion, log = _started(problem, theta0, omega0)
     device_peaks = peaks_of(devices)
@@ -539,5 +550,16 @@ def integrate(
         rate[motion.sample :] = np.nan
     events = log.rows[: log.written].copy()
     return Integration(
-        theta1, rate, mode, events, peaks, motion.t, failure, steps, rejected, error, device_peaks
+        theta1,
+        rate,
+        mode,
+        events,
+        peaks,
+        motion.t,
+        failure,
+        steps,
+        rejected,
+        error,
+        device_peaks,
+        devices,
     )

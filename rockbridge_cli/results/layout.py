@@ -13,7 +13,7 @@
                                peaks, counts, timings
     /events/<column>           the events of every analysis, the analyses one after the other
                                in the order of /peaks
-    /devices/<column>          only where a bridge has tendons or dampers (docs/model.md §13):
+    /devices/<column>          only where a bridge has devices (docs/model.md §13):
                                one row per device of each analysis that ran, in the order of
                                /peaks: its peaks and whether it reached its limits
     /fragility/<column>        with an intensity section: fragility per bridge × limit state
@@ -96,19 +96,22 @@ EVENT_COLUMNS = {
 DEVICE_COLUMNS = {
     "bridge": ("-", "bridge id"),
     "record": ("-", "record id, as in /peaks"),
-    "device": ("-", "the device: tendon<n> or damper<n>, numbered by kind in the bridge "
-               "config's order"),
+    "device": ("-", "the device: tendon<n>, damper<n> or dissipator<n>, numbered by kind in "
+               "the bridge config's order"),
     "elongation_max": ("m", "largest elongation (opening) across its interface(s)"),
     "elongation_time": ("s", "time of elongation_max"),
-    "force_max": ("N", "largest |force|: a tendon's tension, a damper's |c·rate of elongation|"),
+    "force_max": ("N", "largest |force|: a tendon's tension, a damper's |c·rate of elongation|, "
+                  "a dissipator's |force|"),
     "force_time": ("s", "time of force_max"),
-    "strain_max": ("-", "a tendon's largest strain, force_max/(E·A); NaN for a damper"),
-    "yielded": ("-", "1 where a tendon's force_max reached its yield_force (the limit state "
-                "tendon_yield; it stays elastic past it), 0 where not, -1 without a "
-                "yield_force (a damper) or without results"),
-    "ruptured": ("-", "1 where a tendon's strain_max reached its rupture_strain (the limit "
-                 "state tendon_rupture; it stays elastic past it), 0 where not, -1 without a "
-                 "rupture_strain or without results"),
+    "strain_max": ("-", "largest strain: a tendon's ε0 + elongation_max/L_free (its force/(E·A) "
+                   "while elastic), a dissipator's elongation_max/length; NaN for a damper "
+                   "or without a stated length or rigidity"),
+    "yielded": ("-", "1 where a tendon or dissipator yielded (the solver's state; the limit "
+                "state tendon_yield), 0 where not, -1 without a yield_force (a damper) or "
+                "without results"),
+    "ruptured": ("-", "1 where a tendon ruptured or a dissipator fractured (the solver's "
+                 "state; the limit states tendon_rupture, dissipator_fracture), 0 where not, "
+                 "-1 without a rupture_strain (fracture_strain) or without results"),
 }  # fmt: skip
 """Columns of the device table: name → (unit, description)."""
 

@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
-from ..core.devices import Device, Tendon, names
+from ..core.devices import Damper, Device, Tendon, names
 from ..core.quantities import DEVICE_LIMIT_STATES
 from .layout import (
     COMPRESSION,
@@ -213,9 +213,10 @@ class AnalysisResult:
 
 def device_rows(devices: tuple[Device, ...], peaks: dict[str, tuple[float, float]]) -> np.ndarray:
     """The `DEVICE_RECORD` rows of a bridge's ``devices`` from an analysis's peaks (name →
-    (value, time), `core.analysis.Response.peaks`): a tendon's strain is its largest force over
-    E·A (`core.devices.Tendon.strain`), and it reached its limits where that force is at least
-    its yield force, that strain at least its rupture strain."""
+    (value, time), `core.analysis.Response.peaks`): a tendon's strain is ε0 + Δ_max/L_free
+    (`core.devices.Tendon.strain` of P0 + k·Δ_max), a dissipator's Δ_max/L_d; whether it yielded
+    and broke (ruptured, fractured) is the solver's state (``<name>_yielded``, ``<name>_broken``),
+    −1 where the device states no such limit."""
     rows = np.zeros(len(devices), DEVICE_RECORD)
     for row, device, name in zip(rows, devices, names(devices), strict=True):
         (length, length_time), (force, force_time) = (
@@ -224,13 +225,21 @@ def device_rows(devices: tuple[Device, ...], peaks: dict[str, tuple[float, float
         row["device"] = name.encode()
         row["elongation_max"], row["elongation_time"] = length, length_time
         row["force_max"], row["force_time"] = force, force_time
-        strain, yield_force, rupture_strain = math.nan, math.inf, math.inf  # a damper's
+        row["strain_max"], row["yielded"], row["ruptured"] = math.nan, -1, -1  # a damper's
+        if isinstance(device, Damper):
+            continue
+        yielded, broken = peaks[f"{name}_yielded"][0], peaks[f"{name}_broken"][0]
         if isinstance(device, Tendon):
-            yield_force, rupture_strain = device.yield_force, device.rupture_strain
-            strain = device.strain(force) if math.isfinite(device.rigidity) else math.nan
-        row["strain_max"] = strain
-        row["yielded"] = _reached(force, yield_force)
-        row["ruptured"] = _reached(strain, rupture_strain)
+            stated = (device.yield_force, device.rupture_strain)
+            elastic = device.prestress + device.stiffness * length
+            row["strain_max"] = (
+                device.strain(elastic) if math.isfinite(device.rigidity) else math.nan
+            )
+        else:
+            stated = (device.yield_force, device.fracture)
+            row["strain_max"] = length / device.length if math.isfinite(device.length) else math.nan
+        row["yielded"] = _flag(yielded, stated[0])
+        row["ruptured"] = _flag(broken, stated[1])
     return rows
 
 
@@ -240,16 +249,19 @@ def device_states(rows: np.ndarray) -> dict[str, float]:
     bridge's tendons state that limit and none reached it, NaN where none states it."""
     found = {}
     for state, flag in DEVICE_LIMIT_STATES.items():
-        stated = rows[flag][rows[flag] >= 0] if rows.size else np.zeros(0)
+        kind = state.split("_")[0].encode()  # tendon_yield: the tendons' rows
+        mine = rows[np.char.startswith(rows["device"], kind)] if rows.size else rows
+        stated = mine[flag][mine[flag] >= 0] if mine.size else np.zeros(0)
         found[state] = float(stated.max()) if stated.size else math.nan
     return found
 
 
-def _reached(value: float, limit: float) -> int:
-    """1 where ``value`` reaches ``limit``, 0 where not, −1 without a limit (inf) or a value."""
-    if math.isinf(limit) or math.isnan(value):
+def _flag(state: float, limit: float) -> int:
+    """The flag of a limit the solver's ``state`` says was reached (1.0) or not (0.0): −1
+    without a limit (inf) or a state (NaN)."""
+    if math.isinf(limit) or math.isnan(state):
         return -1
-    return int(value >= limit)
+    return int(state)
 
 
 class Packed(NamedTuple):

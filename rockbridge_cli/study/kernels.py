@@ -51,20 +51,20 @@ COMPILING_VERTICAL = (
 """What a run with vertical ground motions says when its kernels are being compiled."""
 
 DEVICES_COMPILE_TIME_S = 60
-"""The same for the kernels of a bridge with tendons or dampers, compiled for them of their own
+"""The same for the kernels of a bridge with devices, compiled for them of their own
 (`core.device_mechanics`), with and without a vertical ground motion [s]: 4 min in a test run
 that compiled them at two fidelities while four other jobs kept a 2-core host busy (issue 41)."""
 
 COMPILING_DEVICES = (
-    "compiling the analysis kernels for bridges with tendons or dampers, once for this "
-    f"installation (about {DEVICES_COMPILE_TIME_S} s on an idle core; later runs load them from "
-    "numba's cache; 'python -m rockbridge_cli.warmup' compiles them ahead)"
+    "compiling the analysis kernels for bridges with devices (tendons, dampers, dissipators), "
+    f"once for this installation (about {DEVICES_COMPILE_TIME_S} s on an idle core; later runs "
+    "load them from numba's cache; 'python -m rockbridge_cli.warmup' compiles them ahead)"
 )
 """What a run with a bridge that has devices says when their kernels are being compiled."""
 
 _ready: set[str] = set()
 """The kernels this process has: ``horizontal``, ``vertical`` (a vertical ground motion's),
-``devices`` (a bridge's with tendons or dampers), ``devices vertical`` (both)."""
+``devices`` (a bridge's with devices), ``devices vertical`` (both)."""
 
 
 def compiling_message(vertical: bool, devices: bool = False) -> str:
@@ -94,7 +94,7 @@ def prepare(
     vertical
         Also the kernels of an analysis with a vertical ground motion.
     devices
-        Also the kernels of a bridge with tendons or dampers.
+        Also the kernels of a bridge with devices.
 
     Returns
     -------

@@ -30,8 +30,8 @@ class Finished(NamedTuple):
     failure_mode : how the bridge failed (``none`` if it did not, empty if it could not run)
     dcr_backfill : peak backfill demand/capacity ratio [-]
     busy_s : how long the worker took, from the start of the analysis to its packed result [s]
-    tendon_yield, tendon_rupture : whether its tendons reached those limits: 1.0, 0.0, NaN where
-        none states one (`results.packing.device_states`)
+    tendon_yield, tendon_rupture, dissipator_fracture : whether its devices reached those
+        limits: 1.0, 0.0, NaN where none states one (`results.packing.device_states`)
     """
 
     cell: Cell
@@ -45,13 +45,14 @@ class Finished(NamedTuple):
     busy_s: float = float("nan")
     tendon_yield: float = float("nan")
     tendon_rupture: float = float("nan")
+    dissipator_fracture: float = float("nan")
 
     @property
     def verdict(self) -> Verdict:
         """What decides its limit states."""
         return Verdict(
             self.status, self.failure_mode, self.dcr_backfill, self.tendon_yield,
-            self.tendon_rupture,
+            self.tendon_rupture, self.dissipator_fracture,
         )  # fmt: skip
 
 
