@@ -430,9 +430,10 @@ def test_batches_hold_a_second_of_work_and_shrink_at_the_end(cells, workers, sec
 def test_a_description_written_early_is_copied_in_as_it_would_be_written(tmp_path, monkeypatch):
     """Issue 39: the end of a run (a stop's too) wrote the description, 2.9 s of HDF5 attributes
     for a spectrum's 1000 records. It is now written while the run goes on, into a file of its
-    own beside the output, and copied in at the end (`prewritten.Prewritten`): the copy holds
-    every attribute, dataset and value the writing does (compared as bytes), and the side file
-    is gone after. A failure to write it early leaves no side file, and the end writes it."""
+    own beside the output (by a thread), and copied in at the end (`prewritten.Prewritten`):
+    the copy holds every attribute, dataset and value the writing does (compared as bytes), and
+    the side file is gone after. A failure to write it early leaves no side file, and the end
+    writes it."""
     from rockbridge_cli.study import prewritten
     from rockbridge_cli.study.describe import motions_of, numerics
     from rockbridge_cli.study.grid import Grid
@@ -445,10 +446,10 @@ def test_a_description_written_early_is_copied_in_as_it_would_be_written(tmp_pat
         early = prewritten.Prewritten(tmp_path / "out.h5", study, bridges, "2026-01-01", None)
         if how == "copied":
             early.write(computed)
-            assert early.written and early.path.exists()
         files[how] = tmp_path / f"{how}.h5"
         with h5py.File(files[how], "w") as file:
-            early.into(file, computed)
+            early.into(file, computed)  # waits for the thread
+        assert early.written == (how == "copied") and early.path.exists() == early.written
         early.remove()
         assert not early.path.exists()
     assert contents(files["copied"]) == contents(files["written"])
@@ -459,6 +460,7 @@ def test_a_description_written_early_is_copied_in_as_it_would_be_written(tmp_pat
     monkeypatch.setattr(prewritten, "write_description", full)
     failed = prewritten.Prewritten(tmp_path / "out.h5", study, bridges, "2026-01-01", None)
     failed.write(computed)
+    failed.remove()  # waits for the thread
     assert not failed.written and not failed.path.exists()
 
 

@@ -259,7 +259,8 @@ class _Rounds:
         numerics (`describe.numerics`, from a worker), None until they come back
     ended : every round run (an IDA: its rule calls for no more levels)
     described : called once with the numerics, between two batches, as soon as the workers have
-        computed them (`prewritten.Prewritten.write`: the description written early)
+        computed them (`prewritten.Prewritten.write`: the description written early, in a
+        thread)
     """
 
     done: int = 0
