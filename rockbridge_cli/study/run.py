@@ -177,7 +177,8 @@ def run_study(
     described = Prewritten(output, study, [case.bridge for case in grid.bridges], created, shard)
     with _exclusive(output), stoppable():
         journal, verdicts = _resumed(output, study, shard, resume, overwrite)
-        resumed, rounds, stopped = len(verdicts), _Rounds(described=described.write), False
+        early = described.write if scheduler is None else None  # a Dask worker's folder differs
+        resumed, rounds, stopped = len(verdicts), _Rounds(described=early), False
         try:
             try:
                 with executor(grid, journal, workers, scheduler, notice, pool) as offered:
@@ -258,9 +259,9 @@ class _Rounds:
     numerics : what the results file's description needs of the compiled kernels and the slower
         numerics (`describe.numerics`, from a worker), None until they come back
     ended : every round run (an IDA: its rule calls for no more levels)
-    described : called once with the numerics, between two batches, as soon as the workers have
-        computed them (`prewritten.Prewritten.write`: the description written early, in a
-        thread)
+    described : called once with the numerics and the executor's ``call``, between two batches,
+        as soon as the workers have computed them (`prewritten.Prewritten.write`: the
+        description written early, by a worker)
     """
 
     done: int = 0
@@ -268,7 +269,7 @@ class _Rounds:
     solve_time: float = 0.0
     numerics: Numerics | None = None
     ended: bool = False
-    described: Callable[[Numerics], None] | None = None
+    described: Callable[[Numerics, Any], None] | None = None
 
     def run(
         self, offered: Any, plan: OneRound | Plan, grid: Grid,
@@ -295,18 +296,18 @@ class _Rounds:
                         if progress is not None:
                             progress(finished, self.done, self.total)
                     if self.numerics is None and self.described is not None:
-                        self._describe([first, *rest])
+                        self._describe([first, *rest], offered.call)
         except KeyboardInterrupt:
             self.numerics = _ready([first, *rest])
             raise
         self.numerics = _joined(first(), [part() for part in rest])
         self.ended = True
 
-    def _describe(self, collectors: list[Callable[..., Any]]) -> None:
+    def _describe(self, collectors: list[Callable[..., Any]], call: Any) -> None:
         """Hand the numerics to `described` if the workers have computed them (`_ready`)."""
         self.numerics = _ready(collectors)
         if self.numerics is not None and self.described is not None:
-            self.described(self.numerics)
+            self.described(self.numerics, call)
 
 
 def _ready(collectors: list[Callable[..., Any]]) -> Numerics | None:
