@@ -219,6 +219,87 @@ def test_a_spectrum_plans_its_map_as_the_rule_names_it(tmp_path):
     assert set(first[7:]) <= set(left)
 
 
+def test_a_spectrums_first_round_builds_its_cells_only_as_the_batches_take_them(tmp_path):
+    """Issue 39: a spectrum's first round built a `Cell` per point of its map before the first
+    analysis (7–9 s and about 190 MB for 1e6 points); it now holds the round as columns and
+    builds the cells a batch at a time, as the executors take them (`pacing.batched`). What
+    they take is, cell for cell, what the rule names, each built here one at a time from
+    `Lattice.level` (a Python float, bit for bit) and the record's measure; and ``ran`` gives
+    the visited cells in the order of the results."""
+    from rockbridge_cli.assessment.limit_states import Verdict
+    from rockbridge_cli.core.quantities import NO_FAILURE
+    from rockbridge_cli.study.executors.pacing import Pace, batched
+    from rockbridge_cli.study.grid import Cell, Grid
+    from rockbridge_cli.study.plan import Cells, plan_of
+
+    study = load_study(spectrum_study(tmp_path))
+    grid = Grid.of(study)
+    plan = plan_of(study, grid, grid.cells)
+    lattice = plan.lattice
+    first = plan.round({})
+    assert isinstance(first, Cells) and len(first) == 4 * 5  # no cell built yet
+    expected = [
+        Cell(curve.index * lattice.count + n, curve.bridge_index, curve.record_index,
+             lattice.level(n), lattice.level(n) / plan.natives[curve.record_index])
+        for curve in grid.cells for n in range(0, lattice.count, lattice.stride)
+    ]  # fmt: skip
+    taken = [cell for batch in batched(first, 2, Pace()) for cell in batch]
+    assert taken == expected == list(first) == [first[k] for k in range(len(first))]
+    assert all(type(cell.level) is float and type(cell.index) is int for cell in taken)
+    visited = {grid.ids(cell): Verdict("ok", NO_FAILURE, float("nan")) for cell in expected[::3]}
+    assert plan.ran(visited) == sorted(expected[::3])
+
+
+def test_a_spectrum_places_each_analysis_by_its_id_and_the_regions_rule(tmp_path):
+    """Issue 39: the stored spectrum placed the map's points one at a time (a region and a
+    verdict built per row of a 1e6-row table: 2–3 s of a stop); it now does it on whole
+    columns. Here a hand-made peak table of 4 frequencies × 5 amplitudes, its rows shuffled,
+    one of each region of the field (Makris & Roussos 2000), one that could not run, and a
+    bisection's level between two scans (no point of the map): the regions expected are
+    written out by hand from the rule (`REGIONS`), −1 where no analysis of the map ran."""
+    from rockbridge_cli.assessment.ida import Rule
+    from rockbridge_cli.assessment.spectrum import spectrum_of
+    from rockbridge_cli.core.quantities import ABUTMENT, NO_FAILURE, PIER2_OVERTURNING
+    from rockbridge_cli.results.sections import IntensitySection, SpectrumSection
+
+    study = load_study(spectrum_study(tmp_path))
+    spectrum = SpectrumSection.of(study.resolved()["spectrum"])
+    intensity = IntensitySection.of(study.intensity)
+    rule = Rule.of(intensity)
+    stride, bases = rule.lattice.stride, spectrum.records
+    nan, inf = float("nan"), float("inf")
+    rows = [  # (record, lattice index, status, failure mode, dcr_backfill, impacts, onset)
+        (0, 0, "ok", NO_FAILURE, nan, 0, inf),  # no rocking
+        (0, stride, "ok", NO_FAILURE, nan, 0, 0.4),  # rocking
+        (1, 2 * stride, "ok", PIER2_OVERTURNING, nan, 2, 0.3),  # overturning after impact
+        (1, 3 * stride, "ok", PIER2_OVERTURNING, nan, 0, 0.2),  # overturning without
+        (2, 0, "error", "", nan, -1, nan),  # could not run
+        (2, 4 * stride, "ok", ABUTMENT, 1.2, 1, 0.1),  # the abutment failed
+        (3, stride, "ok", NO_FAILURE, 0.5, 3, 0.3),  # the end joints closed
+        (3, stride + stride // 2, "ok", PIER2_OVERTURNING, nan, 1, 0.2),  # a bisection's
+    ]
+    order = [5, 2, 7, 0, 4, 1, 6, 3]
+    table = [rows[k] for k in order]
+    columns = {
+        "record": np.array([rule.record(bases[r], n) for r, n, *_ in table]),
+        "base_record": np.array([bases[r] for r, *_ in table]),
+        "intensity": np.array([rule.lattice.level(n) for _, n, *_ in table]),
+        **{name: np.array(values) for name, values in zip(
+            ("status", "failure_mode", "dcr_backfill", "n_impacts", "t_onset"),
+            list(zip(*(row[2:] for row in table), strict=True)), strict=True)},
+    }  # fmt: skip
+    found = spectrum_of(columns, "block", spectrum, intensity).regions
+    expected = np.array([
+        [0, 1, -1, -1, -1],
+        [-1, -1, 4, 5, -1],
+        [-1, -1, -1, -1, 3],
+        [-1, 2, -1, -1, -1],
+    ])  # fmt: skip
+    assert found.dtype == np.int8 and found.tolist() == expected.tolist()
+    assert REGIONS[:6] == ("no_rocking", "rocking", "gap_closure", "abutment_failure",
+                           "overturning_after_impact", "overturning_without_impact")  # fmt: skip
+
+
 def test_a_spectrum_shards_and_merges_to_the_same_file(tmp_path):
     """Two shards merged hold the spectrum one run stores."""
     whole = run_study(load_study(spectrum_study(tmp_path, output="whole.h5")), workers=2).output

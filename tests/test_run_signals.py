@@ -96,6 +96,20 @@ def wait_for(condition, timeout: float = 60.0) -> None:
         time.sleep(0.05)
 
 
+def stop_when(
+    child: subprocess.Popen, ready, how: int = signal.SIGINT, timeout: float = 120.0
+) -> None:
+    """Send ``child`` the signal ``how`` once ``ready()`` holds (within ``timeout`` s) and wait
+    up to 60 s for it to end; it is killed either way (a watchdog, not a measure)."""
+    try:
+        wait_for(ready, timeout=timeout)
+        child.send_signal(how)
+        child.wait(timeout=60)
+    finally:
+        child.kill()
+        child.wait()
+
+
 def pids(started: Path) -> set[int]:
     return {int(line) for line in started.read_text().split()} if started.exists() else set()
 
@@ -416,13 +430,7 @@ def test_a_stop_while_the_first_run_compiles_does_not_wait_for_the_compile(
     said = tmp_path / "stderr.txt"
     with open(tmp_path / "stdout.txt", "w") as out, open(said, "w") as err:
         child = subprocess.Popen(command, cwd=tmp_path, stdout=out, stderr=err, env=environment)
-    try:
-        wait_for(lambda: "compiling the analysis kernels" in said.read_text(), timeout=120)
-        child.send_signal(how)
-        child.wait(timeout=60)
-    finally:
-        child.kill()
-        child.wait()
+    stop_when(child, lambda: "compiling the analysis kernels" in said.read_text(), how)
     err = said.read_text()
     assert child.returncode == status, err
     last = err.strip().splitlines()[-1]
@@ -449,13 +457,8 @@ def test_a_stopped_spectrum_keeps_every_finished_point(tmp_path):
                  "-o", str(output)]  # fmt: skip
     child, _ = start_run(tmp_path, None, 2, SLOW_RUN, arguments)
     said = tmp_path / "stderr.txt"
-    try:
-        wait_for(lambda: " analyses (" in said.read_text() or child.poll() is not None)
-        child.send_signal(signal.SIGINT)
-        child.wait(timeout=60)
-    finally:
-        child.kill()
-        child.wait()
+    stop_when(child, lambda: " analyses (" in said.read_text() or child.poll() is not None,
+              timeout=60)  # fmt: skip
     lines = said.read_text().splitlines()
     assert child.returncode == 130, lines
     assert "Traceback" not in said.read_text()
@@ -519,13 +522,7 @@ def test_ctrl_c_while_analyze_compiles_does_not_wait_for_the_compile(tmp_path):
     said = tmp_path / "stderr.txt"
     with open(tmp_path / "stdout.txt", "w") as out, open(said, "w") as err:
         child = subprocess.Popen(command, cwd=tmp_path, stdout=out, stderr=err, env=environment)
-    try:
-        wait_for(lambda: "compiling the analysis kernels" in said.read_text(), timeout=120)
-        child.send_signal(signal.SIGINT)
-        child.wait(timeout=60)
-    finally:
-        child.kill()
-        child.wait()
+    stop_when(child, lambda: "compiling the analysis kernels" in said.read_text())
     lines = said.read_text().strip().splitlines()
     assert child.returncode == 130, lines
     assert lines[-1] == "interrupted" and lines[-2].startswith("compiling the analysis kernels")
@@ -567,13 +564,7 @@ def test_a_stop_while_another_process_compiles_does_not_wait_for_it(tmp_path, st
         with open(tmp_path / "stdout.txt", "w") as out, open(said, "w") as err:
             child = subprocess.Popen(command, cwd=tmp_path, stdout=out, stderr=err,
                                      env={**os.environ, "PYTHONPATH": paths})  # fmt: skip
-        try:
-            wait_for(lambda: waits_for_a_lock(child.pid) or child.poll() is not None, timeout=120)
-            child.send_signal(signal.SIGINT)
-            child.wait(timeout=60)
-        finally:
-            child.kill()
-            child.wait()
+        stop_when(child, lambda: waits_for_a_lock(child.pid) or child.poll() is not None)
     lines = said.read_text().strip().splitlines()
     assert child.returncode == 130, lines
     assert lines[-1] == ("interrupted: no analysis had finished, nothing to keep; run the same "

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -21,7 +22,7 @@ import numpy as np
 
 from ..core.quantities import ABUTMENT, PIER1_OVERTURNING, PIER2_OVERTURNING
 from ..errors import InputError
-from ..results.reading import open_results, peak_columns, read_intensity, read_spectrum_section
+from ..results.reading import open_results, read_intensity, read_spectrum_section
 from ..results.sections import IntensitySection, SpectrumSection
 from .ida import Rule
 from .limit_states import Verdict
@@ -86,34 +87,57 @@ def _spectrum_of_file(file: h5py.File, path: str | Path) -> OverturningSpectrum:
     if spectrum is None or intensity is None or intensity.ida is None:
         raise InputError(path, [("", "the study has no spectrum section: no spectrum")])
     bridge = next(iter(file["bridges"]))  # a spectrum is of one bridge
-    return spectrum_of(peak_columns(file), bridge, spectrum, intensity)
+    return spectrum_of(_map_columns(file), bridge, spectrum, intensity)
+
+
+MAP_COLUMNS = (
+    "record", "base_record", "intensity", "status", "failure_mode", "dcr_backfill", "n_impacts",
+    "t_onset",
+)  # fmt: skip
+"""The columns of the peak table a spectrum is computed from (`spectrum_of`)."""
+
+
+def _map_columns(file: h5py.File) -> dict[str, np.ndarray]:
+    """`MAP_COLUMNS` of an open results file's peak table, as `results.reading.peak_columns`
+    gives them (text as ``str`` arrays): only those, of a table that may have 1e6 rows."""
+    peaks = file["peaks"]
+    return {
+        name: peaks[name].asstr()[()].astype(str) if peaks[name].dtype.kind == "O"
+        else peaks[name][()]
+        for name in MAP_COLUMNS
+    }  # fmt: skip
 
 
 def spectrum_of(
     columns: dict[str, np.ndarray], bridge: str, spectrum: SpectrumSection,
     intensity: IntensitySection,
 ) -> OverturningSpectrum:  # fmt: skip
-    """`read_spectrum` of a peak table's columns, given the study's one bridge (its id), its
-    spectrum section and the intensity section it runs as (an IDA of ``scale``)."""
+    """`read_spectrum` of a peak table's columns (`MAP_COLUMNS` at least), given the study's one
+    bridge (its id), its spectrum section and the intensity section it runs as (an IDA of
+    ``scale``).
+
+    The map is found on whole columns (`_map_rows`, `_regions`); a row's verdict is built only
+    where the rule's replay asks for it."""
     rule = Rule.of(intensity)
     lattice, states = rule.lattice, rule.states
     records, amplitudes = spectrum.records, spectrum.amplitude_ratios
-    rows = {record: i for i, record in enumerate(columns["record"])}
-    verdicts = {
-        record: Verdict(columns["status"][i], columns["failure_mode"][i],
-                        float(columns["dcr_backfill"][i]))
-        for record, i in rows.items()
-    }  # fmt: skip
-    regions = np.full((len(records), len(amplitudes)), NOT_RUN, dtype=np.int8)
+    ids = np.asarray(columns["record"], dtype=str)
+    rows = dict(zip(ids.tolist(), range(ids.size), strict=True))  # the replay's, by id
+
+    def verdict(record: str) -> Verdict | None:
+        i = rows.get(record)
+        if i is None:
+            return None
+        status, mode = str(columns["status"][i]), str(columns["failure_mode"][i])
+        return Verdict(status, mode, float(columns["dcr_backfill"][i]))
+
+    tags = [rule.record("", j * lattice.stride) for j in range(len(amplitudes))]  # once a level
+    placed = _map_rows(columns, records, rule, tags)  # −1: not run, the last code appended
+    regions = np.append(_regions(columns), np.int8(NOT_RUN))[placed]
     boundaries = {state: np.full(len(records), np.nan) for state in states}
     below = {state: np.full(len(records), np.nan) for state in states}
-    tags = [rule.record("", j * lattice.stride) for j in range(len(amplitudes))]  # once a level
     for i, base in enumerate(records):
-        for j, tag in enumerate(tags):
-            row = rows.get(base + tag)
-            regions[i, j] = NOT_RUN if row is None else _region(columns, row)
-        found = rule.replay(base, verdicts.get).capacities
-        for state, (low, high) in found.items():
+        for state, (low, high) in rule.replay(base, verdict).capacities.items():
             if high is not None:
                 boundaries[state][i] = lattice.level(high)
                 below[state][i] = lattice.level(low) if low >= 0 else math.nan
@@ -124,21 +148,42 @@ def spectrum_of(
     )  # fmt: skip
 
 
-def _region(columns: dict[str, np.ndarray], row: int) -> int:
-    """The `REGIONS` code of one analysis of the peak table."""
-    if columns["status"][row] == "error":
-        return NOT_RUN
-    mode = columns["failure_mode"][row]
-    if mode in (PIER1_OVERTURNING, PIER2_OVERTURNING):
-        return REGIONS.index(
-            "overturning_after_impact" if columns["n_impacts"][row] > 0
-            else "overturning_without_impact"
-        )  # fmt: skip
-    if mode == ABUTMENT:
-        return REGIONS.index("abutment_failure")
-    if columns["dcr_backfill"][row] > 0.0:
-        return REGIONS.index("gap_closure")
-    return REGIONS.index("rocking" if math.isfinite(columns["t_onset"][row]) else "no_rocking")
+def _map_rows(
+    columns: dict[str, np.ndarray], records: Sequence[str], rule: Rule, tags: list[str]
+) -> np.ndarray:
+    """The row of the peak table of each point of the map (``records`` × the scan levels, what
+    each adds to a record's id ``tags``), −1 where none ran: each row placed at once by its base
+    record and its level's lattice index, where its id is that point's."""
+    lattice, ids = rule.lattice, np.asarray(columns["record"], dtype=str)
+    names, ends = np.array(records, dtype=str), np.array(tags, dtype=str)
+    rows = np.full((names.size, ends.size), -1)
+    order = np.argsort(names, kind="stable")
+    i = order[np.minimum(np.searchsorted(names[order], columns["base_record"]), names.size - 1)]
+    with np.errstate(invalid="ignore"):  # NaN: a row of no level
+        n = np.rint((columns["intensity"] - lattice.start) / lattice.step * lattice.stride)
+        j = n / lattice.stride
+        scan = (n % lattice.stride == 0) & (j >= 0) & (j < ends.size)
+    row = np.flatnonzero(scan)
+    i, j = i[row], j[row].astype(np.int64)
+    same = np.char.add(names[i], ends[j]) == ids[row]  # what the rule names it (`Rule.record`)
+    rows[i[same], j[same]] = row[same]
+    return rows
+
+
+def _regions(columns: dict[str, np.ndarray]) -> np.ndarray:
+    """The `REGIONS` code of each analysis of the peak table (`NOT_RUN` where it could not
+    run), the first that holds of: overturned (after an impact, or without), the abutment
+    failed, the end joints closed (a backfill demand), it rocked (an onset time), none."""
+    mode = columns["failure_mode"]
+    overturned = np.isin(mode, (PIER1_OVERTURNING, PIER2_OVERTURNING))
+    conditions = [
+        columns["status"] == "error", overturned & (columns["n_impacts"] > 0), overturned,
+        mode == ABUTMENT, columns["dcr_backfill"] > 0.0, np.isfinite(columns["t_onset"]),
+    ]  # fmt: skip
+    codes = [NOT_RUN, *map(REGIONS.index, (
+        "overturning_after_impact", "overturning_without_impact", "abutment_failure",
+        "gap_closure", "rocking"))]  # fmt: skip
+    return np.select(conditions, codes, default=REGIONS.index("no_rocking")).astype(np.int8)
 
 
 def store(file: h5py.File) -> None:

@@ -12,8 +12,8 @@ every scan level of every curve (the map), and its bisections then start from th
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
-from itertools import repeat
+from collections.abc import Iterable, Iterator, Mapping, Sequence
+from typing import overload
 
 import numpy as np
 
@@ -86,14 +86,14 @@ class Plan:
         """A spectrum's map: each scan level's lattice index, with what its level adds to a
         record's id (`assessment.ida.Rule.record`)."""
 
-    def round(self, verdicts: Mapping[tuple[str, str], Verdict]) -> list[Cell]:
+    def round(self, verdicts: Mapping[tuple[str, str], Verdict]) -> Cells:
         """The analyses to run next, on every curve at once; empty when the IDA is done."""
         return self._cells(verdicts, "wanted")
 
     def ran(self, verdicts: Mapping[tuple[str, str], Verdict]) -> list[Cell]:
         """The analyses the rule has used so far, in the order of the results (bridge, record,
         level)."""
-        return sorted(self._cells(verdicts, "visited"))
+        return self._cells(verdicts, "visited").in_order()[:]
 
     def walk(self, curve: Cell, verdicts: Mapping[tuple[str, str], Verdict]) -> Walk:
         """Where one curve stands, given the verdicts so far (`assessment.ida.Rule.replay`)."""
@@ -101,25 +101,24 @@ class Plan:
         base = self.grid.records[curve.record_index].id
         return self.rule.replay(base, lambda record: verdicts.get((bridge, record)))
 
-    def cells(self, curve: Cell, indices: Iterable[int]) -> list[Cell]:
+    def cells(self, curve: Cell, indices: Iterable[int]) -> Cells:
         """The analyses of a curve at lattice ``indices``, in their order; a cell's index orders
         the results by bridge, record and level. Its level is `Lattice.level`'s, the same
         operations on whole arrays (a spectrum's map has a million)."""
         n = np.fromiter(indices, dtype=np.int64)
         lattice = self.lattice
         levels = lattice.start + lattice.step * n / lattice.stride
-        scales = levels / self.natives[curve.record_index]
-        return list(map(
-            Cell, (curve.index * lattice.count + n).tolist(), repeat(curve.bridge_index, n.size),
-            repeat(curve.record_index, n.size), levels.tolist(), scales.tolist(),
-        ))  # fmt: skip
+        return Cells(
+            curve.index * lattice.count + n, np.full(n.size, curve.bridge_index),
+            np.full(n.size, curve.record_index), levels,
+            levels / self.natives[curve.record_index],
+        )  # fmt: skip
 
-    def _cells(self, verdicts: Mapping[tuple[str, str], Verdict], which: str) -> list[Cell]:
-        return [
-            cell
+    def _cells(self, verdicts: Mapping[tuple[str, str], Verdict], which: str) -> Cells:
+        return Cells.joined([
+            self.cells(curve, sorted(self._indices(curve, verdicts, which)))
             for curve in self.curves
-            for cell in self.cells(curve, sorted(self._indices(curve, verdicts, which)))
-        ]
+        ])  # fmt: skip
 
     def _indices(
         self, curve: Cell, verdicts: Mapping[tuple[str, str], Verdict], which: str
@@ -130,6 +129,54 @@ class Plan:
         if self.scans:  # the map's ids formatted once a level, not once a point (1e6 of them)
             bridge = self.grid.bridges[curve.bridge_index].id
             base = self.grid.records[curve.record_index].id
-            ran = {n for n, tag in self.scans.items() if (bridge, base + tag) in verdicts}
+            ran = set()  # none before the first verdict: no id formatted
+            if verdicts:
+                ran = {n for n, tag in self.scans.items() if (bridge, base + tag) in verdicts}
             indices |= self.scans.keys() - ran if which == "wanted" else ran
         return indices
+
+
+class Cells(Sequence[Cell]):
+    """Cells held as columns (`grid.Cell`'s fields, one array each), each cell built only when
+    it is taken: a batch at a time, as the executors take them (a spectrum's first round has a
+    million, which as objects took seconds and hundreds of MB before the first analysis ran).
+    A cell taken is the one a list of them would hold, its fields Python numbers."""
+
+    def __init__(self, *columns: np.ndarray):
+        self.columns = columns
+
+    @classmethod
+    def joined(cls, parts: Sequence[Cells]) -> Cells:
+        """The cells of ``parts``, one after the other."""
+        if not parts:
+            return cls(*(np.empty(0, dtype) for dtype in (np.int64,) * 3 + (np.float64,) * 2))
+        return cls(
+            *(np.concatenate(column) for column in zip(*(p.columns for p in parts), strict=True))
+        )
+
+    def in_order(self) -> Cells:
+        """The same cells in the order of their index (the results')."""
+        order = np.argsort(self.columns[0], kind="stable")
+        return Cells(*(column[order] for column in self.columns))
+
+    def __len__(self) -> int:
+        return len(self.columns[0])
+
+    @overload
+    def __getitem__(self, which: int) -> Cell: ...
+
+    @overload
+    def __getitem__(self, which: slice) -> list[Cell]: ...
+
+    def __getitem__(self, which: int | slice) -> Cell | list[Cell]:
+        if isinstance(which, slice):
+            return list(map(Cell, *(column[which].tolist() for column in self.columns)))
+        return Cell(*(column[which].item() for column in self.columns))
+
+    def __iter__(self) -> Iterator[Cell]:
+        for start in range(0, len(self), TAKEN_AT_ONCE):
+            yield from self[start : start + TAKEN_AT_ONCE]
+
+
+TAKEN_AT_ONCE = 4096
+"""Cells built at a time when `Cells` are iterated."""

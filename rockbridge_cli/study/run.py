@@ -45,12 +45,13 @@ from ..results.reading import (
     stored_shard_of,
     verify,
 )
-from ..results.writing import ResultsWriter, write_description
-from .describe import Motions, Numerics, describe, motions_of, numerics
+from ..results.writing import ResultsWriter
+from .describe import Motions, Numerics, motions_of, numerics
 from .executors import LocalPool, Notice, executor
 from .grid import Grid
 from .journal import Journal, remove_journal
 from .plan import OneRound, Plan, plan_of
+from .prewritten import Prewritten
 from .shards import shard_label
 from .work import Finished
 
@@ -173,9 +174,11 @@ def run_study(
     output = checked_output(study.output, ours=is_results_file, what="a rockbridge results file")
     grid = Grid.of(study)
     plan = plan_of(study, grid, grid.cells if shard is None else grid.shard(*shard))
+    described = Prewritten(output, study, [case.bridge for case in grid.bridges], created, shard)
     with _exclusive(output), stoppable():
         journal, verdicts = _resumed(output, study, shard, resume, overwrite)
-        resumed, rounds, stopped = len(verdicts), _Rounds(), False
+        early = described.write if scheduler is None else None  # a Dask worker's folder differs
+        resumed, rounds, stopped = len(verdicts), _Rounds(described=early), False
         try:
             try:
                 with executor(grid, journal, workers, scheduler, notice, pool) as offered:
@@ -186,10 +189,11 @@ def run_study(
             finally:  # the plan as far as it got, the batches in flight included
                 ran = tuple(plan.ran(verdicts | journal.verdicts()))
                 grid = dataclasses.replace(grid, listed=ran)
-                tally = _finish(output, study, grid, shard, journal, created, assembly, rounds,
+                tally = _finish(output, study, grid, shard, journal, described, assembly, rounds,
                                 plan.sized, stopped)  # fmt: skip
         finally:
             journal.close()
+            described.remove()
     statuses, failures = tally or _tally(output)
     total = len(grid.cells)
     return RunReport(output, total, min(resumed, total), rounds.done, workers,
@@ -223,7 +227,8 @@ def _resumed(
 
 def _finish(
     output: Path, study: Study, grid: Grid, shard: tuple[int, int] | None, journal: Journal,
-    created: str, assembly: Assembly | None, rounds: _Rounds, sized: bool, stopped: bool = False,
+    described: Prewritten, assembly: Assembly | None, rounds: _Rounds, sized: bool,
+    stopped: bool = False,
 ) -> tuple[dict[str, int], int] | None:  # fmt: skip
     """Write the results file of ``grid``'s cells where the journal holds anything new (or no
     file exists yet, unless a signal ``stopped`` the run: its description would need the
@@ -232,7 +237,7 @@ def _finish(
     is complete only if its rounds ended."""
     tally = None
     if len(journal) or not (output.exists() or stopped):
-        tally = _write(output, study, grid, shard, journal, created, assembly, rounds.numerics,
+        tally = _write(output, study, grid, shard, journal, described, assembly, rounds.numerics,
                        rounds.ended or sized)  # fmt: skip
     journal.remove()
     return tally
@@ -254,6 +259,9 @@ class _Rounds:
     numerics : what the results file's description needs of the compiled kernels and the slower
         numerics (`describe.numerics`, from a worker), None until they come back
     ended : every round run (an IDA: its rule calls for no more levels)
+    described : called once with the numerics and the executor's ``call``, between two batches,
+        as soon as the workers have computed them (`prewritten.Prewritten.write`: the
+        description written early, by a worker)
     """
 
     done: int = 0
@@ -261,6 +269,7 @@ class _Rounds:
     solve_time: float = 0.0
     numerics: Numerics | None = None
     ended: bool = False
+    described: Callable[[Numerics, Any], None] | None = None
 
     def run(
         self, offered: Any, plan: OneRound | Plan, grid: Grid,
@@ -286,11 +295,19 @@ class _Rounds:
                         self.done += 1
                         if progress is not None:
                             progress(finished, self.done, self.total)
+                    if self.numerics is None and self.described is not None:
+                        self._describe([first, *rest], offered.call)
         except KeyboardInterrupt:
             self.numerics = _ready([first, *rest])
             raise
         self.numerics = _joined(first(), [part() for part in rest])
         self.ended = True
+
+    def _describe(self, collectors: list[Callable[..., Any]], call: Any) -> None:
+        """Hand the numerics to `described` if the workers have computed them (`_ready`)."""
+        self.numerics = _ready(collectors)
+        if self.numerics is not None and self.described is not None:
+            self.described(self.numerics, call)
 
 
 def _ready(collectors: list[Callable[..., Any]]) -> Numerics | None:
@@ -332,19 +349,21 @@ def _check_arguments(
 
 def _write(
     output: Path, study: Study, grid: Grid, shard: tuple[int, int] | None, journal: Journal,
-    created: str, assembly: Assembly | None, computed: Numerics | None, finished: bool = True,
+    described: Prewritten, assembly: Assembly | None, computed: Numerics | None,
+    finished: bool = True,
 ) -> tuple[dict[str, int], int]:  # fmt: skip
     """Write the results file of ``grid``'s cells from the journal and the earlier file, in the
-    study's order, into a temporary file renamed over the output at the end; ``computed`` are
-    the numerics of its description (`describe.numerics`; None: computed here); ``finished``
+    study's order, into a temporary file renamed over the output at the end; its description
+    is ``described``'s (`Prewritten.into`: copied where it was written while the run went on,
+    else written with ``computed``, the numerics of `describe.numerics`, None: computed here);
+    ``finished``
     False for an IDA stopped before its rule called for no more levels (the file is incomplete
     however many of its analyses it holds). Returns how many analyses of the file ended with
     each status, and with a failure."""
     temporary = output.with_name(f".{output.name}.{os.getpid()}.tmp")
     try:
         with h5py.File(temporary, "w") as file, _earlier_results(output, grid) as earlier:
-            bridges = [case.bridge for case in grid.bridges]
-            write_description(file, describe(study, bridges, computed), created, shard)
+            described.into(file, computed)
             cells = grid.cells
             writer = ResultsWriter(file, len(cells))
             merged = _merged(journal, earlier, {cell.index for cell in cells})
