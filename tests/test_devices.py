@@ -41,6 +41,8 @@ from rockbridge_cli.core.solver import (
 from rockbridge_cli.core.tables import tabulated
 from rockbridge_cli.errors import InputError
 
+pytestmark = pytest.mark.usefixtures("device_kernels")  # compiled once a suite (conftest)
+
 REPO = Path(__file__).resolve().parents[1]
 DT = 0.01
 BLOCK = single_block(B=0.5, H=2.5, density=2500.0, g=G)  # a 1 m × 5 m block, α = 0.197 rad

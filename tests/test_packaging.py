@@ -154,6 +154,7 @@ def test_a_cold_run_compiles_once_and_says_so(tmp_path):
 
 @pytest.mark.slow
 @pytest.mark.skipif(os.environ.get("NUMBA_DISABLE_JIT") == "1", reason="nothing is compiled")
+@pytest.mark.usefixtures("vertical_kernels", "device_kernels")  # its processes only load them
 def test_the_warm_up_reaches_every_kernel_a_run_uses(tmp_path):
     """The Dockerfile's build step (`python -m rockbridge_cli.warmup`) calls every kernel that
     `rockbridge run` at every preset calls, with the same argument types: a run after it loads
