@@ -401,7 +401,7 @@ def vertical_kernels() -> None:
 
 @pytest.fixture(scope="session")
 def device_kernels() -> None:
-    """The kernels of a bridge with tendons or dampers, with and without a vertical ground
-    motion (`core.device_mechanics`), for the tests that analyze one."""
+    """The kernels of a bridge with tendons or dampers (`core.device_mechanics`), for the tests
+    that analyze one. (Those of such a bridge under a vertical ground motion as well, another
+    60–70 s of compile, only the warm-up's reach test calls: its process compiles them.)"""
     _prepared(devices=True)
-    _prepared(vertical=True, devices=True)
