@@ -18,6 +18,8 @@ from __future__ import annotations
 
 import math
 import os
+import subprocess
+import sys
 
 # One BLAS/OpenMP thread, as the command line sets (rockbridge_cli/cli/__init__.py), before numpy
 # loads: the references that call scipy's optimisers would otherwise spin threads against the
@@ -353,6 +355,53 @@ def eq30(model: Model, s: float, printed: bool = False) -> float:
     return num / den
 
 
+def fresh_python(code: str) -> str:
+    """What ``code`` prints, stripped, run by a fresh interpreter (this one): which modules an
+    import loads shows only in a process that has loaded nothing else. The test fails with the
+    child's error output if it fails."""
+    result = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=False
+    )
+    assert result.returncode == 0, result.stderr
+    return result.stdout.strip()
+
+
 def python(kernel):
     """The plain-Python version of a compiled kernel (the kernel itself under NUMBA_DISABLE_JIT)."""
     return getattr(kernel, "py_func", kernel)
+
+
+def _prepared(vertical: bool = False, devices: bool = False) -> None:
+    """The kernels made ready in this process by `study.kernels.prepare`: loaded from numba's
+    cache, or compiled under the installation's kernel lock, one process at a time. On a cold
+    cache (CI's, a fresh clone's) two pytest-xdist workers that first analyze at once would
+    otherwise each compile the same kernels (about 60–80 s of CPU time a variant, measured with
+    ``time.process_time`` on this 2-core host); with the lock one compiles, the other waits and
+    loads them from the cache it filled."""
+    if os.environ.get("NUMBA_DISABLE_JIT") == "1":
+        return
+    from rockbridge_cli.study import kernels
+
+    kernels.prepare(vertical=vertical, devices=devices)
+
+
+@pytest.fixture(scope="session", autouse=True)
+def horizontal_kernels() -> None:
+    """The analysis kernels, once per process before its first test (nearly every test file
+    analyzes): 0.6 s of CPU time loaded from a warm cache."""
+    _prepared()
+
+
+@pytest.fixture(scope="session")
+def vertical_kernels() -> None:
+    """The kernels of an analysis with a vertical ground motion (`core.schemes.VerticalGround`),
+    for the tests that run one."""
+    _prepared(vertical=True)
+
+
+@pytest.fixture(scope="session")
+def device_kernels() -> None:
+    """The kernels of a bridge with tendons or dampers (`core.device_mechanics`), for the tests
+    that analyze one. (Those of such a bridge under a vertical ground motion as well, another
+    60–70 s of compile, only the warm-up's reach test calls: its process compiles them.)"""
+    _prepared(devices=True)

@@ -69,6 +69,25 @@ def write_study(
     return path
 
 
+STRIPE_LEVELS = (0.3, 0.6, 0.9, 1.2, 1.6, 2.0, 2.6, 3.4)
+"""Stripes of the synthetic stripe studies [g]."""
+
+
+def stripes_table(capacities: dict[str, float]) -> dict[str, np.ndarray]:
+    """A synthetic stripe study's peak table at `STRIPE_LEVELS` (pga_g): each record (id →
+    capacity [g]) reaches gap closure and backfill_50 at and above its capacity (``dcr_backfill``
+    1 there, else 0), never a failure; the levels and capacities are the expected fit's data."""
+    rows = [(r, x, float(x >= c)) for r, c in capacities.items() for x in STRIPE_LEVELS]
+    return {
+        "bridge": np.array(["b"] * len(rows)), "status": np.array(["ok"] * len(rows)),
+        "base_record": np.array([r for r, _, _ in rows]),
+        "record": np.array([f"{r}+{x:g}g" for r, x, _ in rows]),
+        "intensity": np.array([x for _, x, _ in rows]),
+        "dcr_backfill": np.array([d for _, _, d in rows]),
+        "failure_mode": np.array(["none"] * len(rows)),
+    }  # fmt: skip
+
+
 def contents(path: Path) -> dict[str, tuple]:
     """Every group and dataset of an HDF5 file with its attributes and data, timings left out.
 

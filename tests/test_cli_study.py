@@ -407,6 +407,7 @@ def test_a_run_that_compiles_says_so_once_before_its_analyses(tmp_path, monkeypa
     assert refused.exit_code == 2 and "compiling" not in refused.output
 
 
+@pytest.mark.usefixtures("vertical_kernels")  # the real ones: the run compiles the stand-in
 def test_a_vertical_run_says_it_compiles_the_vertical_kernels_once(tmp_path, monkeypatch):
     """Issue 40: the kernels of a vertical ground motion, compiled for it of their own, were
     compiled silently in each worker at once on their first analysis, and counted as solve
@@ -434,6 +435,7 @@ def test_a_vertical_run_says_it_compiles_the_vertical_kernels_once(tmp_path, mon
         assert result.output.splitlines()[1] == kernels.COMPILING_VERTICAL
 
 
+@pytest.mark.usefixtures("vertical_kernels")  # compiled once a suite (conftest)
 def test_analyze_says_it_compiles_and_counts_it_as_set_up(tmp_path, monkeypatch):
     """`analyze --vertical` was 4-7 times slower than `analyze`, unreported: its set-up now
     loads the vertical kernels too, and says so where numba compiles them."""

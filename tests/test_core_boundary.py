@@ -7,9 +7,9 @@ from __future__ import annotations
 
 import ast
 import json
-import subprocess
-import sys
 from pathlib import Path
+
+from conftest import fresh_python
 
 import rockbridge_cli.core
 
@@ -70,11 +70,7 @@ def test_importing_the_core_loads_nothing_forbidden():
         "    importlib.import_module('rockbridge_cli.' + name)\n"
         "print(json.dumps({'baseline': sorted(baseline), 'added': sorted(loaded() - baseline)}))\n"
     )
-    result = subprocess.run(
-        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=False
-    )
-    assert result.returncode == 0, result.stderr
-    report = json.loads(result.stdout.strip().splitlines()[-1])
+    report = json.loads(fresh_python(code).splitlines()[-1])
     assert report["added"] == []
     # nothing but numba's yaml in the baseline
     assert {m.split(".")[0] for m in report["baseline"]} <= {"yaml"}
@@ -216,11 +212,7 @@ def test_the_parent_of_a_study_loads_no_compiled_kernel():
         " 'scipy.special', 'scipy.stats', 'scipy.signal'}\n"
         "print(sorted(heavy & set(sys.modules)))\n"
     )
-    result = subprocess.run(
-        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=False
-    )
-    assert result.returncode == 0, result.stderr
-    assert result.stdout.strip() == "[]"
+    assert fresh_python(code) == "[]"
 
 
 def test_the_results_writer_only_writes():
@@ -245,8 +237,4 @@ def test_a_worker_loads_no_scipy_subpackage():
         "import rockbridge_cli.study.describe, rockbridge_cli.study.executors.worker\n"
         "print(sorted(m for m in set(sys.modules) - baseline if m.startswith('scipy')))\n"
     )
-    result = subprocess.run(
-        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=False
-    )
-    assert result.returncode == 0, result.stderr
-    assert result.stdout.strip() == "[]"
+    assert fresh_python(code) == "[]"

@@ -179,6 +179,7 @@ def test_the_journal_carries_the_device_rows_and_their_verdict(tmp_path):
 
 
 @pytest.mark.slow  # compiles the kernels of a bridge with devices (about 1–3 min cold)
+@pytest.mark.usefixtures("device_kernels")  # compiled once a suite (conftest)
 def test_a_studys_device_table_is_its_analyses_peaks_and_a_resumed_run_gives_it_again(
     tmp_path, monkeypatch
 ):
@@ -260,6 +261,7 @@ def test_a_tendons_limit_state_is_asked_only_of_a_study_with_such_a_tendon(tmp_p
 
 
 @pytest.mark.slow  # compiles the kernels of a bridge with devices (about 1–3 min cold)
+@pytest.mark.usefixtures("device_kernels")  # compiled once a suite (conftest)
 def test_an_ida_finds_the_capacity_of_tendon_yield(tmp_path, monkeypatch):
     """An IDA for tendon_yield and abutment_failure of the free bridge of h̄ = 1 and the bundled
     tendons' bridge (F_y lowered to 5 MN) × two records: the tendons' bridge gets a fragility of

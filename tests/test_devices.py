@@ -150,6 +150,7 @@ def _block_rhs(block, d: float, prestress: float, stiffness: float, a_g: float):
 
 
 @pytest.mark.slow  # compiles the kernels of a bridge with devices (about 1–3 min cold)
+@pytest.mark.usefixtures("device_kernels")  # compiled once a suite (conftest)
 def test_free_rocking_of_a_post_tensioned_block_matches_an_independent_integration():
     """Free rocking from θ1 = 0.05 rad: the times of the first six impacts and the rates after
     them, against scipy's DOP853 on the block's own equation (`_block_rhs`) with its impacts
@@ -183,6 +184,7 @@ def test_free_rocking_of_a_post_tensioned_block_matches_an_independent_integrati
 
 
 @pytest.mark.slow  # compiles the kernels of a bridge with devices (about 1–3 min cold)
+@pytest.mark.usefixtures("device_kernels")  # compiled once a suite (conftest)
 @pytest.mark.parametrize("h_bar", [1.0, 1.25, 2.0])
 def test_energy_with_tendons_is_conserved_between_impacts(h_bar):
     """Free rocking of a frame with a tendon in each pier (no ground motion): the energy
@@ -220,6 +222,7 @@ def test_energy_with_tendons_is_conserved_between_impacts(h_bar):
 
 
 @pytest.mark.slow  # compiles the kernels of a bridge with devices (about 1–3 min cold)
+@pytest.mark.usefixtures("device_kernels")  # compiled once a suite (conftest)
 def test_a_damper_takes_the_energy_it_dissipates():
     """A symmetric frame with a viscous damper at a pier's base, rocking freely with η = 1 (so
     that no impact takes energy): the energy lost by each impact, ½M·(θ̇_before² of the next −
@@ -298,6 +301,7 @@ def test_a_configs_tendon_is_the_cores_with_its_stiffness_from_e_a_and_the_pier_
 
 
 @pytest.mark.slow  # compiles the kernels of a bridge with devices (about 1–3 min cold)
+@pytest.mark.usefixtures("device_kernels")  # compiled once a suite (conftest)
 def test_a_mirrored_bridges_devices_are_mirrored_with_it(tmp_path):
     """The user's bridge with its tall pier on the right, a tendon in it at +0.3 m and a damper
     in the short pier at −0.5 m: the core's tall pier is pier 0, offsets change sign; and its
@@ -374,6 +378,7 @@ def test_a_tendon_stressed_beyond_strand_strength_is_warned_of(tmp_path):
 
 
 @pytest.mark.slow  # compiles the kernels of a bridge with devices (about 1–3 min cold)
+@pytest.mark.usefixtures("device_kernels")  # compiled once a suite (conftest)
 def test_analyze_lists_each_devices_peaks_with_their_units(tmp_path):
     """`rockbridge analyze --json` of the bundled bridge with tendons: each tendon's largest force
     (in N) and elongation (in m), as the library gives them; the force is P0 + k·Δ at the largest
@@ -500,6 +505,7 @@ def _piecewise(powers, t):
 
 
 @pytest.mark.slow  # compiles the kernels of a bridge with devices (about 1–3 min cold)
+@pytest.mark.usefixtures("device_kernels")  # compiled once a suite (conftest)
 def test_energy_balances_the_input_work_under_ground_motion_with_devices():
     """The bridge of h̄ = 1.25 with a tendon through each pier and a damper across the tall
     pier's base, under a 0.45 g sine of 1.2 s for 4 s (its deck closes the gaps): at the end of

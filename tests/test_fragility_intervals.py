@@ -31,7 +31,7 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 from scipy.stats import norm, t
-from studies import REPO
+from studies import REPO, STRIPE_LEVELS, stripes_table
 
 from rockbridge_cli.assessment.fragility import (
     Fragility,
@@ -111,28 +111,13 @@ def binomial_error(share: float, experiments: int) -> float:
 # The resamplings are the fit's own
 
 
-def stripes_table(capacities: np.ndarray, levels: tuple[float, ...]) -> dict[str, np.ndarray]:
-    """A stripe study's peak table: each record reaches gap closure and backfill_50 at and above
-    its capacity (``dcr_backfill`` 1, else 0), never a failure."""
-    records = [f"R{i}" for i in range(len(capacities))]
-    pairs = zip(records, capacities, strict=True)
-    rows = [(record, level, float(level >= capacity)) for record, capacity in pairs
-            for level in levels]  # fmt: skip
-    return {
-        "bridge": np.array(["b"] * len(rows)), "status": np.array(["ok"] * len(rows)),
-        "base_record": np.array([r for r, _, _ in rows]),
-        "record": np.array([f"{r}+{x:g}g" for r, x, _ in rows]),
-        "intensity": np.array([x for _, x, _ in rows]),
-        "dcr_backfill": np.array([d for _, _, d in rows]),
-        "failure_mode": np.array(["none"] * len(rows)),
-    }  # fmt: skip
+def records(capacities: np.ndarray) -> dict[str, float]:
+    """Records R0, R1, … with the given capacities [g]."""
+    return {f"R{i}": float(c) for i, c in enumerate(capacities)}
 
 
-LEVELS = (0.3, 0.6, 0.9, 1.2, 1.6, 2.0, 2.6, 3.4)
-"""Stripes of the synthetic stripe studies [g]."""
-
-STRIPES = IntensitySection.of({"measure": "pga_g", "levels": list(LEVELS)})
-"""Their intensity section."""
+STRIPES = IntensitySection.of({"measure": "pga_g", "levels": list(STRIPE_LEVELS)})
+"""The intensity section of the synthetic stripe studies (`studies.stripes_table`)."""
 
 
 def test_bootstrap_replays_the_fits_draws():
@@ -140,7 +125,7 @@ def test_bootstrap_replays_the_fits_draws():
     `fragility._bootstrap`: the same seed gives the same resamplings, so the same draws, to the
     round-off of two ways to the same maximum."""
     capacities = MEDIAN * np.exp(BETA * np.random.default_rng(3).standard_normal(12))
-    found = fragilities_of(stripes_table(capacities, LEVELS), STRIPES, seed=5)
+    found = fragilities_of(stripes_table(records(capacities)), STRIPES, seed=5)
     first = found[0]  # gap closure: the first fit the study's generator draws for
     assert first.limit_state == "gap_closure" and first.resampling is not None
     np.testing.assert_allclose(  # the same maximum, found for all at once: to round-off
@@ -191,7 +176,7 @@ def test_many_stripe_fits_at_once_are_the_plain_fits():
     open: `fit_lognormal` decides those without Newton's method)."""
     rng = np.random.default_rng(13)
     capacities = MEDIAN * np.exp(BETA * rng.standard_normal(20))
-    found = fragilities_of(stripes_table(capacities, LEVELS), STRIPES)
+    found = fragilities_of(stripes_table(records(capacities)), STRIPES)
     resampling = found[0].resampling
     solved_count = 0
     for n in (5, 10, 20):
@@ -313,7 +298,7 @@ def test_records_needed_of_stripes_narrow_with_the_records():
     """A stripe study of 20 records (Newton's fits): 5 and 10 records give wider intervals than
     20; at 20 they are the study's own intervals."""
     capacities = MEDIAN * np.exp(BETA * np.random.default_rng(8).standard_normal(20))
-    found = fragilities_of(stripes_table(capacities, LEVELS), STRIPES)
+    found = fragilities_of(stripes_table(records(capacities)), STRIPES)
     item = next(f for f in found if f.limit_state == "gap_closure")
     needed = records_needed(item, subsets=10, resamplings=40)
     assert needed is not None and [w.records for w in needed.widths] == [5, 7, 10, 15, 20]

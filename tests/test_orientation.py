@@ -13,7 +13,7 @@ import h5py
 import numpy as np
 import pytest
 from click.testing import CliRunner
-from studies import TIME_STEP, burst, write_records, write_study
+from studies import STRIPE_LEVELS, TIME_STEP, burst, stripes_table, write_records, write_study
 
 from rockbridge_cli.assessment.fragility import _by_pair, _pairs, fragilities_of
 from rockbridge_cli.assessment.orientation import (
@@ -378,24 +378,6 @@ def test_a_pair_capacity_is_its_angles_smallest_or_median_with_their_censoring()
     assert capacities == {"P": None} and unreachable == {"P": ("abutment_failure", 0.5)}
 
 
-def stripes_of(capacities: dict[str, float]) -> dict[str, np.ndarray]:
-    """A stripe study's peak table: each record reaches gap closure at and above its capacity
-    [g] (``dcr_backfill`` 1 there, else 0), never a failure."""
-    rows = [(r, x, float(x >= c)) for r, c in capacities.items() for x in LEVELS]
-    return {
-        "bridge": np.array(["b"] * len(rows)), "status": np.array(["ok"] * len(rows)),
-        "base_record": np.array([r for r, _, _ in rows]),
-        "record": np.array([f"{r}+{x:g}g" for r, x, _ in rows]),
-        "intensity": np.array([x for _, x, _ in rows]),
-        "dcr_backfill": np.array([d for _, _, d in rows]),
-        "failure_mode": np.array(["none"] * len(rows)),
-    }  # fmt: skip
-
-
-LEVELS = (0.3, 0.6, 0.9, 1.2, 1.6, 2.0, 2.6, 3.4)
-"""Stripes of the synthetic stripe study [g]."""
-
-
 def test_a_stripe_fragility_on_pairs_is_the_fit_of_their_median_or_worst_angle():
     """Four pairs of three angles: the fit on the pairs' worst equals the fit of four records
     whose capacities are each pair's smallest (by hand), on their median that of the middle
@@ -405,11 +387,11 @@ def test_a_stripe_fragility_on_pairs_is_the_fit_of_their_median_or_worst_angle()
     }  # fmt: skip
     swept = {f"{p}+{15 * i}deg": c for p, cs in angles.items() for i, c in enumerate(cs)}
     pairs = {record: record.split("+")[0] for record in swept}
-    section = IntensitySection.of({"measure": "pga_g", "levels": list(LEVELS)})
+    section = IntensitySection.of({"measure": "pga_g", "levels": list(STRIPE_LEVELS)})
     for combine, chosen in (("worst", {"A": 0.5, "B": 0.4, "C": 0.7, "D": 0.8}),
                             ("median", {"A": 0.9, "B": 1.1, "C": 1.3, "D": 1.0})):  # fmt: skip
-        on_pairs = fragilities_of(stripes_of(swept), section, 20, 3, None, pairs, combine)
-        by_hand = fragilities_of(stripes_of(chosen), section, 20, 3)
+        on_pairs = fragilities_of(stripes_table(swept), section, 20, 3, None, pairs, combine)
+        by_hand = fragilities_of(stripes_table(chosen), section, 20, 3)
         for got, want in zip(on_pairs, by_hand, strict=True):
             assert (got.limit_state, got.median, got.beta) == (
                 want.limit_state,

@@ -141,7 +141,13 @@ def test_a_cold_run_compiles_once_and_says_so(tmp_path):
         if "=" in arguments
     )["NUMBA_CACHE_DIR"]
     assert cache.startswith("/opt/rockbridge/")  # inside the image, beside the bundled files
-    environment = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
+    # a kernel lock of its own too (`study.kernels._kernel_lock`, in the temporary folder): the
+    # suite's other processes, loading from the suite's cache, wait for no compile of this one
+    environment = {
+        **os.environ,
+        "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
+        "TMPDIR": str(tmp_path),
+    }
     study = str(REPO / "configs" / "studies" / "quick.yaml")
     first = [sys.executable, "-c", "from rockbridge_cli.cli import entry; entry()", "run", study,
              "--workers", "2", "-o", str(tmp_path / "first.h5")]  # fmt: skip
@@ -154,6 +160,7 @@ def test_a_cold_run_compiles_once_and_says_so(tmp_path):
 
 @pytest.mark.slow
 @pytest.mark.skipif(os.environ.get("NUMBA_DISABLE_JIT") == "1", reason="nothing is compiled")
+@pytest.mark.usefixtures("vertical_kernels", "device_kernels")  # its processes only load them
 def test_the_warm_up_reaches_every_kernel_a_run_uses(tmp_path):
     """The Dockerfile's build step (`python -m rockbridge_cli.warmup`) calls every kernel that
     `rockbridge run` at every preset calls, with the same argument types: a run after it loads

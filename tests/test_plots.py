@@ -4,12 +4,11 @@ every figure written in each format, with its labels and units."""
 from __future__ import annotations
 
 import re
-import subprocess
-import sys
 
 import matplotlib
 import numpy as np
 import pytest
+from conftest import fresh_python
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from studies import BRIDGES, SLENDER_BLOCK, STUDIED, write_study
@@ -395,11 +394,7 @@ def test_the_fragility_figure_does_not_load_scipy_stats():
         "from rockbridge_cli.plots.fragility import plot_fragility\n"
         "print('scipy.stats' in sys.modules)\n"
     )
-    result = subprocess.run(
-        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=False
-    )
-    assert result.returncode == 0, result.stderr
-    assert result.stdout.strip() == "False"
+    assert fresh_python(code) == "False"
 
 
 def test_a_sweep_along_a_continuous_second_field_is_a_grey_ramp(tmp_path, monkeypatch):

@@ -17,6 +17,8 @@ from rockbridge_cli.core.geometry import single_block
 from rockbridge_cli.core.impacts import onset_threshold
 from rockbridge_cli.core.solver import FREE_FLIGHT, SOLVER_ERRORS
 
+pytestmark = pytest.mark.usefixtures("vertical_kernels")  # compiled once a suite (conftest)
+
 DT = 0.01  # [s]
 
 

@@ -23,6 +23,8 @@ from rockbridge_cli.records.files import Record, read_record, write_record
 from rockbridge_cli.records.set_files import MANIFEST
 from rockbridge_cli.records.vertical import with_vertical
 
+pytestmark = pytest.mark.usefixtures("vertical_kernels")  # compiled once a suite (conftest)
+
 BRIDGE = BRIDGES / "studied-hbar2.00.yaml"
 UP_PEAK = 3.0  # the vertical components' peak [m/s²]
 
