@@ -322,7 +322,7 @@ def _integrated(
         return np.concatenate([acc, rest]), None if up is None else np.concatenate([up, rest])
     assert up is not None, "only a vertical motion lifts the bridge off"
     end = max(flight, 1)
-    return acc[:end], up[:end]
+    return np.array(acc[:end]), np.array(up[:end])  # copies: a read-only view compiles anew
 
 
 def _ground(acceleration: np.ndarray, time_step: float) -> np.ndarray:
