@@ -174,3 +174,17 @@ def test_without_a_vertical_component_the_response_is_the_papers_bit_for_bit():
     for name, history in plain.histories.items():
         assert history.tobytes() == zeros.histories[name].tobytes()
     assert plain.events["time"].tobytes() == zeros.events["time"].tobytes()
+
+
+def test_a_motion_cut_at_take_off_reaches_the_integrator_writable():
+    """The motion up to a take-off is handed on as copies: numba types a read-only array apart,
+    so a view of a record's read-only samples compiled `integrate` a second time (about 60 s
+    that the warm-up never covered)."""
+    from rockbridge_cli.core.analysis import _integrated
+
+    acc, up = np.arange(10.0), np.ones(10)
+    acc.flags.writeable = up.flags.writeable = False
+    cut, cut_up = _integrated(acc, up, 4, 0)
+    assert cut.flags.writeable and cut_up is not None and cut_up.flags.writeable
+    np.testing.assert_array_equal(cut, acc[:4])
+    np.testing.assert_array_equal(cut_up, up[:4])
