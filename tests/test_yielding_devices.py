@@ -428,3 +428,73 @@ def test_the_device_rows_flags_are_the_solvers_states():
     assert device_states(rows) == states
     assert check_limit_state("dissipator_fracture") == "dissipator_fracture"
     assert Verdict("ok", "none", 0.0, *states.values()).reaches(states) == {"dissipator_fracture"}
+
+
+@pytest.mark.parametrize("s", [1.0, -1.0])
+def test_back_at_rest_the_onset_counts_what_a_yielded_tendon_still_pulls(s):
+    """Eq. 8 at rest after a yield: a tendon that has lost prestress (Δp > 0) resists the next
+    uplift with P0 − k·Δp, so the threshold is `onset_threshold` of the same block with a tendon
+    of that prestress (its closed form: gravity's and the prestress's moments over the ground's
+    lever); slack (k·Δp > P0) or ruptured, the free block's, g·tan α in mode p. Unchanged, the
+    thresholds given are returned as they are, bit for bit (a tendon that never yielded runs as
+    before). Checked on the Python function and on its compiled overload."""
+    from numba import njit
+
+    from rockbridge_cli.core.devices import BROKEN
+    from rockbridge_cli.core.impacts import onset_threshold, onsets_at_rest
+
+    @njit
+    def compiled(p, n, model, devices):
+        return onsets_at_rest(p, n, model, devices)
+
+    p0, k = 1.0e6, 1.0e8
+    rows = table((Tendon(0, 0.2, p0, k, top=False, yield_force=2.0e6),))
+    built = onset_threshold(BLOCK, 1.0, rows), onset_threshold(BLOCK, -1.0, rows)
+    for run in (onsets_at_rest, compiled):
+        assert run(*built, BLOCK, rows.copy()) == built
+    lost = 0.004  # Δp [m]: P0 − k·Δp = 0.6 MN
+    yielded = rows.copy()
+    yielded[0, PLASTIC] = lost
+    reduced = table((Tendon(0, 0.2, p0 - k * lost, k, top=False),))
+    expected = onset_threshold(BLOCK, s, reduced)
+    assert abs(expected) < abs(built[0 if s > 0 else 1])  # the next uplift comes sooner
+    for run in (onsets_at_rest, compiled):
+        assert run(*built, BLOCK, yielded)[0 if s > 0 else 1] == pytest.approx(expected, rel=1e-12)
+    free = onset_threshold(BLOCK, s)
+    assert abs(free) == pytest.approx(G * BLOCK.B / BLOCK.H1, rel=1e-12)  # g·tan α
+    slack, broken = yielded.copy(), rows.copy()
+    slack[0, PLASTIC] = 2.0 * p0 / k
+    broken[0, BRANCH] = BROKEN
+    for state in (slack, broken):
+        for run in (onsets_at_rest, compiled):
+            assert run(*built, BLOCK, state)[0 if s > 0 else 1] == pytest.approx(free, rel=1e-12)
+
+
+@pytest.mark.slow  # compiles the kernels of a bridge with devices (about 1–3 min cold)
+def test_a_bridge_back_at_rest_after_its_tendon_went_slack_lifts_off_as_a_free_block():
+    """The block of the yielding-tendon test above loses more than its prestress at the yield
+    (k·Δp ≈ 6.3e5 N > P0 = 3e5 N, Δp from the independent integration) and comes to rest slack:
+    a ground acceleration ramped in over one sample to 2 % above the free block's g·tan α,
+    a quarter of the threshold of the tendon as built, lifts it off where the ramp crosses
+    g·tan α (t = 11.99 + 0.01·g·tan α/level, to 1e-9 s); 2 % below g·tan α it stays at rest."""
+    d, prestress, stiffness, fy = 0.15, 3.0e5, 2.0e8, 1.5e6
+    dp = _reference_rocking(d, prestress, stiffness, fy, 0.45, 4)[2]
+    assert stiffness * dp > prestress  # slack at rest
+    tendon = Tendon(0, d, prestress, stiffness, top=False, yield_force=fy)
+    bridge = Bridge(BLOCK, devices=(tendon,))
+    free = impacts.onset_threshold(BLOCK, 1.0)
+    assert free == pytest.approx(G * BLOCK.B / BLOCK.H1, rel=1e-12)
+    assert impacts.onset_threshold(BLOCK, 1.0, table((tendon,))) > 4.0 * free
+    for level, lifts in ((1.02 * free, True), (0.98 * free, False)):
+        ground = np.zeros(1401)
+        ground[1200:] = level
+        response = analyze(bridge, ground, DT, "reference", initial=(0.0, 0.45))
+        kinds, times = response.events["kind"], response.events["time"]
+        rests = times[kinds == "rest"]
+        assert rests.size == 1 and rests[0] < 11.99  # at rest before the ramp
+        onsets = times[kinds == "onset"][1:]  # the first is the release at t = 0
+        if lifts:
+            assert onsets.size == 1
+            assert onsets[0] == pytest.approx(11.99 + DT * free / level, abs=1e-9)
+        else:
+            assert onsets.size == 0

@@ -200,6 +200,27 @@ def prestress_moment(model: Model, devices: np.ndarray, s: float) -> float:
     )
 
 
+@jit
+def settled(devices: np.ndarray) -> bool:
+    """Whether every device is as it was built: none has a plastic elongation or is broken, so
+    that its force at rest is its prestress (`prestress_moment` holds) [-]."""
+    for i in range(devices.shape[0]):
+        if devices[i, PLASTIC] != 0.0 or devices[i, BRANCH] == BROKEN:
+            return False
+    return True
+
+
+@jit
+def rest_moment(devices: np.ndarray, model: Model, s: float) -> float:
+    """Σ F·∂Δ/∂φ of the devices at rest (Δ = 0, Δ̇ = 0) in their current state, in mode s [N·m]:
+    after a yield, a tendon's P0 − k·Δp (or 0, slack or ruptured) and a dissipator's residual
+    force instead of the prestress of `prestress_moment`."""
+    moment = 0.0
+    for i in range(devices.shape[0]):
+        moment += pull(devices[i], 0.0, 0.0) * elongation(model, devices[i], s, 0.0)[1]
+    return moment
+
+
 PEAK_LENGTH, PEAK_LENGTH_TIME, PEAK_FORCE, PEAK_FORCE_TIME = range(4)
 """Columns of the devices' peaks (`peaks_of`, `tracked`): the largest elongation Δ [m] and its
 time [s], the largest |force| [N] and its time [s]. When a device first yielded and broke is in

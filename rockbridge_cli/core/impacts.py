@@ -18,8 +18,11 @@ import math
 from collections.abc import Callable
 
 import numpy as np
+from numba import types
+from numba.extending import overload
 
-from .device_mechanics import prestress_moment
+from ._jit import jit
+from .device_mechanics import prestress_moment, rest_moment, settled
 from .dynamics import coefficients
 from .geometry import Model
 from .kinematics import EXACT, centres, displacements
@@ -38,6 +41,35 @@ def onset_threshold(model: Model, s: float, devices: np.ndarray | None = None) -
     if devices is None:
         return gravity / -inertia
     return (gravity + prestress_moment(model, devices, s)) / -inertia
+
+
+def onsets_at_rest(onset_p: float, onset_n: float, model: Model, devices) -> tuple[float, float]:
+    """The onset thresholds (mode p, mode n) [m/s²] of a bridge at rest: ``onset_p`` and
+    ``onset_n`` (`onset_threshold`'s, from the devices as built), unless its ``devices`` (a
+    `devices.table` in its state, or None) have yielded or broken since: then Eq. 8 with the
+    moment of their forces at rest (`device_mechanics.rest_moment`)."""
+    if devices is None or settled(devices):
+        return onset_p, onset_n
+    return _onset_now(model, 1.0, devices), _onset_now(model, -1.0, devices)
+
+
+@overload(onsets_at_rest)
+def _compiled_onsets_at_rest(onset_p, onset_n, model, devices):
+    """`onsets_at_rest` compiled for the type of ``devices``: without any, the thresholds given."""
+    if isinstance(devices, (types.NoneType, types.Omitted)):
+        return lambda onset_p, onset_n, model, devices: (onset_p, onset_n)
+    return lambda onset_p, onset_n, model, devices: (
+        (onset_p, onset_n)
+        if settled(devices)
+        else (_onset_now(model, 1.0, devices), _onset_now(model, -1.0, devices))
+    )
+
+
+@jit
+def _onset_now(model: Model, s: float, devices: np.ndarray) -> float:
+    """Eq. 8 in mode s with the devices' forces at rest in their current state [m/s²]."""
+    _, _, gravity, inertia, _, _ = coefficients(model, s, 0.0, EXACT)
+    return (gravity + rest_moment(devices, model, s)) / -inertia
 
 
 def restitution(model: Model, s: float, abutment_seats: bool = True) -> float:

@@ -54,6 +54,7 @@ from .events import (
     watched,
 )
 from .geometry import Model
+from .impacts import onsets_at_rest
 from .kinematics import Displacements, Kinematics, displacements
 from .quantities import PEAK_NAMES
 from .schemes import RK4, Ground, Segment, State, Step, ground_at, ground_of, lift_at, take_step
@@ -301,9 +302,10 @@ def _started(problem: Problem, theta0: float, omega0: float):
 
 
 @jit
-def _next_onset(ground, g: float, laws: Laws, k: int, t: float):
+def _next_onset(ground, g: float, onset_p: float, onset_n: float, k: int, t: float):
     """At rest from time t in sample interval k: the mode (±1, or 0 if none before the record
-    ends), the time and the interval of the next onset (Eq. 8) on the piecewise-linear motion.
+    ends), the time and the interval of the next onset (Eq. 8: the thresholds ``onset_p`` and
+    ``onset_n`` [m/s²]) on the piecewise-linear motion.
 
     Under a vertical ground acceleration the thresholds are times (g + ü_v)/g (`lift_at`, ``g``
     the model's gravity [m/s²]), linear between samples too, so that the crossing stays exact;
@@ -313,11 +315,11 @@ def _next_onset(ground, g: float, laws: Laws, k: int, t: float):
         start = max(t, k * dt)
         a0, lift0 = ground_at(acc, dt, k, start), lift_at(ground, g, k, start)
         a1, lift1 = acc[k + 1], lift_at(ground, g, k, (k + 1) * dt)
-        if a0 > laws.onset_p * lift0 or a0 < laws.onset_n * lift0:
-            return (1.0 if a0 > laws.onset_p * lift0 else -1.0), start, k
-        if a1 > laws.onset_p * lift1 or a1 < laws.onset_n * lift1:
-            s = 1.0 if a1 > laws.onset_p * lift1 else -1.0
-            target = laws.onset_p if s > 0.0 else laws.onset_n
+        if a0 > onset_p * lift0 or a0 < onset_n * lift0:
+            return (1.0 if a0 > onset_p * lift0 else -1.0), start, k
+        if a1 > onset_p * lift1 or a1 < onset_n * lift1:
+            s = 1.0 if a1 > onset_p * lift1 else -1.0
+            target = onset_p if s > 0.0 else onset_n
             before, after = target * lift_at(ground, g, k, k * dt), target * lift1  # thresholds
             rise = (a1 - acc[k]) - (after - before)  # of ü_g less the threshold over the interval
             t = min(max(t, k * dt + dt * (before - acc[k]) / rise), (k + 1) * dt)
@@ -332,7 +334,9 @@ def _onset(problem: Problem, motion: Motion, log: Log, samples: int):
     onset; the history samples until then, of the ``samples``, stay zero. Without an onset before
     the record ends, the segment at rest and the motion in the record's last interval."""
     dt = problem.ground.dt
-    s, t, k = _next_onset(problem.ground, problem.model.g, problem.laws, motion.k, motion.t)
+    laws, model = problem.laws, problem.model
+    onset_p, onset_n = onsets_at_rest(laws.onset_p, laws.onset_n, model, problem.devices)
+    s, t, k = _next_onset(problem.ground, model.g, onset_p, onset_n, motion.k, motion.t)
     segment = Segment(problem.model, s, problem.model.u_jo <= 0.0, problem.devices)
     if s == 0.0:
         return segment, Motion(t, k, motion.state, motion.g, motion.sample), log
@@ -418,7 +422,8 @@ def _impact(problem: Problem, segment: Segment, motion: Motion, log: Log):
     k = min(motion.k, acc.size - 2)
     lift = lift_at(problem.ground, problem.model.g, k, t)
     a_g = ground_at(acc, dt, k, t)
-    driven = a_g > laws.onset_p * lift if s > 0.0 else a_g < laws.onset_n * lift
+    onset_p, onset_n = onsets_at_rest(laws.onset_p, laws.onset_n, problem.model, problem.devices)
+    driven = a_g > onset_p * lift if s > 0.0 else a_g < onset_n * lift
     if abs(w) < problem.settings.rest_velocity and not driven:
         return 0.0, 0.0, _logged(log, t, REST, 0.0, before, 0.0)
     return s, w, log
