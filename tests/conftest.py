@@ -100,6 +100,25 @@ def studied_bridge(h_bar: float, **kw) -> Model:
     return make_bridge(2.6, 26.0, 26.0 / h_bar, 38.0, 60.0, 1.7, area=6.0, **kw)
 
 
+def conservative_laws(frame: Model, devices: np.ndarray | None = None):
+    """Event laws of a frame whose impacts keep its energy (`solver.Laws`): η_s = √(M_s/M_−s)
+    (docs/model.md §6) and Eq. 8's onset thresholds, with the prestress of ``devices`` (a
+    `core.devices.table`) where given."""
+    from rockbridge_cli.core import impacts
+    from rockbridge_cli.core.dynamics import coefficients
+    from rockbridge_cli.core.kinematics import EXACT
+    from rockbridge_cli.core.solver import Laws
+
+    mass = {s: coefficients(frame, s, 0.0, EXACT)[0] for s in (1.0, -1.0)}
+    return Laws(
+        onset_p=impacts.onset_threshold(frame, 1.0, devices),
+        onset_n=impacts.onset_threshold(frame, -1.0, devices),
+        eta_p=math.sqrt(mass[1.0] / mass[-1.0]),
+        eta_n=math.sqrt(mass[-1.0] / mass[1.0]),
+        pounding=1.0,
+    )
+
+
 def fig78_bridge(h_bar: float = 1.5, side: float = 45.0, central: float = 45.0, **kw) -> Model:
     """The bridge of Figs. 7 and 8 (deck mass and inertia as given, kept constant in the sweeps)."""
     return make_bridge(

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from click.testing import CliRunner
-from conftest import G, studied_bridge
+from conftest import G, conservative_laws, studied_bridge
 from scipy.integrate import simpson, solve_ivp
 
 from rockbridge_cli.cli import main
@@ -194,14 +194,8 @@ def test_energy_with_tendons_is_conserved_between_impacts(h_bar):
     frame = studied_bridge(h_bar, abutments=False)
     devices = (Tendon(0, 0.3, 2e6, 3e8), Tendon(1, -0.4, 1e6, 5e8))
     rows = table(devices)
-    mass = {s: coefficients(frame, s, 0.0, EXACT)[0] for s in (1.0, -1.0)}
-    laws = Laws(
-        onset_p=impacts.onset_threshold(frame, 1.0, rows),
-        onset_n=impacts.onset_threshold(frame, -1.0, rows),
-        eta_p=math.sqrt(mass[1.0] / mass[-1.0]),
-        eta_n=math.sqrt(mass[-1.0] / mass[1.0]),
-        pounding=1.0,
-    )
+    laws = conservative_laws(frame, rows)
+    mass = {s: coefficients(frame, s, 0.0, EXACT)[0] for s in (1.0, -1.0)}  # M_s(0)
     settings = fidelity.resolve("reference").settings()
     result = integrate(frame, laws, EXACT, np.zeros(801), DT, settings, 0.006, 0.0, None, rows)
     assert result.error == NO_ERROR

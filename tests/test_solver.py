@@ -13,7 +13,16 @@ import math
 
 import numpy as np
 import pytest
-from conftest import REPO, G, RefLinkage, make_bridge, ref_onset, studied_bridge, with_
+from conftest import (
+    REPO,
+    G,
+    RefLinkage,
+    conservative_laws,
+    make_bridge,
+    ref_onset,
+    studied_bridge,
+    with_,
+)
 from scipy.integrate import solve_ivp
 
 from rockbridge_cli.core import fidelity, impacts
@@ -41,7 +50,6 @@ from rockbridge_cli.core.solver import (
     EVENT_RATE_BEFORE,
     IMPACT,
     NO_ERROR,
-    Laws,
     integrate,
 )
 
@@ -111,14 +119,8 @@ def test_energy_is_conserved_between_impacts_and_across_them_with_the_mass_ratio
     η_s = √(M_s/M_−s) (docs/model.md §6) it is conserved across impacts too: every impact then
     carries the same energy."""
     frame = studied_bridge(h_bar, abutments=False)
-    mass = {s: coefficients(frame, s, 0.0, EXACT)[0] for s in (1.0, -1.0)}
-    conservative = Laws(
-        onset_p=impacts.onset_threshold(frame, 1.0),
-        onset_n=impacts.onset_threshold(frame, -1.0),
-        eta_p=math.sqrt(mass[1.0] / mass[-1.0]),
-        eta_n=math.sqrt(mass[-1.0] / mass[1.0]),
-        pounding=1.0,
-    )
+    conservative = conservative_laws(frame)
+    mass = {s: coefficients(frame, s, 0.0, EXACT)[0] for s in (1.0, -1.0)}  # M_s(0)
     settings = fidelity.resolve("reference").settings()
     result = integrate(frame, conservative, EXACT, np.zeros(2001), DT, settings, 0.004, 0.0)
     events = result.events

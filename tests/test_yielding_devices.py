@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import G, studied_bridge
+from conftest import G, conservative_laws, studied_bridge
 from scipy.integrate import solve_ivp
 
 from rockbridge_cli.assessment.limit_states import Verdict
@@ -32,11 +32,11 @@ from rockbridge_cli.core.devices import (
     Tendon,
     table,
 )
-from rockbridge_cli.core.dynamics import coefficients, energy
+from rockbridge_cli.core.dynamics import energy
 from rockbridge_cli.core.geometry import single_block
 from rockbridge_cli.core.kinematics import EXACT
 from rockbridge_cli.core.quantities import check_limit_state
-from rockbridge_cli.core.solver import NO_ERROR, Laws, integrate
+from rockbridge_cli.core.solver import NO_ERROR, integrate
 from rockbridge_cli.results.packing import device_rows, device_states
 
 DT = 0.01
@@ -303,14 +303,7 @@ def test_energy_balances_with_yielding_tendons():
         Tendon(1, -0.4, 1e6, 5e8, yield_force=2.8e6),
     )
     rows = table(devices)
-    mass = {s: coefficients(frame, s, 0.0, EXACT)[0] for s in (1.0, -1.0)}
-    laws = Laws(
-        onset_p=impacts.onset_threshold(frame, 1.0, rows),
-        onset_n=impacts.onset_threshold(frame, -1.0, rows),
-        eta_p=math.sqrt(mass[1.0] / mass[-1.0]),
-        eta_n=math.sqrt(mass[-1.0] / mass[1.0]),
-        pounding=1.0,
-    )
+    laws = conservative_laws(frame, rows)
     settings = fidelity.resolve("reference").settings()
     theta0 = 0.012
     start = energy(frame, 1.0, theta0, 0.0, False, EXACT) + strain_energy(rows, frame, 1.0, theta0)
