@@ -19,7 +19,14 @@ from rockbridge_cli.core import fidelity, impacts
 from rockbridge_cli.core.analysis import analyze
 from rockbridge_cli.core.bridge import Bridge
 from rockbridge_cli.core.device_events import settle, shifted
-from rockbridge_cli.core.device_mechanics import elongation, pull, restrained, strain_energy
+from rockbridge_cli.core.device_mechanics import (
+    elastic_pull,
+    elongation,
+    pull,
+    restrained,
+    strain_energy,
+    yield_line,
+)
 from rockbridge_cli.core.devices import (
     BRANCH,
     ELASTIC,
@@ -27,7 +34,10 @@ from rockbridge_cli.core.devices import (
     PLASTIC,
     PRESTRESS,
     STIFFNESS,
+    UNLOADING,
     YIELD,
+    YIELDED_AT,
+    Damper,
     Dissipator,
     Tendon,
     table,
@@ -37,9 +47,11 @@ from rockbridge_cli.core.geometry import single_block
 from rockbridge_cli.core.kinematics import EXACT
 from rockbridge_cli.core.quantities import check_limit_state
 from rockbridge_cli.core.solver import NO_ERROR, integrate
+from rockbridge_cli.records.files import read_record
 from rockbridge_cli.results.packing import device_rows, device_states
 
 DT = 0.01
+ROOT = Path(__file__).resolve().parents[1]
 BLOCK = single_block(B=0.5, H=2.5, density=2500.0, g=G)  # a 1 m × 5 m block, α = 0.197 rad
 
 
@@ -107,6 +119,95 @@ def test_a_tendon_pushed_past_yield_has_a_plateau_and_loses_prestress_on_unloadi
     assert rows[0, BRANCH] == ELASTIC
     residual = -restrained(0.0, rows, BLOCK, 1.0, 0.0, 0.0, EXACT) / ell
     assert residual == pytest.approx(prestress - stiffness * plastic, rel=1e-9)
+
+
+def test_a_dissipator_past_its_lower_line_and_opening_yields_and_unloads_in_one_call():
+    """The state an impact leaves when the dissipator's crossing of its lower line fell within
+    the event tolerance of it: at Δ = 0 with Δp = 2 mm its elastic force k1·(0 − Δp) = −40 kN
+    is past the line k2·0 − (1 − k2/k1)·F_y = −29.7 kN, and the impact has turned Δ̇ positive.
+    It slid down the line to Δ = 0 and leaves it at once: elastic, with the Δp that puts its
+    force on the line, (1 − k2/k1)·F_y/k1 = 1.485 mm (the law, solved by hand), yielded now.
+    Before issue 41's fix it stayed on the lower line while opening, the devices' event
+    function stayed positive, and no later yield was seen (4.96 MN against a 0.44 MN envelope
+    on the bundled dissipator bridge under AR07)."""
+    k1, fy, k2 = 2.0e7, 3.0e4, 2.0e5
+    (row,) = table((Dissipator(0, 0.0, k1, fy, hardening=k2),))
+    row[PLASTIC] = 2.0e-3
+    shifted(row, 0.0, 1.0e-3, 7.0)
+    assert row[BRANCH] == ELASTIC
+    assert row[PLASTIC] == pytest.approx((1.0 - k2 / k1) * fy / k1, rel=1e-12)
+    assert row[YIELDED_AT] == 7.0
+
+
+def test_a_dissipator_on_its_line_and_moving_into_it_yields():
+    """Elastic with its force exactly on the upper line (k1 = 2²⁴ N/m, F_y = 2¹⁴ N, k2 = 0,
+    Δp = 2⁻¹⁰ m, Δ = 2⁻⁹ m: k1·(Δ − Δp) = F_y in binary, to the bit), the state a device that
+    unloaded there is left in when the bridge turns back at once: loading, it yields (else its
+    event function would start at zero and turn positive in a step of length zero that changes
+    nothing, again and again: AR03 × 2 at ``default`` hung so); unloading, it stays elastic."""
+    for speed, branch in ((1e-4, LOADING), (-1e-4, ELASTIC)):
+        (row,) = table((Dissipator(0, 0.0, 2.0**24, 2.0**14),))
+        row[PLASTIC] = 2.0**-10
+        assert elastic_pull(row, 2.0**-9) == yield_line(row, 2.0**-9, LOADING)
+        shifted(row, 2.0**-9, speed, 3.0)
+        assert row[BRANCH] == branch
+
+
+def test_back_at_rest_a_dissipator_on_its_lower_line_takes_the_elastic_branch_it_lifts_off_on():
+    """The chatter guard puts the bridge at rest with a dissipator on its lower line (Δ = 0,
+    force −(1 − k2/k1)·F_y): whichever way it lifts off next, Δ grows, so it leaves rest
+    elastic, with Δp = (1 − k2/k1)·F_y/k1 (its force unchanged); a damper is left alone."""
+    k1, fy, k2 = 2.0e7, 3.0e4, 2.0e5
+    rows = table((Dissipator(0, 0.1, k1, fy, hardening=k2), Damper(0, 0.0, 1e5)))
+    rows[0, BRANCH] = UNLOADING
+    settle(rows, BLOCK, 0.0, 0.0, 0.0, 5.0, EXACT)
+    assert rows[0, BRANCH] == ELASTIC
+    assert rows[0, PLASTIC] == pytest.approx((1.0 - k2 / k1) * fy / k1, rel=1e-12)
+    assert elastic_pull(rows[0], 0.0) == pytest.approx(-(1.0 - k2 / k1) * fy, rel=1e-12)
+
+
+@pytest.mark.parametrize("side", [LOADING, UNLOADING])
+def test_a_device_that_unloads_starts_its_elastic_branch_inside_the_line_it_left(side):
+    """Unloading from a yield line at any elongation, the elastic force P0 + k·(Δ − Δp) is not
+    past that line, to the last bit: the law's bound (F_y for a tendon, k2·Δ ± (1 − k2/k1)·F_y
+    for a dissipator), which rounding of Δp = Δ − (line − P0)/k alone breaks at 45 % of these
+    elongations for the dissipator and 0.1 % for the tendon (forces ~1e-10 N past the line,
+    enough to start the devices' event function positive)."""
+    lengths = np.linspace(1e-4, 4e-2, 997)
+    rows = table(
+        (Dissipator(0, 0.3, 5.027e8, 3.77e5, hardening=5.027e6), Tendon(1, 0.0, 2e6, 6e7,
+                                                                        yield_force=4e6))
+    )  # fmt: skip
+    for row in rows if side == LOADING else rows[:1]:
+        for length in lengths:
+            row[BRANCH] = side
+            shifted(row, length, -side * 1e-3, 1.0)
+            assert row[BRANCH] == ELASTIC
+            past = side * (elastic_pull(row, length) - yield_line(row, length, side))
+            assert past <= 0.0, (length, past)
+
+
+@pytest.mark.usefixtures("device_kernels")  # compiled once a suite (conftest)
+@pytest.mark.parametrize("preset", ["fast", "default"])
+def test_the_bundled_dissipators_stay_within_their_bilinear_law(preset):
+    """studied-hbar1.25-dissipators.yaml under the ten bundled records at 2 × their scale (every
+    dissipator yields, the deck pounds): each dissipator's peak force is at most the law's bound
+    at its peak elongation Δ_max, max(k2·Δ_max + (1 − k2/k1)·F_y, (1 − k2/k1)·F_y) (the upper
+    line there, or the lower line at Δ = 0: the bilinear law of docs/model.md §13 bounds the
+    force by its lines). Before issue 41's fix the devices' event function could start a
+    segment positive and miss the next yields: 4.96 MN against a bound of 0.44 MN under AR07 at
+    ``fast`` (a dissipator left elastic 9.9 mm past its yield)."""
+    bridge = load_bridge(ROOT / "configs/bridges/studied-hbar1.25-dissipators.yaml").to_bridge()
+    for path in sorted((ROOT / "records/ec8-type1-C-ag0.6g").glob("AR*.txt")):
+        record = read_record(path)
+        response = analyze(bridge, 2.0 * record.acceleration, record.time_step, preset,
+                           histories=False)  # fmt: skip
+        assert response.status == "ok"
+        for i, device in enumerate(bridge.devices, start=1):
+            reach = response.peaks[f"dissipator{i}_elongation"][0]
+            lines = (1.0 - device.hardening / device.stiffness) * device.yield_force
+            bound = max(device.hardening * reach + lines, lines)
+            assert response.peaks[f"dissipator{i}_force"][0] <= bound * (1.0 + 1e-12), path.name
 
 
 def _yielding_block(d: float, prestress: float, stiffness: float, fy: float):

@@ -120,22 +120,41 @@ def _distance(row: np.ndarray, length: float, speed: float) -> float:
 
 def settle(devices, model: Model, s: float, theta1: float, omega: float, t: float, kin) -> None:
     """Move each yielding device to the branch it is on at (θ1, θ̇1) = (theta1, omega) [rad,
-    rad/s] in mode s at time t [s], just past an event (`_settled`); nothing without devices or
-    at rest (s = 0)."""
-    if devices is not None and s != 0.0:
-        _settled(devices, model, s, theta1, omega, t, kin)
+    rad/s] in mode s at time t [s], just past an event (`_settled`), or, back at rest (s = 0),
+    to the branch it leaves rest on (`_rested`); nothing without devices."""
+    if devices is not None:
+        _settle(devices, model, s, theta1, omega, t, kin)
 
 
 @overload(settle)
 def _compiled_settle(devices, model, s, theta1, omega, t, kin):
     if _none(devices):
         return lambda devices, model, s, theta1, omega, t, kin: None
+    return lambda devices, model, s, theta1, omega, t, kin: _settle(
+        devices, model, s, theta1, omega, t, kin
+    )
 
-    def settled(devices, model, s, theta1, omega, t, kin):
-        if s != 0.0:
-            _settled(devices, model, s, theta1, omega, t, kin)
 
-    return settled
+@jit
+def _settle(devices: np.ndarray, model: Model, s, theta1, omega, t, kin) -> None:
+    if s != 0.0:
+        _settled(devices, model, s, theta1, omega, t, kin)
+    else:
+        _rested(devices, t)
+
+
+@jit
+def _rested(devices: np.ndarray, t: float) -> None:
+    """Back at rest at time t [s] (θ1 = 0, every Δ = 0): whichever way the bridge next lifts off,
+    every device opens from Δ = 0 (Δ̇ ≥ 0), so each yielding device takes now the branch it
+    leaves rest on (`shifted` at Δ = 0 with an opening rate, of which only the sign is read).
+    One left on its lower line unloads, as it would at the first instant of the next rocking,
+    where its event function would start at zero and turn positive at once: a step of length
+    zero that changes nothing, again and again. Its force at rest, which the next onset counts
+    (`impacts.onsets_at_rest`), is the same on either branch."""
+    for i in range(devices.shape[0]):
+        if devices[i, KIND] != DAMPER and devices[i, BRANCH] != BROKEN:
+            shifted(devices[i], 0.0, 1.0, t)
 
 
 @jit
@@ -152,23 +171,42 @@ def _settled(devices: np.ndarray, model: Model, s, theta1, omega, t, kin) -> Non
 def shifted(row: np.ndarray, length: float, speed: float, t: float) -> None:
     """Move one yielding device (a row of `devices.table`, not broken) to the branch it is on at
     elongation Δ [m] and rate Δ̇ [m/s] at time t [s]: past its rupture elongation it breaks; on
-    the elastic branch, with its force past a yield line, it yields onto it (its first yield time
-    noted); on a yield line, with Δ̇ against it, it unloads elastically with the Δp that keeps
-    its force, P0 + k·(Δ − Δp) = the line's."""
-    branch = row[BRANCH]
+    the elastic branch, with its force past a yield line (or on it, Δ̇ into it), it yields onto
+    it (its first yield time noted); on a yield line (or just onto one), with Δ̇ against it, it
+    unloads elastically (`_unloaded`).
+
+    A device can be past a line and moving back at once where its crossing fell within the event
+    tolerance of another event that reversed its rate (an impact): it yields and unloads in the
+    same call, so that every device leaves an event on a branch it is not already past
+    (`_distance` ≤ 0), without which the devices' event function would start positive and miss
+    their next change."""
     if length >= row[LIMIT]:
         row[BRANCH], row[BROKEN_AT] = BROKEN, t
-    elif branch == ELASTIC:
+        return
+    if row[BRANCH] == ELASTIC:
         force = _spring(row, length)
         for side in (LOADING, UNLOADING):
-            if side * (force - yield_line(row, length, side)) > 0.0:
+            past = side * (force - yield_line(row, length, side))
+            if past > 0.0 or (past == 0.0 and side * speed > 0.0):
                 row[BRANCH] = side
                 if np.isnan(row[YIELDED_AT]):
                     row[YIELDED_AT] = t
-    elif -branch * speed > 0.0:
-        line = yield_line(row, length, branch)
-        row[PLASTIC] = length - (line - row[PRESTRESS]) / row[STIFFNESS]
-        row[BRANCH] = ELASTIC
+    if row[BRANCH] != ELASTIC and -row[BRANCH] * speed > 0.0:
+        _unloaded(row, length)
+
+
+@jit
+def _unloaded(row: np.ndarray, length: float) -> None:
+    """Unload a device from its yield line at elongation Δ [m] onto the elastic branch, with the
+    Δp that keeps its force, P0 + k·(Δ − Δp) = the line's; Δp is then moved by the last bits
+    rounding left, until that force is not past the line, so that the device does not start its
+    elastic branch already past the line it left."""
+    side = row[BRANCH]
+    line = yield_line(row, length, side)
+    row[PLASTIC] = length - (line - row[PRESTRESS]) / row[STIFFNESS]
+    while side * (_spring(row, length) - line) > 0.0:
+        row[PLASTIC] = np.nextafter(row[PLASTIC], side * np.inf)
+    row[BRANCH] = ELASTIC
 
 
 def fresh(devices):

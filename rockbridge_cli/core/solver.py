@@ -115,7 +115,8 @@ class Settings(NamedTuple):
     turning_points : locate every θ̇1 = 0 to catch the peaks exactly
     rest_velocity : chatter guard, |θ̇1| below which an impact may end in rest [rad/s]
     output_step : time step of the stored histories [s]
-    max_events : the analysis stops with a solver error beyond this many events [-]
+    max_events : the analysis stops with a solver error beyond this many events, the devices'
+        changes of branch included [-]
     """
 
     scheme: int
@@ -514,6 +515,7 @@ def integrate(
     device_peaks = peaks_of(devices)
     count = WATCH_TURNING + 1 if settings.turning_points else WATCH_TURNING  # watched functions
     h, steps, rejected, error, failure = settings.step, 0, 0, NO_ERROR, NOT_FAILED
+    changes = 0  # the devices' changes of branch, which count as events
     while motion.k < acc.size - 1:
         log = _room(log, settings.max_events)
         if segment.s == 0.0:  # at rest until the next onset (or the record's end)
@@ -543,7 +545,8 @@ def integrate(
         motion = Motion(t, k + 1 if t >= boundary else k, step.end, g_end, sample)
         if watch < 0 or watch == WATCH_TURNING:  # nothing changes but the peaks
             continue
-        if log.written >= settings.max_events - 2:
+        changes += watch == WATCH_DEVICES  # a device's change of branch is not logged
+        if log.written + changes >= settings.max_events - 2:
             error = TOO_MANY_EVENTS
             break
         segment, motion, log, failure = _applied(problem, segment, motion, log, watch)
