@@ -21,7 +21,7 @@ from pydantic import (
 )
 
 from ..core.fidelity import KNOBS, PRESETS, Knob
-from ..core.quantities import HISTORY_UNITS
+from ..core.quantities import HISTORY_UNITS, is_device_history
 from .bridge import BridgeConfig
 from .intensity import Intensity
 from .loading import ID_PATTERN, StrictModel
@@ -118,18 +118,20 @@ class Output(StrictModel):
         None, description="Time step of the stored histories; default the preset's (0.01 s) [s]"
     )
     histories: str | list[str] = Field(
-        "all", description=f"Histories to keep: all, none, or a list of {', '.join(HISTORY_UNITS)}"
+        "all",
+        description=f"Histories to keep: all (with each device's), none, or a list of "
+        f"{', '.join(HISTORY_UNITS)} or a device's (tendon1_force, dissipator1_plastic, …)",
     )
 
     @field_validator("histories", mode="before")
     @classmethod
     def _known(cls, names: Any) -> Any:
-        choices = ", ".join(HISTORY_UNITS)
+        choices = ", ".join(HISTORY_UNITS) + " or a device's (tendon1_force, damper2_elongation, …)"
         if names in ("all", "none"):
             return names
         if not isinstance(names, list) or not all(isinstance(name, str) for name in names):
             raise ValueError(f"give all, none or a list of history names ({choices})")
-        unknown = [name for name in names if name not in HISTORY_UNITS]
+        unknown = [n for n in names if n not in HISTORY_UNITS and not is_device_history(n)]
         if unknown:
             raise ValueError(f"unknown histories {', '.join(unknown)}: choose from {choices}")
         if len(set(names)) != len(names):
@@ -137,12 +139,14 @@ class Output(StrictModel):
         return names
 
     def kept(self) -> tuple[str, ...]:
-        """Names of the histories to store, in `HISTORY_UNITS` order."""
+        """Names of the histories to store, in `HISTORY_UNITS` order, then the devices' a list
+        names (``all`` names none: `core.quantities.kept_history` keeps every device's)."""
         if self.histories == "all":
             return tuple(HISTORY_UNITS)
         if self.histories == "none":
             return ()
-        return tuple(name for name in HISTORY_UNITS if name in self.histories)
+        listed = [name for name in self.histories if is_device_history(name)]
+        return (*(name for name in HISTORY_UNITS if name in self.histories), *listed)
 
 
 class StudyConfig(StrictModel):

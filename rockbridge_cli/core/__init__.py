@@ -1,6 +1,6 @@
 """The bridge's mechanics: the model (`geometry`, `kinematics`, `dynamics`, `impacts`), the
-devices a pier may carry (`devices`, their mechanics `device_mechanics` and the events of the
-yielding ones `device_events`), one
+devices a pier may carry (`devices`, their mechanics `device_mechanics`, the events of the
+yielding ones `device_events` and their histories `device_histories`), one
 bridge as analyzed (`bridge`) and its summary (`summary`), the event-driven integrator (`solver`,
 `schemes`, `tables`, its event location `events`, `analysis`) at a fidelity (`fidelity`), a cache
 bounded by its bytes (`memo`) and the vocabulary of what an analysis reports (`quantities`). It

@@ -11,6 +11,7 @@ import numpy as np
 
 from ._jit import jit
 from .bridge import Bridge
+from .device_histories import HISTORY_ELONGATION, HISTORY_FORCE, HISTORY_PLASTIC
 from .device_mechanics import PEAK_FORCE, PEAK_FORCE_TIME, PEAK_LENGTH, PEAK_LENGTH_TIME
 from .devices import BROKEN_AT, YIELDED_AT, Damper, names
 from .fidelity import Fidelity, check_work, resolve
@@ -64,7 +65,8 @@ class Response:
     model : kind of model that ran (``asymmetric-bridge``, ``single-block``, …)
     fidelity : what it ran at, the preset and every knob (`fidelity.resolve`)
     time : sample times of the histories [s]
-    histories : name → array at ``time``; units in `HISTORY_UNITS`
+    histories : name → array at ``time``; units in `HISTORY_UNITS`, and each device's
+        (`device_history_names`) in `quantities.DEVICE_HISTORY_UNITS`
     events : dict of arrays: ``time`` [s], ``kind`` (name), ``mode`` after (+1, −1, 0 at rest),
         ``rate_before``, ``rate_after`` (θ̇1 [rad/s])
     peaks : name → (peak value, time [s]); units in `PEAK_UNITS`; NaN for the parts a model
@@ -240,7 +242,7 @@ def _response(
     times, stored = np.zeros(0), {}
     if histories:
         times = np.arange(result.theta1.size) * fidelity.knobs["output_step"]
-        stored = _histories(model, kin, sign, result)
+        stored = {**_histories(model, kin, sign, result), **_device_histories(bridge, result)}
     kinds = events[:, EVENT_KIND].astype(int)
     failed = result.failure != NOT_FAILED
     if result.error != NO_ERROR:  # the integrator stopped early: no peak of the record is known
@@ -285,6 +287,28 @@ def device_peak_names(bridge: Bridge) -> list[tuple[str, str]]:
     """Each device's names in a `Response`'s peaks, (elongation, force): ``tendon1``, ``damper1``,
     … numbered by kind in the bridge's order."""
     return [(f"{stem}_elongation", f"{stem}_force") for stem in names(bridge.devices)]
+
+
+def device_history_names(bridge: Bridge) -> list[dict[str, int]]:
+    """Each device's names in a `Response`'s histories, with the column of the integrator's
+    (`device_histories.HISTORY_FORCE` …): ``<name>_force``, ``<name>_elongation`` and, but for a
+    damper, ``<name>_plastic``; ``<name>`` as in `device_peak_names`."""
+    columns = {"force": HISTORY_FORCE, "elongation": HISTORY_ELONGATION, "plastic": HISTORY_PLASTIC}
+    return [
+        {f"{stem}_{what}": column for what, column in columns.items()
+         if what != "plastic" or not isinstance(device, Damper)}
+        for stem, device in zip(names(bridge.devices), bridge.devices, strict=True)
+    ]  # fmt: skip
+
+
+def _device_histories(bridge: Bridge, result: Integration) -> dict[str, np.ndarray]:
+    """Each device's force [N], elongation [m] and plastic elongation [m] at the samples, by name
+    (`device_history_names`); none without devices. Both are the same in a mirror image."""
+    out = {}
+    for i, named in enumerate(device_history_names(bridge)):
+        for name, column in named.items():
+            out[name] = result.device_histories[:, i, column].copy()
+    return out
 
 
 def _device_peaks(bridge: Bridge, result: Integration) -> dict[str, tuple[float, float]]:
@@ -369,10 +393,12 @@ def _before_flight(
     before (docs/model.md §12)."""
     count = int(np.floor((samples - 1) * time_step / output_step + 1e-9)) + 1  # as `integrate`
     missing = count - result.theta1.size
+    devices = result.device_histories
     stretched = result._replace(
         theta1=np.concatenate([result.theta1, np.full(missing, np.nan)]),
         rate=np.concatenate([result.rate, np.full(missing, np.nan)]),
         mode=np.concatenate([result.mode, np.zeros(missing, dtype=result.mode.dtype)]),
+        device_histories=np.concatenate([devices, np.full((missing, *devices.shape[1:]), np.nan)]),
     )
     if result.failure != NOT_FAILED or result.error != NO_ERROR:
         return stretched

@@ -3,6 +3,7 @@ reach: a vocabulary shared by the core, the configs, the results file and the as
 importable without the compiled core."""
 
 import re
+from collections.abc import Collection
 from typing import NamedTuple
 
 HISTORY_UNITS = {
@@ -10,6 +11,44 @@ HISTORY_UNITS = {
     "u_deck": "m", "v_deck": "m", "u_pier1": "m", "v_pier1": "m", "u_pier2": "m", "v_pier2": "m",
 }  # fmt: skip
 """Every history a `Response` carries, with its unit. Pier 1 is the tall pier (paper's notation)."""
+
+DEVICE_HISTORY_UNITS = {"force": "N", "elongation": "m", "plastic": "m"}
+"""A device's histories, ``<device>_<quantity>`` (``tendon1_force``, ``dissipator2_plastic``, …,
+the devices named as `core.devices.names` names them), with their units: its force, positive in
+tension, its elongation Δ and its plastic elongation Δp (a tendon's or a dissipator's)."""
+
+_DEVICE_HISTORY = re.compile(
+    r"^(tendon|dissipator)[1-9][0-9]*_(force|elongation|plastic)$"
+    r"|^damper[1-9][0-9]*_(force|elongation)$"  # a damper has no plastic elongation
+)
+
+
+def is_device_history(name: str) -> bool:
+    """Whether ``name`` names a device's history (`DEVICE_HISTORY_UNITS`)."""
+    return _DEVICE_HISTORY.match(name) is not None
+
+
+def history_unit(name: str) -> str:
+    """The unit of the history ``name``: `HISTORY_UNITS`, or a device's (`DEVICE_HISTORY_UNITS`).
+
+    Raises
+    ------
+    KeyError
+        ``name`` names no history.
+    """
+    if is_device_history(name):
+        return DEVICE_HISTORY_UNITS[name.rsplit("_", 1)[1]]
+    return HISTORY_UNITS[name]
+
+
+def kept_history(name: str, keep: Collection[str]) -> bool:
+    """Whether a study that keeps the histories ``keep`` (`config.study_models.Output.kept`) keeps
+    the history ``name``: one it names, and every device's where it keeps all of `HISTORY_UNITS`
+    (``output.histories: all``, which names no device so that a study's hash stays as it was)."""
+    if name in keep:
+        return True
+    return is_device_history(name) and all(other in keep for other in HISTORY_UNITS)
+
 
 PEAK_NAMES = ("u_deck", "v_deck", "theta_deck", "theta1", "theta2", "u_pier1", "u_pier2")
 """Peak quantities tracked during the integration, by index (all absolute except v_deck)."""

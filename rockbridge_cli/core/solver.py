@@ -41,6 +41,7 @@ import numpy as np
 from . import quantities
 from ._jit import inlined, jit
 from .device_events import fresh, settle
+from .device_histories import histories_of, sampled
 from .device_mechanics import peaks_of, tracked
 from .dynamics import acceleration
 from .events import (
@@ -165,6 +166,9 @@ class Integration(NamedTuple):
     steps, rejected : steps taken and rejected by the error control [-]
     error : `NO_ERROR` or why the integrator stopped early (`SOLVER_ERRORS`)
     device_peaks : one row per device (`device_mechanics.PEAK_LENGTH` …), none without devices
+    device_histories : (samples, devices, 3): each device's force [N], elongation [m] and plastic
+        elongation [m] at the samples (`device_histories.HISTORY_FORCE` …), NaN where θ1 is; no
+        device column without devices
     devices : the devices' table (`devices.table`) in its state at the end (branch, plastic
         elongation Δp, …), None without devices
     """
@@ -181,6 +185,7 @@ class Integration(NamedTuple):
     error: int
     device_peaks: np.ndarray
     devices: np.ndarray | None
+    device_histories: np.ndarray
 
 
 class Problem(NamedTuple):
@@ -513,13 +518,17 @@ def integrate(
     problem = Problem(model, laws, kin, ground, settings, devices)
     histories, peaks, segment, motion, log = _started(problem, theta0, omega0)
     device_peaks = peaks_of(devices)
+    forces = histories_of(devices, histories.theta1.size)
     count = WATCH_TURNING + 1 if settings.turning_points else WATCH_TURNING  # watched functions
     h, steps, rejected, error, failure = settings.step, 0, 0, NO_ERROR, NOT_FAILED
     changes = 0  # the devices' changes of branch, which count as events
     while motion.k < acc.size - 1:
         log = _room(log, settings.max_events)
         if segment.s == 0.0:  # at rest until the next onset (or the record's end)
+            first = motion.sample
             segment, motion, log = _onset(problem, motion, log, histories.theta1.size)
+            sampled(devices, forces, model, 0.0, histories.theta1, histories.rate, first,
+                    motion.sample, kin)  # fmt: skip
             h = settings.step
             continue
         # A step of the h the scheme asks for, never past the end of the sample interval.
@@ -537,6 +546,8 @@ def integrate(
         watch, step, g_end, d = first_event(segment, kin, ground, step, motion.g, count, settings)
         t = boundary if (watch < 0 and step.h == boundary - t) else t + step.h
         sample = _sample(histories, motion.sample, settings.output_step, segment.s, step, t)
+        sampled(devices, forces, model, segment.s, histories.theta1, histories.rate,
+                motion.sample, sample, kin)  # fmt: skip
         values = _tracked(step.end.theta, d)
         for i in range(len(PEAK_NAMES)):
             if values[i] > peaks[i, 0]:
@@ -556,6 +567,9 @@ def integrate(
     if failure != NOT_FAILED or error != NO_ERROR:  # samples after the end are not defined
         theta1[motion.sample :] = np.nan
         rate[motion.sample :] = np.nan
+        forces[motion.sample :] = np.nan
+    else:  # at rest from the last onset search on
+        sampled(devices, forces, model, 0.0, theta1, rate, motion.sample, theta1.size, kin)
     events = log.rows[: log.written].copy()
     return Integration(
         theta1,
@@ -570,4 +584,5 @@ def integrate(
         error,
         device_peaks,
         devices,
+        forces,
     )

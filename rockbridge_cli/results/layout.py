@@ -21,7 +21,8 @@
     /spectrum/<name>           a spectrum study's instead: its axes, the map of what each
                                analysis reached and each limit state's boundary
                                (`rockbridge_cli.assessment.spectrum.store`)
-    /analyses/<bridge>/<record>/histories/<name>     histories, where the study keeps them
+    /analyses/<bridge>/<record>/histories/<name>     histories, where the study keeps them;
+                               a bridge with devices: each device's too (``tendon1_force`` …)
 
 ``/events`` is a contiguous ragged array in the sense of the CF conventions (§9.3.3): the column
 ``/peaks/n_events`` counts the rows of each analysis (its ``sample_dimension`` attribute names
@@ -51,7 +52,13 @@ from typing import Any
 
 import numpy as np
 
-from ..core.quantities import EVENT_NAMES, FAILURE_MODES, NO_FAILURE, PEAK_UNITS
+from ..core.quantities import (
+    EVENT_NAMES,
+    FAILURE_MODES,
+    NO_FAILURE,
+    PEAK_UNITS,
+    is_device_history,
+)
 
 FORMAT = "rockbridge-results"
 FORMAT_VERSION = 5
@@ -79,6 +86,21 @@ HISTORY_TEXT = {
     "u_pier2": "horizontal displacement of the short pier's centre of gravity",
     "v_pier2": "vertical displacement of the short pier's centre of gravity",
 }
+
+_DEVICE_HISTORY_TEXT = {
+    "force": "force of {}, positive in tension",
+    "elongation": "elongation of {} (its opening across the rocking interface)",
+    "plastic": "plastic elongation of {}",
+}
+
+
+def history_description(name: str) -> str:
+    """What the history ``name`` is (`HISTORY_TEXT`, or a device's: ``tendon1_force`` …)."""
+    if is_device_history(name):
+        device, quantity = name.rsplit("_", 1)
+        return _DEVICE_HISTORY_TEXT[quantity].format(device)
+    return HISTORY_TEXT[name]
+
 
 EVENT_COLUMNS = {
     "time": ("s", "time of the event"),

@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 
 from ..core.devices import Damper, Device, Tendon, names
-from ..core.quantities import DEVICE_LIMIT_STATES
+from ..core.quantities import DEVICE_LIMIT_STATES, kept_history
 from .layout import (
     COMPRESSION,
     COUNT_COLUMNS,
@@ -126,7 +126,7 @@ class AnalysisResult:
     bridge, record : ids
     values : the scalar columns of the peak table (`PEAK_COLUMNS`, except the ids) [SI]
     time : sample times of the histories [s]
-    histories : name → array at ``time``; units in `core.quantities.HISTORY_UNITS`
+    histories : name → array at ``time``; units as `core.quantities.history_unit` gives them
     events : name → array; units in `EVENT_COLUMNS`
     devices : one `DEVICE_RECORD` row per device of the bridge (none without devices, or
         without results)
@@ -170,7 +170,9 @@ class AnalysisResult:
             scale=1.0,
         )
         events = {**response.events, "kind": response.events["kind"].astype(str)}
-        histories = {name: response.histories[name] for name in keep}
+        histories = {
+            name: values for name, values in response.histories.items() if kept_history(name, keep)
+        }
         return cls(
             bridge,
             record,

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 import h5py
 import numpy as np
 
-from ..core.quantities import DEVICE_LIMIT_STATES, HISTORY_UNITS
+from ..core.quantities import DEVICE_LIMIT_STATES, HISTORY_UNITS, history_unit, is_device_history
 from ..errors import InputError, did_you_mean, nearest
 from ..paths import journal_path
 from .layout import (
@@ -268,8 +268,16 @@ def history_arrays(
         reason = file["peaks/message"].asstr()[row] or (
             "the study kept no histories (output.histories)")  # fmt: skip
         raise InputError(path, [(f"analyses/{bridge}/{record}", f"no histories: {reason}")])
-    names = ["time", *(name for name in HISTORY_UNITS if name in group)]
-    return {name: group[name][()] for name in names}
+    return {name: group[name][()] for name in ["time", *_history_names(group)]}
+
+
+def _history_names(group: h5py.Group) -> list[str]:
+    """The histories a ``histories`` group holds: those of `HISTORY_UNITS` in its order, then
+    the devices' (`core.quantities.is_device_history`)."""
+    return [
+        *(name for name in HISTORY_UNITS if name in group),
+        *(name for name in group if is_device_history(name)),
+    ]
 
 
 def event_arrays(
@@ -325,7 +333,7 @@ def read_history(path: str | Path, bridge: str, record: str) -> pd.DataFrame:
         arrays = history_arrays(file, path, bridge, record)
     time = arrays.pop("time")
     frame = pd.DataFrame(arrays, index=pd.Index(time, name="time"))
-    frame.attrs["units"] = {"time": "s", **{name: HISTORY_UNITS[name] for name in arrays}}
+    frame.attrs["units"] = {"time": "s", **{name: history_unit(name) for name in arrays}}
     return frame
 
 
@@ -351,7 +359,7 @@ def stored_results(file: h5py.File) -> Iterator[AnalysisResult]:
         del values["bridge"], values["record"]
         events = _events(file, starts, row)
         group = file.get(f"analyses/{bridge}/{record}/histories")
-        names = [name for name in HISTORY_UNITS if group is not None and name in group]
+        names = [] if group is None else _history_names(group)
         yield AnalysisResult(
             bridge, record, values,
             time=group["time"][()] if names else np.zeros(0),

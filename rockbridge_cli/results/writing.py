@@ -18,7 +18,7 @@ import numpy as np
 import scipy
 
 from .. import __version__
-from ..core.quantities import EVENT_NAMES, HISTORY_UNITS, NO_FAILURE
+from ..core.quantities import EVENT_NAMES, NO_FAILURE, history_unit
 from .description import Attributes, Description, RecordGroup
 from .layout import (
     COMPRESSION,
@@ -29,11 +29,11 @@ from .layout import (
     EVENT_COLUMNS,
     FORMAT,
     FORMAT_VERSION,
-    HISTORY_TEXT,
     PEAK_COLUMNS,
     TEXT_COLUMNS,
     TEXT_DIGEST,
     digest_update,
+    history_description,
     text_digests,
 )
 from .packing import DEVICE_NUMBERS, DEVICE_RECORD, EVENT_RECORD, NUMBERS, TEXTS, Chunk, Packed
@@ -261,7 +261,7 @@ def _describe_histories(group: h5py.Group, names: Iterable[str], size: int) -> N
     """Empty histories of ``size`` samples, one HDF5 chunk each, compressed, with units."""
     for name in names:
         unit, text = ("s", "sample times") if name == "time" else (
-            HISTORY_UNITS[name], HISTORY_TEXT[name])  # fmt: skip
+            history_unit(name), history_description(name))  # fmt: skip
         dataset = group.create_dataset(
             name, shape=(size,), maxshape=(max(size, 1),), chunks=(max(size, 1),), dtype="<f8",
             **COMPRESSION,
