@@ -9,8 +9,10 @@ from pathlib import Path
 import h5py
 import numpy as np
 import pytest
+from click.testing import CliRunner
 from conftest import G, studied_bridge
 
+from rockbridge_cli.cli import main
 from rockbridge_cli.config.bridge import load_bridge
 from rockbridge_cli.config.study_models import Output
 from rockbridge_cli.core.analysis import _before_flight, analyze
@@ -19,6 +21,7 @@ from rockbridge_cli.core.device_mechanics import elongation
 from rockbridge_cli.core.devices import Damper, Dissipator, Tendon, table
 from rockbridge_cli.core.quantities import HISTORY_UNITS, history_unit, kept_history
 from rockbridge_cli.core.solver import NO_ERROR, NOT_FAILED, Integration
+from rockbridge_cli.plots import history as history_plot
 from rockbridge_cli.records.files import read_record
 from rockbridge_cli.results.layout import FORMAT, FORMAT_VERSION
 from rockbridge_cli.results.packing import AnalysisResult
@@ -191,3 +194,31 @@ def test_the_bundled_dissipators_stay_within_their_bilinear_bounds_under_ar07():
         k1, fy, k2 = device.stiffness, device.yield_force, device.hardening
         reach = (1 - k2 / k1) * fy + 1e-9 * fy
         assert np.all(np.abs(force - k2 * delta) <= reach), f"dissipator{i}"
+
+
+@pytest.mark.slow  # an analysis of a bridge with devices, written and drawn
+@pytest.mark.usefixtures("device_kernels")  # compiled once a suite (conftest)
+def test_plot_history_draws_each_devices_force_in_a_last_panel(tmp_path, monkeypatch):
+    """`rockbridge analyze -o` of the bundled dissipator bridge, then `plot history`: the figure
+    has Fig. 10's six panels and a seventh with the four dissipators' forces, in MN, each line
+    the force history the file holds (×1e-6); a free-standing bridge's figure has none."""
+    drawn = []
+    monkeypatch.setattr(history_plot, "save", lambda figure, output: drawn.append(figure) or output)
+    record = REPO / "records/ec8-type1-C-ag0.6g/AR07.txt"
+    for bridge, forces in (("studied-hbar1.25-dissipators", 4), ("studied-hbar1.25", 0)):
+        path = tmp_path / f"{bridge}.h5"
+        args = ["analyze", str(REPO / f"configs/bridges/{bridge}.yaml"), str(record),
+                "--fidelity", "fast", "-o", str(path)]  # fmt: skip
+        assert CliRunner().invoke(main, args).exit_code == 0
+        history_plot.plot_history(path, "AR07", tmp_path / "h.png")
+        axes = drawn[-1].axes
+        assert len(axes) == 6 + bool(forces)
+        if forces:
+            stored = read_history(path, bridge, "AR07")
+            assert axes[-1].get_ylabel() == "device force [MN]"
+            lines = axes[-1].get_lines()
+            assert [line.get_label() for line in lines] == [f"dissipator{i}" for i in range(1, 5)]
+            for i, line in enumerate(lines, 1):
+                np.testing.assert_array_equal(
+                    line.get_ydata(), stored[f"dissipator{i}_force"] * 1e-6
+                )

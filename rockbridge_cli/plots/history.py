@@ -4,12 +4,15 @@ record, with the ground motion and the events that shape them.
 (A) the ground acceleration, with each bridge's onset of rocking marked on it; then u_deck with
 the end-joint gap ±u_jo (dotted) and each pounding marked, v_deck, θ_deck, θ1 (tall pier) and θ2
 (short pier); one line style per bridge, and a dashed line where an analysis ends in failure.
-A panel that no drawn model has (a single block has no deck and no short pier) is left out, and
-so is one whose history the study did not keep (``output.histories``): the title says which.
+A bridge with devices (tendons, dampers, dissipators) adds a last panel: each device's force,
+in its bridge's colour, one line style per device. A panel that no drawn model has (a single
+block has no deck and no short pier) is left out, and so is one whose history the study did not
+keep (``output.histories``): the title says which.
 """
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Collection, Sequence
 from pathlib import Path
@@ -18,7 +21,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
-from ..core.quantities import FAILURE_EVENTS, SHOWN, STANDARD_GRAVITY
+from ..core.quantities import FAILURE_EVENTS, SHOWN, STANDARD_GRAVITY, is_device_history
 from ..errors import InputError, nearest
 from ..results.reading import (
     bridge_attributes,
@@ -27,10 +30,22 @@ from ..results.reading import (
     history_arrays,
     open_results,
 )
-from .common import FAILURE_LINE, GAP_LINE, check_format, panel_label, save, series_labels, style
+from .common import (
+    FAILURE_LINE,
+    GAP_LINE,
+    check_format,
+    panel_label,
+    plain,
+    save,
+    series_labels,
+    style,
+)
 
 PANELS = tuple((name, shown.factor, f"{shown.tex} [{shown.unit}]") for name, shown in SHOWN.items())
 """Response panels: history, scale from SI to the axis unit, axis label."""
+
+DEVICE_LINES = ("-", "--", ":", "-.")
+"""Line styles of a bridge's devices in the device panel, in their order."""
 
 
 def plot_history(
@@ -75,8 +90,10 @@ def plot_history(
         if any(p[0] in h and np.isfinite(h[p[0]]).any() for h in histories.values())
     ]  # fmt: skip
     absent = left_out(set.intersection(*(set(h) for h in histories.values())))
-    figure = Figure(figsize=(8.0, 1.2 + 1.95 * (len(panels) + 1)), layout="constrained")
-    axes_list = figure.subplots(len(panels) + 1, 1, sharex=True, squeeze=False)[:, 0]
+    forces = {b: device_forces(h) for b, h in histories.items()}
+    count = len(panels) + 1 + any(forces.values())
+    figure = Figure(figsize=(8.0, 1.2 + 1.95 * count), layout="constrained")
+    axes_list = figure.subplots(count, 1, sharex=True, squeeze=False)[:, 0]
     letters = iter("ABCDEFG")
     labels = series_labels({b: table[b] for b in chosen})
 
@@ -84,7 +101,10 @@ def plot_history(
     _grid(axes_list[0], next(letters))
     gaps = sorted({table[b]["model_u_jo"] for b in chosen} - {math.inf})
     limits = sorted({table[b]["model_u_jo"] + table[b]["model_u_ab"] for b in chosen} - {math.inf})
-    for (name, scale, label), axes in zip(panels, axes_list[1:], strict=True):
+    if any(forces.values()):
+        _device_panel(axes_list[-1], histories, forces)
+        _grid(axes_list[-1], "ABCDEFG"[count - 1])
+    for (name, scale, label), axes in zip(panels, axes_list[1:], strict=False):
         for index, (bridge, arrays) in enumerate(histories.items()):
             if name not in arrays:
                 continue
@@ -137,6 +157,24 @@ def _ground_panel(axes, time_step: float, ground: np.ndarray, events: dict) -> N
             axes.plot(onsets[0], np.interp(onsets[0], ground_time, ground) / STANDARD_GRAVITY,
                       linestyle="none", marker=look["marker"], color=look["color"],
                       markerfacecolor=look["markerfacecolor"], markersize=7, zorder=3)  # fmt: skip
+
+
+def device_forces(arrays: dict[str, np.ndarray]) -> list[str]:
+    """The device force histories among an analysis's ``arrays`` (``tendon1_force``, …)."""
+    return [name for name in arrays if name.endswith("_force") and is_device_history(name)]
+
+
+def _device_panel(axes, histories: dict, forces: dict[str, list[str]]) -> None:
+    """The last panel: each device's force [MN], positive in tension, its bridge's colour and
+    one line style per device, named in the panel's own legend."""
+    for index, (bridge, names) in enumerate(forces.items()):
+        arrays = histories[bridge]
+        for name, line in zip(names, itertools.cycle(DEVICE_LINES)):
+            label = name.removesuffix("_force") + (f" ({bridge})" if len(histories) > 1 else "")
+            axes.plot(arrays["time"], arrays[name] * 1e-6, linewidth=0.9, linestyle=line,
+                      color=style(index)["color"], label=plain(label))  # fmt: skip
+    axes.set_ylabel("device force [MN]")
+    axes.legend(fontsize="small", ncols=4, loc="lower right", frameon=False)
 
 
 def _legend_keys(deck: bool, failed: bool) -> list[tuple[Line2D, str]]:
