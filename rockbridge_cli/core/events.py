@@ -237,7 +237,7 @@ def _past_limit(segment: Segment, kin: Kinematics, theta: float, watch: int) -> 
     return g / slope if slope > 0.0 else np.copysign(np.inf, g)
 
 
-@jit
+@inlined
 def first_event(segment, kin, ground, step: Step, g_start, count: int, settings):
     """The first event due within a step, if any (arguments as in `locate`).
 
@@ -247,9 +247,23 @@ def first_event(segment, kin, ground, step: Step, g_start, count: int, settings)
     end. When another event fires earlier inside a shortened step, that one is located instead;
     two events within the event tolerance of each other are simultaneous, and `_first_of` takes
     one.
+
+    Compiled into the integrator's loop: most steps have no event, and their check is a handful
+    of subtractions, which a call (its arguments' arrays counted in and out) would outweigh; the
+    search of a step with one (`_located_first`) stays a call.
     """
     g_end, d = watched(segment, kin, step.end.theta, step.end.rate)
     watch = _fired(g_start, g_end, count, -1)
+    if watch < 0:
+        return watch, step, g_end, d
+    return _located_first(segment, kin, ground, step, g_start, g_end, d, watch, count, settings)
+
+
+@jit
+def _located_first(segment, kin, ground, step: Step, g_start, g_end, d, watch, count, settings):
+    """`first_event` of a step in which ``watch`` fired first at its end, where the watched
+    functions are ``g_end`` and the displacements ``d``: the event located, or an earlier one
+    that fires inside the shortened step. Returns as `first_event`."""
     previous = -1
     while watch >= 0:
         located = locate(segment, kin, ground, step, watch, g_start[watch], g_end[watch], settings)
