@@ -9,9 +9,16 @@ check that both give the same numbers.
 from __future__ import annotations
 
 import numba
+from numba import types
 
 jit = numba.njit(cache=True, nogil=True, fastmath=False, error_model="numpy")
 
 inlined = numba.njit(cache=True, nogil=True, fastmath=False, error_model="numpy", inline="always")
 """`jit` for the tiny kernels of the innermost loop (a table lookup, a cubic): compiled into each
 caller, which saves the call and the reference counting of the arrays it is passed."""
+
+
+def absent(argument_type) -> bool:
+    """Whether an optional argument of an `overload` (the devices, a vertical motion) is compiled
+    as None: passed None, or left out."""
+    return isinstance(argument_type, (types.NoneType, types.Omitted))

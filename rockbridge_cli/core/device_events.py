@@ -19,10 +19,9 @@ for which `watch` is the constant −1 and `settle` does nothing (the free-stand
 from __future__ import annotations
 
 import numpy as np
-from numba import types
 from numba.extending import overload
 
-from ._jit import jit
+from ._jit import absent, jit
 from .device_mechanics import stretch, turns, yield_line
 from .devices import (
     BRANCH,
@@ -47,11 +46,6 @@ RATE_SCALE = 1.0
 share a unit: the sign alone matters [s]."""
 
 
-def _none(devices) -> bool:
-    """Whether ``devices`` is compiled as None (no devices)."""
-    return isinstance(devices, (types.NoneType, types.Omitted))
-
-
 def watch(devices, model: Model, s: float, theta1: float, omega: float, kin) -> float:
     """The devices' event function at (θ1, θ̇1) = (theta1, omega) [rad, rad/s] in mode s, the
     linkage as ``kin`` computes it: the largest of each yielding device's distances to its next
@@ -64,7 +58,7 @@ def watch(devices, model: Model, s: float, theta1: float, omega: float, kin) -> 
 
 @overload(watch)
 def _compiled_watch(devices, model, s, theta1, omega, kin):
-    if _none(devices):
+    if absent(devices):
         return lambda devices, model, s, theta1, omega, kin: -1.0
     return lambda devices, model, s, theta1, omega, kin: _watch(
         devices, model, s, theta1, omega, kin
@@ -128,7 +122,7 @@ def settle(devices, model: Model, s: float, theta1: float, omega: float, t: floa
 
 @overload(settle)
 def _compiled_settle(devices, model, s, theta1, omega, t, kin):
-    if _none(devices):
+    if absent(devices):
         return lambda devices, model, s, theta1, omega, t, kin: None
     return lambda devices, model, s, theta1, omega, t, kin: _settle(
         devices, model, s, theta1, omega, t, kin
@@ -216,6 +210,6 @@ def fresh(devices):
 
 @overload(fresh)
 def _compiled_fresh(devices):
-    if _none(devices):
+    if absent(devices):
         return lambda devices: None
     return lambda devices: devices.copy()

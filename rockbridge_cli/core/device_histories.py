@@ -9,10 +9,9 @@ that a bridge without devices runs the free-standing model's code.
 from __future__ import annotations
 
 import numpy as np
-from numba import types
 from numba.extending import overload
 
-from ._jit import jit
+from ._jit import absent, jit
 from .device_mechanics import pull, stretch, turns
 from .devices import DAMPER, KIND, PLASTIC
 from .geometry import Model
@@ -33,7 +32,7 @@ def histories_of(devices, samples: int) -> np.ndarray:
 
 @overload(histories_of)
 def _compiled_histories_of(devices, samples):
-    if isinstance(devices, (types.NoneType, types.Omitted)):
+    if absent(devices):
         return lambda devices, samples: np.zeros((samples, 0, HISTORY_COLUMNS))
     return lambda devices, samples: np.zeros((samples, devices.shape[0], HISTORY_COLUMNS))
 
@@ -48,7 +47,7 @@ def sampled(devices, out: np.ndarray, model: Model, s: float, theta1, rate, firs
 
 @overload(sampled)
 def _compiled_sampled(devices, out, model, s, theta1, rate, first, last, kin):
-    if isinstance(devices, (types.NoneType, types.Omitted)):
+    if absent(devices):
         return lambda devices, out, model, s, theta1, rate, first, last, kin: None
     return lambda devices, out, model, s, theta1, rate, first, last, kin: _sampled(
         devices, out, model, s, theta1, rate, first, last, kin

@@ -12,10 +12,9 @@ given), so that a bridge without devices runs the free-standing model's code.
 from __future__ import annotations
 
 import numpy as np
-from numba import types
 from numba.extending import overload
 
-from ._jit import jit
+from ._jit import absent, jit
 from .devices import (
     BASE,
     BRANCH,
@@ -154,7 +153,7 @@ def restrained(force: float, devices, model: Model, s: float, theta1: float, ome
 @overload(restrained)
 def _compiled_restrained(force, devices, model, s, theta1, omega, kin):
     """`restrained` compiled for the type of ``devices``: without any, ``force`` itself."""
-    if isinstance(devices, (types.NoneType, types.Omitted)):
+    if absent(devices):
         return lambda force, devices, model, s, theta1, omega, kin: force
     return lambda force, devices, model, s, theta1, omega, kin: (
         force - _device_moment(devices, model, s, theta1, omega, kin)
@@ -236,7 +235,7 @@ def peaks_of(devices) -> np.ndarray:
 
 @overload(peaks_of)
 def _compiled_peaks_of(devices):
-    if isinstance(devices, (types.NoneType, types.Omitted)):
+    if absent(devices):
         return lambda devices: np.zeros((0, PEAK_COLUMNS))
     return lambda devices: np.zeros((devices.shape[0], PEAK_COLUMNS))
 
@@ -251,7 +250,7 @@ def tracked(devices, peaks: np.ndarray, model: Model, s: float, theta1, omega, t
 
 @overload(tracked)
 def _compiled_tracked(devices, peaks, model, s, theta1, omega, t, kin):
-    if isinstance(devices, (types.NoneType, types.Omitted)):
+    if absent(devices):
         return lambda devices, peaks, model, s, theta1, omega, t, kin: None
     return lambda devices, peaks, model, s, theta1, omega, t, kin: _tracked(
         devices, peaks, model, s, theta1, omega, t, kin

@@ -18,10 +18,9 @@ import math
 from collections.abc import Callable
 
 import numpy as np
-from numba import types
 from numba.extending import overload
 
-from ._jit import jit
+from ._jit import absent, jit
 from .device_mechanics import prestress_moment, rest_moment, settled
 from .dynamics import coefficients
 from .geometry import Model
@@ -56,7 +55,7 @@ def onsets_at_rest(onset_p: float, onset_n: float, model: Model, devices) -> tup
 @overload(onsets_at_rest)
 def _compiled_onsets_at_rest(onset_p, onset_n, model, devices):
     """`onsets_at_rest` compiled for the type of ``devices``: without any, the thresholds given."""
-    if isinstance(devices, (types.NoneType, types.Omitted)):
+    if absent(devices):
         return lambda onset_p, onset_n, model, devices: (onset_p, onset_n)
     return lambda onset_p, onset_n, model, devices: (
         (onset_p, onset_n)

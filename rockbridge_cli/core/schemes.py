@@ -15,7 +15,7 @@ import numpy as np
 from numba import types
 from numba.extending import overload
 
-from ._jit import inlined, jit
+from ._jit import absent, inlined, jit
 from .dynamics import acceleration
 from .geometry import Model
 from .kinematics import Kinematics
@@ -86,7 +86,7 @@ def ground_of(acc: np.ndarray, dt: float, vertical: np.ndarray | None = None):
 @overload(ground_of)
 def _compiled_ground_of(acc, dt, vertical=None):
     """`ground_of` compiled for the type of ``vertical``: one type of ground or the other."""
-    if vertical is None or isinstance(vertical, (types.NoneType, types.Omitted)):
+    if vertical is None or absent(vertical):
         return lambda acc, dt, vertical=None: Ground(acc, dt)
     return lambda acc, dt, vertical=None: VerticalGround(acc, dt, vertical)
 

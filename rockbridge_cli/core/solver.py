@@ -518,7 +518,7 @@ def integrate(
     problem = Problem(model, laws, kin, ground, settings, devices)
     histories, peaks, segment, motion, log = _started(problem, theta0, omega0)
     device_peaks = peaks_of(devices)
-    forces = histories_of(devices, histories.theta1.size)
+    device_series = histories_of(devices, histories.theta1.size)
     count = WATCH_TURNING + 1 if settings.turning_points else WATCH_TURNING  # watched functions
     h, steps, rejected, error, failure = settings.step, 0, 0, NO_ERROR, NOT_FAILED
     changes = 0  # the devices' changes of branch, which count as events
@@ -527,7 +527,7 @@ def integrate(
         if segment.s == 0.0:  # at rest until the next onset (or the record's end)
             first = motion.sample
             segment, motion, log = _onset(problem, motion, log, histories.theta1.size)
-            sampled(devices, forces, model, 0.0, histories.theta1, histories.rate, first,
+            sampled(devices, device_series, model, 0.0, histories.theta1, histories.rate, first,
                     motion.sample, kin)  # fmt: skip
             h = settings.step
             continue
@@ -546,7 +546,7 @@ def integrate(
         watch, step, g_end, d = first_event(segment, kin, ground, step, motion.g, count, settings)
         t = boundary if (watch < 0 and step.h == boundary - t) else t + step.h
         sample = _sample(histories, motion.sample, settings.output_step, segment.s, step, t)
-        sampled(devices, forces, model, segment.s, histories.theta1, histories.rate,
+        sampled(devices, device_series, model, segment.s, histories.theta1, histories.rate,
                 motion.sample, sample, kin)  # fmt: skip
         values = _tracked(step.end.theta, d)
         for i in range(len(PEAK_NAMES)):
@@ -567,9 +567,9 @@ def integrate(
     if failure != NOT_FAILED or error != NO_ERROR:  # samples after the end are not defined
         theta1[motion.sample :] = np.nan
         rate[motion.sample :] = np.nan
-        forces[motion.sample :] = np.nan
+        device_series[motion.sample :] = np.nan
     else:  # at rest from the last onset search on
-        sampled(devices, forces, model, 0.0, theta1, rate, motion.sample, theta1.size, kin)
+        sampled(devices, device_series, model, 0.0, theta1, rate, motion.sample, theta1.size, kin)
     events = log.rows[: log.written].copy()
     return Integration(
         theta1,
@@ -584,5 +584,5 @@ def integrate(
         error,
         device_peaks,
         devices,
-        forces,
+        device_series,
     )
