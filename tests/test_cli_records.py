@@ -285,10 +285,10 @@ def test_a_named_file_beside_another_programs_manifest_is_drawn(tmp_path, comman
     assert (tmp_path / "figure.png").stat().st_size > 10_000
 
 
-def small_set(tmp_path: Path, seed: int, out: Path):
+def small_set(tmp_path: Path, seed: int, out: Path, *options: str):
     config = tmp_path / f"small-{seed}.yaml"
     config.write_text(SMALL.replace("seed: 1", f"seed: {seed}"), encoding="utf-8")
-    return run("generate-records", config, "--out", out)
+    return run("generate-records", config, "--out", out, *options)
 
 
 def study_on(tmp_path: Path, folder: Path) -> Path:
@@ -320,10 +320,34 @@ def test_a_new_set_replaces_an_old_one_whole(tmp_path):
     and nothing else of the parent folder is left behind."""
     assert small_set(tmp_path, 1, tmp_path / "set").exit_code == 0
     old = {p.name: p.read_bytes() for p in (tmp_path / "set").iterdir()}
-    assert small_set(tmp_path, 2, tmp_path / "set").exit_code == 1  # written, NOT compliant
+    replaced = small_set(tmp_path, 2, tmp_path / "set", "--overwrite")
+    assert replaced.exit_code == 1  # written, NOT compliant
     new = {p.name: p.read_bytes() for p in (tmp_path / "set").iterdir()}
     assert new.keys() == old.keys() and new["AR01.txt"] != old["AR01.txt"]
     assert sorted(p.name for p in tmp_path.iterdir() if p.name.startswith(".")) == []
+
+
+def test_a_set_is_replaced_only_with_overwrite(tmp_path):
+    """A record set may be a study's input: without --overwrite it is refused (exit 2) and left
+    as it was, before any record is generated."""
+    assert small_set(tmp_path, 1, tmp_path / "set").exit_code == 0
+    old = {p.name: p.read_bytes() for p in (tmp_path / "set").iterdir()}
+    result = small_set(tmp_path, 2, tmp_path / "set")
+    assert_user_error(result, "holds a record set already: pass --overwrite to replace it")
+    assert {p.name: p.read_bytes() for p in (tmp_path / "set").iterdir()} == old
+
+
+def test_a_set_beside_other_files_is_not_replaced(tmp_path):
+    """--overwrite replaces a set, never a user's file (or folder) that lies beside it: the
+    set's folder is swapped whole, so such a folder is refused and every file kept."""
+    assert small_set(tmp_path, 1, tmp_path / "set").exit_code == 0
+    (tmp_path / "set" / "notes.txt").write_text("keep me", encoding="utf-8")
+    (tmp_path / "set" / "mine").mkdir()
+    old = sorted(p.name for p in (tmp_path / "set").iterdir())
+    result = small_set(tmp_path, 2, tmp_path / "set", "--overwrite")
+    assert_user_error(result, "holds mine, notes.txt, which the record set does not list")
+    assert sorted(p.name for p in (tmp_path / "set").iterdir()) == old
+    assert (tmp_path / "set" / "notes.txt").read_text(encoding="utf-8") == "keep me"
 
 
 def test_a_folder_of_other_files_is_not_replaced(tmp_path):
@@ -352,7 +376,8 @@ def test_a_killed_generator_never_leaves_a_set_a_study_accepts_mixed(tmp_path):
     config = tmp_path / "small-2.yaml"
     config.write_text(SMALL.replace("seed: 1", "seed: 2"), encoding="utf-8")
     command = [sys.executable, "-c", "from rockbridge_cli.cli import main; main()",
-               "generate-records", str(config), "--out", str(tmp_path / "set")]  # fmt: skip
+               "generate-records", str(config), "--out", str(tmp_path / "set"),
+               "--overwrite"]  # fmt: skip
     outcomes = set()
     for delay in (0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 4.0):
         process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)

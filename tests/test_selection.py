@@ -21,8 +21,7 @@ from scipy import signal
 from rockbridge_cli.cli import main
 from rockbridge_cli.core.quantities import STANDARD_GRAVITY
 from rockbridge_cli.motions import ec8, selection
-from rockbridge_cli.records.selection_files import COMPLIANCE
-from rockbridge_cli.records.set_files import MANIFEST, read_record_set
+from rockbridge_cli.records.set_files import COMPLIANCE, MANIFEST, read_record_set
 
 ROOT = Path(__file__).parents[1]
 EXAMPLE = ROOT / "configs" / "records" / "select-fema-far-field-ec8-type1-C.yaml"

@@ -16,6 +16,12 @@ if TYPE_CHECKING:
     from ..records.summary import RecordSummary
 
 
+_OVERWRITE = (
+    "Replace the record set in the output folder (refused without: a study may read it). Only "
+    "a folder that holds nothing but a set's own files is replaced."
+)
+
+
 @main.command("generate-records")
 @click.argument("config", type=click.Path(path_type=Path))
 @click.option(
@@ -28,7 +34,8 @@ if TYPE_CHECKING:
 @click.option(
     "--plot", "with_plot", is_flag=True, help="Also draw the spectra to <out>/spectra.png."
 )
-def generate_records(config: Path, out: Path | None, with_plot: bool) -> None:
+@click.option("--overwrite", is_flag=True, help=_OVERWRITE)
+def generate_records(config: Path, out: Path | None, with_plot: bool, overwrite: bool) -> None:
     """Generate artificial records matched to an EN 1998-1 spectrum, as CONFIG describes.
 
     Writes one text file per record and manifest.json, then prints the EN 1998-1 §3.2.3.1.2
@@ -43,7 +50,7 @@ def generate_records(config: Path, out: Path | None, with_plot: bool) -> None:
     with expecting(config, "record set"):
         settings = load(RecordSetConfig, config)
     folder = out if out is not None else Path("records") / config.stem
-    report = generate_record_set(settings, folder, config_name=config.stem)
+    report = generate_record_set(settings, folder, config_name=config.stem, overwrite=overwrite)
     click.echo(format_report(report))
     if with_plot:
         from ..plots.spectra import plot_record_spectra
@@ -70,7 +77,8 @@ def generate_records(config: Path, out: Path | None, with_plot: bool) -> None:
 )
 @click.option("--plot", "with_plot", is_flag=True,
               help="Also draw the scaled spectra to <out>/spectra.png.")  # fmt: skip
-def select_records(config: Path, out: Path | None, with_plot: bool) -> None:
+@click.option("--overwrite", is_flag=True, help=_OVERWRITE)
+def select_records(config: Path, out: Path | None, with_plot: bool, overwrite: bool) -> None:
     """Select recorded motions from a pool and scale them to an EN 1998-1 spectrum, as CONFIG
     describes; write them as a record set and print the EN 1998-1 §3.2.3.1.2 compliance table
     (also in <out>/compliance.txt). A pool that cannot meet a rule is refused (exit 2)."""
@@ -83,7 +91,7 @@ def select_records(config: Path, out: Path | None, with_plot: bool) -> None:
         settings = load(SelectionConfig, config)
     request = settings.request()
     folder = out if out is not None else Path("records") / config.stem
-    report = select_record_set(request, folder, config_name=config.stem, source=config)
+    report = select_record_set(request, folder, config.stem, config, overwrite)
     click.echo(f"Wrote {len(report.chosen)} records and {MANIFEST} to {report.folder}")
     click.echo(compliance_text(request, report))
     took = f"{report.selection_time:.2f} s ({report.selection_cpu:.2f} s of CPU)"

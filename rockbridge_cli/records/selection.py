@@ -23,8 +23,8 @@ from ..paths import replace_folder, writable
 from .files import Record, write_record
 from .manifest import compliance_entries, motion_entries, round_floats
 from .pool import Candidate, FemaSource, PoolFolder, read_pool
-from .selection_files import COMPLIANCE, build_manifest, record_header
-from .set_files import MANIFEST
+from .selection_files import build_manifest, record_header
+from .set_files import COMPLIANCE, MANIFEST, holds_a_set, output_folder
 from .summary import RecordSummary
 from .target import TargetDefinition, UserSpectrum
 
@@ -143,21 +143,23 @@ class SelectionReport:
 
 
 def select_record_set(
-    request: SelectionRequest, folder: str | Path, config_name: str = "", source: str | Path = ""
-) -> SelectionReport:
+    request: SelectionRequest, folder: str | Path, config_name: str = "", source: str | Path = "",
+    overwrite: bool = False,
+) -> SelectionReport:  # fmt: skip
     """Select and scale a record set from the pool, check it and write it (module docstring).
 
     ``source`` (the config file) names what a refusal refuses; ``config_name`` goes in the
-    manifest.
+    manifest; ``overwrite`` lets the set replace a record set in ``folder``.
 
     Raises
     ------
     InputError
-        ``folder`` holds files that are not a record set or is a folder of the pool; a
-        candidate cannot be read; the pool cannot meet a rule (which, and by how much).
+        ``folder`` holds files that are not a record set's, a set without ``overwrite``, or
+        is a folder of the pool; a candidate cannot be read; the pool cannot meet a rule
+        (which, and by how much).
     """
     started = time.perf_counter()
-    folder = _check_folder(writable(folder, folder=True), request.folders)
+    folder = _check_folder(writable(folder, folder=True), request.folders, overwrite)
     pool = read_pool(request.fema, request.folders)
     usable = [c for c in pool if not c.lowest_usable_frequency > 1.0 / request.periods[1]]
     timer, cpu = time.perf_counter(), time.process_time()
@@ -193,18 +195,15 @@ def select_record_set(
     return SelectionReport(**{**report.__dict__, "wall_time": time.perf_counter() - started})
 
 
-def _check_folder(folder: Path, read: tuple[PoolFolder, ...]) -> Path:
-    """The output folder, once it is neither a folder of the pool nor holds one, and holds
-    nothing but a record set."""
+def _check_folder(folder: Path, read: tuple[PoolFolder, ...], overwrite: bool) -> Path:
+    """The output folder, once it is neither a folder of the pool nor holds one, and is new,
+    empty or a record set ``overwrite`` lets the new one replace (`set_files.output_folder`)."""
     for source in read:
         if folder.resolve() == source.path.resolve() or folder.resolve() in source.path.resolve(
         ).parents:  # fmt: skip
             raise InputError(folder, [("", f"would replace the pool's folder {source.path}: "
                                        "give another output folder")])  # fmt: skip
-    if any(folder.iterdir()) and not (folder / MANIFEST).is_file():
-        raise InputError(folder, [("", "holds files that are not a record set: give a new or "
-                                   "empty folder, or a record set to replace")])  # fmt: skip
-    return folder
+    return output_folder(folder, overwrite)
 
 
 def _choose(request, usable, log_spectra, log_target, source) -> selection.Selection:
@@ -307,7 +306,7 @@ def _write(request, report, records, summaries, config_name) -> None:
         entry["sha256"] = hashlib.sha256((staging / entry["file"]).read_bytes()).hexdigest()
     (staging / MANIFEST).write_text(json.dumps(manifest, indent=2) + "\n", encoding="utf-8")
     (staging / COMPLIANCE).write_text(compliance_text(request, report) + "\n", encoding="utf-8")
-    replace_folder(staging, folder, keep=lambda path: (path / MANIFEST).is_file())
+    replace_folder(staging, folder, keep=holds_a_set)
 
 
 def compliance_text(request: SelectionRequest, report: SelectionReport) -> str:

@@ -15,9 +15,6 @@ from .. import __version__
 from ..motions import ec8
 from .files import Record
 
-COMPLIANCE = "compliance.txt"
-"""The compliance table beside the set (`selection.compliance_text`)."""
-
 
 def record_header(request: Any, index: int, record: Record) -> dict[str, Any]:
     """A selected record's file header: its PGA, provenance, scale factor and target."""

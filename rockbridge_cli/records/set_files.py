@@ -79,6 +79,50 @@ def check_set_file(folder: Path, entry: dict[str, Any], index: int, key: str = "
     return path
 
 
+COMPLIANCE = "compliance.txt"
+"""The compliance table `select-records` writes beside a set it selects."""
+
+BESIDE_A_SET = (COMPLIANCE, "spectra.png")
+"""Files a set's folder holds beside its records and manifest: the compliance table, and the
+figure of ``--plot``."""
+
+
+def holds_a_set(folder: Path) -> bool:
+    """Whether a folder holds a record set (its manifest), which a new set may replace."""
+    return (folder / MANIFEST).is_file()
+
+
+def output_folder(folder: Path, overwrite: bool) -> Path:
+    """The folder a new record set is written to, once it is new, empty, or a record set that
+    ``overwrite`` lets the new one replace whole and that holds nothing but that set's own
+    files (its records, manifest and `BESIDE_A_SET`): a user's file is never deleted with it.
+
+    Raises
+    ------
+    InputError
+        ``folder`` holds files that are not a record set's, or a set without ``overwrite``.
+    """
+    if not folder.is_dir() or not any(folder.iterdir()):
+        return folder
+    if not holds_a_set(folder):
+        raise InputError(folder, [("", "holds files that are not a record set: give a new or "
+                                   "empty folder")])  # fmt: skip
+    if not overwrite:
+        raise InputError(folder, [("", "holds a record set already: pass --overwrite to replace "
+                                   "it, or give a new or empty folder")])  # fmt: skip
+    entries = read_manifest(folder)["records"]
+    own = {MANIFEST, *BESIDE_A_SET, *(entry["file"] for entry in entries)}
+    own |= {entry["vertical"].get("file") for entry in entries
+            if isinstance(entry.get("vertical"), dict)}  # fmt: skip
+    others = sorted(p.name for p in folder.iterdir() if p.name not in own or p.is_dir())
+    if others:
+        named = ", ".join(others[:3]) + (f" and {len(others) - 3} more" if len(others) > 3 else "")
+        raise InputError(folder, [("", f"holds {named}, which the record set does not list: "
+                                   "move them out, or give a new or empty folder (a set is "
+                                   "replaced whole)")])  # fmt: skip
+    return folder
+
+
 def read_record_set(folder: str | Path) -> list[Record]:
     """Read every record of a set written by `sets.generate_record_set`, in manifest order.
 

@@ -19,13 +19,12 @@ import numpy as np
 
 from ..config.record_sets import RecordSetConfig
 from ..config.records import FemaSet
-from ..errors import InputError
 from ..motions import baseline, ec8, matching, seeds, spectra, spectral_fit
 from ..paths import replace_folder, writable
 from .fema import read_fema_set
 from .files import PROVENANCE, Record, read_record, write_record
 from .manifest import add_verticals, build_manifest, checks_dense, record_header, round_floats
-from .set_files import MANIFEST
+from .set_files import MANIFEST, holds_a_set, output_folder
 from .summary import RecordSummary, SeedChange
 from .target import TargetDefinition, resolve_target
 
@@ -84,12 +83,13 @@ class RecordSetReport:
 
 
 def generate_record_set(
-    config: RecordSetConfig, folder: str | Path, config_name: str = ""
+    config: RecordSetConfig, folder: str | Path, config_name: str = "", overwrite: bool = False
 ) -> RecordSetReport:
     """Generate a matched record set and write it: one rockbridge file per record + manifest.
 
     Artificial record i uses ``numpy.random.default_rng`` seeded with child i of
-    ``numpy.random.SeedSequence(config.seed)``, so the same config gives the same bytes; its
+    ``numpy.random.SeedSequence(config.seed)``, so the same config gives the same bytes with the
+    same numpy and scipy (other releases move the last printed digit of some samples); its
     vertical component (``config.vertical``) child count + i, matched by the same generator to
     the vertical spectrum (`TargetDefinition.vertical_component`). A
     recorded seed is matched with its phases, envelope, ground motion and durations kept
@@ -100,21 +100,22 @@ def generate_record_set(
     config
         the record-set config.
     folder
-        output folder: new, empty, or a record set, which the new set replaces whole (it is
-        written beside it and swapped in, so that a reader never finds a mix of the two).
+        output folder: new, empty, or with ``overwrite`` a record set, which the new set
+        replaces whole (it is written beside it and swapped in, so that a reader never finds a
+        mix of the two; `set_files.output_folder`).
     config_name
         name of the config (e.g. its file stem), stored in the manifest.
+    overwrite
+        whether a record set in ``folder`` may be replaced.
 
     Raises
     ------
     InputError
-        A seed cannot be read, or ``folder`` holds files that are not a record set.
+        A seed cannot be read, or ``folder`` holds files that are not a record set's, or a
+        set without ``overwrite``.
     """
     started = time.perf_counter()
-    folder = writable(folder, folder=True)
-    if any(folder.iterdir()) and not _is_set(folder):  # refused now, before the work
-        raise InputError(folder, [("", "holds files that are not a record set: give a new or "
-                                   "empty folder, or a record set to replace")])  # fmt: skip
+    folder = output_folder(writable(folder, folder=True), overwrite)  # refused before the work
     target = resolve_target(config)
     settings = match_settings(config, target)
     made = _matched_seeds(config, target, settings) if config.seeds is not None else _synthesised(
@@ -141,7 +142,7 @@ def generate_record_set(
         for item in [entry] + ([entry["vertical"]] if "vertical" in entry else []):
             item["sha256"] = hashlib.sha256((staging / item["file"]).read_bytes()).hexdigest()
     (staging / MANIFEST).write_text(json.dumps(manifest, indent=2) + "\n", encoding="utf-8")
-    replace_folder(staging, folder, keep=_is_set)
+    replace_folder(staging, folder, keep=holds_a_set)
     report = RecordSetReport(
         folder,
         tuple(summaries),
@@ -158,11 +159,6 @@ def generate_record_set(
     upright = dataclasses.replace(report, records=tuple(vertical_summaries),
                                   compliance=vertical_compliance)  # fmt: skip
     return dataclasses.replace(report, vertical=upright)
-
-
-def _is_set(folder: Path) -> bool:
-    """Whether a folder holds a record set (its manifest), which a new set may replace."""
-    return (folder / MANIFEST).is_file()
 
 
 def match_settings(config: RecordSetConfig, target: TargetDefinition) -> matching.MatchSettings:
