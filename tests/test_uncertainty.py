@@ -371,6 +371,47 @@ def test_sensitivity_of_a_saltelli_study_from_the_command_line(tmp_path):
     assert 0.0 <= found[0].records_share <= 1.0
 
 
+def test_an_output_constant_over_a_and_b_has_no_indices_and_no_dominant_field(capsys):
+    """Every Sobol' index is a share of Var(Q) over the A and B samples (Saltelli et al. 2010,
+    the denominator of both estimators): with Q = 0 on all of them the shares are 0/0, even
+    where an A_B sample reaches the limit state. The command says so, and names no field
+    dominant (it named the first field, with indices of 0)."""
+    from rockbridge_cli.assessment.sensitivity import _indices
+    from rockbridge_cli.cli.sensitivity import _indices as printed
+
+    f_ab = np.zeros((2, 8))
+    f_ab[0, 3] = 1.0  # one A_B sample fails
+    rows = [np.zeros(3)] * 16
+    found = _indices("b", "abutment_failure", "mean", ["gap", "damping"], np.zeros(8),
+                     np.zeros(8), f_ab, rows, 0.9, 99)  # fmt: skip
+    assert all(math.isnan(f.first) and math.isnan(f.total) for f in found.fields)
+    printed([found])
+    output = capsys.readouterr().out
+    assert "abutment_failure does not vary over the A and B samples" in output
+    assert "dominant" not in output
+
+
+@pytest.mark.parametrize(
+    ("first", "total", "noted"),
+    [(1.29, 0.77, True), (0.95, 0.70, True), (-0.20, 0.10, True), (0.30, 0.29, False),
+     (-0.01, 0.02, False), (0.50, 0.80, False)],
+)  # fmt: skip
+def test_first_order_indices_no_output_can_have_are_called_noise(capsys, first, total, noted):
+    """A first-order index is a share of a variance, at most its total order (Saltelli et al.
+    2010): one past 0–1 or above the total by more than a few hundredths (a converged
+    additive output's S1 = ST, estimated apart) is the estimators' noise, and the command says
+    so (a new user quoted S1 = 1.29 at n = 8)."""
+    from rockbridge_cli.assessment.sensitivity import FieldIndices, Sensitivity
+    from rockbridge_cli.cli.sensitivity import _indices as printed
+
+    field = FieldIndices("abutments.damping", first, (first - 0.1, first + 0.1), total,
+                         (total - 0.1, total + 0.1))  # fmt: skip
+    printed([Sensitivity("b", "dcr_backfill", "mean", 8, 10, 0.5, 0.1, 0.2, (field,))])
+    output = capsys.readouterr().out
+    assert ("note: abutments.damping: a first-order index" in output) is noted
+    assert "at n = 8 base samples" in output or not noted
+
+
 def test_sensitivity_refuses_a_study_without_a_saltelli_design(tmp_path):
     path = write_study(tmp_path, bridges=("studied-hbar1.25",), extra=SAMPLED)
     assert invoke("run", path, "-o", "l.h5").exit_code == 0

@@ -437,9 +437,9 @@ def _indices(
 ) -> Sensitivity:  # fmt: skip
     """One bridge file's `Sensitivity`, ``rows`` the per-record values of its A and B samples."""
     d = len(fields)
-    if np.ptp(np.concatenate([f_a, f_b, f_ab.ravel()])) > 0.0:
+    if np.ptp(np.concatenate([f_a, f_b])) > 0.0:
         first, total, first_ci, total_ci = sobol(f_a, f_b, f_ab, confidence, resamples)
-    else:  # the output does not vary: no share of its variance to give
+    else:  # the output does not vary over A and B, whose variance the indices share out
         first = total = np.full(d, np.nan)
         first_ci = total_ci = np.full((2, d), np.nan)
     spread = np.nanvar(np.concatenate(rows))

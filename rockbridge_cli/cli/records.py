@@ -187,8 +187,8 @@ def format_report(report: RecordSetReport) -> str:
         "Scaled records keep their shapes: no per-record tolerance (min and max above)"
         if c.tolerance is None
         else f"The config's tolerance: every record within {c.tolerance:.0%} of the target "
-        + (grid if report.dense_tolerance else f"over {low:g}-{high:g} s")
-        + f" -> {_verdict(c.records_ok)}",
+        f"{grid} -> {_verdict(c.records_ok)}"
+        + ("" if report.dense_tolerance else " (between them: the dense grid above)"),
         *(
             f"  {s.name} misses it by {miss:.3f} (min {s.min_ratio:.3f}, max {s.max_ratio:.3f})"
             for s, miss in zip(report.records, c.record_misses, strict=True)

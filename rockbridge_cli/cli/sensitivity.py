@@ -12,13 +12,19 @@ from . import main, plot
 from .output import echo_json, export_csv, figure_option, results_argument, table_text
 
 if TYPE_CHECKING:
-    from ..assessment.sensitivity import Sensitivity, Tornado
+    from ..assessment.sensitivity import FieldIndices, Sensitivity, Tornado
 
 _QUANTITY = click.option(
     "--quantity", default="dcr_backfill", show_default=True,
     help="A numeric peak-table column, a limit state (abutment_failure, backfill_50, …) or "
     "failure (any failure mode): its mean over a sample's records is the share reaching it.",
 )  # fmt: skip
+
+NOISE_MARGIN = 0.05
+"""How far past its bounds a first-order index may stray before the command says it is noise:
+a converged estimate strays by a few hundredths (an additive output's S1 = ST, estimated
+apart)."""
+
 _STATISTIC = click.option(
     "--statistic", type=click.Choice(["mean", "median"]), default="mean", show_default=True,
     help="How a sampled bridge's output is taken over its records.",
@@ -69,6 +75,20 @@ def _indices(found: list[Sensitivity]) -> None:
         ))  # fmt: skip
         if ranked and ranked[0].total == ranked[0].total:
             click.echo(f"dominant: {ranked[0].field} (total order {ranked[0].total:.2f})")
+        else:
+            click.echo(f"{item.quantity} does not vary over the A and B samples: no field drives "
+                       "it, and its indices (shares of its variance) are undefined")  # fmt: skip
+        if noisy := [f.field for f in ranked if _impossible(f)]:
+            click.echo(f"note: {', '.join(noisy)}: a first-order index outside 0–1 or above its "
+                       f"total order is the estimators' noise at n = {item.samples} base "
+                       "samples (see its interval); more samples narrow it")  # fmt: skip
+
+
+def _impossible(field: FieldIndices) -> bool:
+    """Whether a field's first-order index lies where no true one can: outside 0–1, or above
+    its total order by more than `NOISE_MARGIN`."""
+    first = field.first
+    return first == first and not -NOISE_MARGIN <= first <= min(1.0, field.total) + NOISE_MARGIN
 
 
 def _rows_written(found: list, results: Path, as_json: bool, csv_file: str | None) -> bool:
