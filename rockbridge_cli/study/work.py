@@ -6,14 +6,23 @@ import time
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, NamedTuple
 
+import numpy as np
+
 from ..assessment.limit_states import Verdict
 from ..core.fidelity import RECHECK_MARGIN
 from ..core.quantities import NO_FAILURE
-from ..results.packing import AnalysisResult, Packed, device_states
+from ..results.packing import (
+    AnalysisResult,
+    Packed,
+    device_rows,
+    device_states,
+    outcome,
+    pack_summary,
+)
 from .grid import BridgeCase, Cell, Grid, RecordCase
 
 if TYPE_CHECKING:
-    from ..core.analysis import Response
+    from ..core.analysis import Prepared, Response, Summary
 
 
 class Finished(NamedTuple):
@@ -58,10 +67,21 @@ class Finished(NamedTuple):
 
 def run_cells(grid: Grid, cells: Sequence[Cell]) -> list[tuple[Finished, Packed]]:
     """Analyze ``cells``: what each says, and its packed result. An exception fails only its own
-    analysis."""
+    analysis.
+
+    A study that keeps no histories takes the lean path (`_lean`) where it can: what the
+    analyses of a bridge share is prepared once per bridge and batch, and each result is packed
+    straight from its integration's `core.analysis.Summary` (`pack_summary`); the same bytes
+    as the per-analysis path (`analyze_cell`), which the others take.
+    """
     analyzed = []
+    shared: dict[int, Prepared] = {}  # by the bridge's index
     for cell in cells:
         start = time.perf_counter()
+        lean = None if grid.keep else _lean(grid, cell, shared)
+        if lean is not None:
+            analyzed.append(_packed(cell, lean, start))
+            continue
         result = analyze_cell(grid, cell)
         packed = result.pack()
         values = result.values
@@ -72,6 +92,59 @@ def run_cells(grid: Grid, cells: Sequence[Cell]) -> list[tuple[Finished, Packed]
         )  # fmt: skip
         analyzed.append((finished, packed))
     return analyzed
+
+
+class Lean(NamedTuple):
+    """What the lean path (`_lean`) found of a cell: the bridge's id, the record as analyzed,
+    the integration's summary, the devices' rows (`device_rows`) and the solve's wall time [s]."""
+
+    bridge: str
+    record: RecordCase
+    summary: Summary
+    devices: np.ndarray
+    solve_time: float
+
+
+def _packed(cell: Cell, lean: Lean, start: float) -> tuple[Finished, Packed]:
+    """What a cell that took the lean path says, and its packed result; ``start`` the
+    `time.perf_counter` at its start [s]."""
+    found, record, said = lean.summary, lean.record, outcome(lean.summary.status)
+    packed = pack_summary(
+        lean.bridge, record.id, found, lean.devices, (record.base, record.level, record.scale),
+        (lean.solve_time, time.perf_counter() - start),
+    )  # fmt: skip
+    finished = Finished(
+        cell, lean.bridge, record.id, said["status"], said["message"], lean.solve_time,
+        found.failure_mode, found.dcr_backfill, time.perf_counter() - start,
+        *device_states(lean.devices).values(),
+    )  # fmt: skip
+    return finished, packed
+
+
+def _lean(grid: Grid, cell: Cell, shared: dict[int, Prepared]) -> Lean | None:
+    """A cell analyzed without a `core.analysis.Response`, with what the analyses of its bridge
+    share in ``shared`` (filled as needed); None where it takes the per-analysis path, which
+    then records, checks or repeats what is unusual: a record that could not be read, a
+    vertical motion (a free flight cuts it), an exception, a recheck (`_near_a_limit`)."""
+    from ..core import analysis  # the compiled kernels: a worker's, not the parent's
+
+    case, record = grid.bridges[cell.bridge_index], grid.record_of(cell)
+    if record.acceleration is None or record.vertical is not None:
+        return None
+    bridge = case.bridge
+    try:
+        if cell.bridge_index not in shared:
+            shared[cell.bridge_index] = analysis.prepare(bridge, grid.fidelity)
+        step = record.time_step
+        ground = analysis.motion(record.acceleration, step, grid.fidelity, bridge.model.g)
+        result, solve_time = analysis.solve(shared[cell.bridge_index], ground.acc, step)
+        found = analysis.summary(bridge, result)
+        devices = device_rows(bridge.devices, analysis.device_peaks(bridge, result))
+    except Exception:  # the per-analysis path records it with its message
+        return None
+    if grid.recheck is not None and _near_a_limit(found):
+        return None
+    return Lean(case.id, record, found, devices, solve_time)
 
 
 def analyze_cell(grid: Grid, cell: Cell) -> AnalysisResult:
@@ -123,7 +196,7 @@ def _analyzed(grid: Grid, bridge: BridgeCase, record: RecordCase) -> AnalysisRes
     return result
 
 
-def _near_a_limit(response: Response) -> bool:
+def _near_a_limit(response: Response | Summary) -> bool:
     """Whether an analysis ended in a failure or within `RECHECK_MARGIN` of a capacity."""
     ratios = [r for r in (response.dcr_backfill, response.dcr_overturning) if r == r]  # not NaN
     return response.failure_mode != NO_FAILURE or any(r >= 1.0 - RECHECK_MARGIN for r in ratios)
