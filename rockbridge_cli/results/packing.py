@@ -254,10 +254,11 @@ def pack_summary(
     devices: np.ndarray,
     scaled: tuple[str, float, float],
     timings: tuple[float, float],
+    rechecked: int = 0,
 ) -> Packed:
     """The packed result (`Packed`) of an analysis that ran and keeps no histories, straight
     from its summary (`core.analysis.Summary`): the same bytes as its `AnalysisResult`'s
-    `pack`, ``rechecked`` 0, without building the result.
+    `pack`, without building the result.
 
     Parameters
     ----------
@@ -272,13 +273,16 @@ def pack_summary(
         ``base_record``, ``intensity`` and ``scale``).
     timings
         The wall times of the integration and of the analysis [s].
+    rechecked
+        The ``rechecked`` column: 0, or 1 and 2 for an analysis run again at ``reference``
+        (`study.work.analyze_cell`).
     """
     base_record, intensity, scale = scaled
     numbers = np.empty(len(NUMBERS), _SAMPLE)
     numbers[_PEAKS_AT] = summary.peaks.ravel()
     numbers[_SUMMARY_AT] = [
         *(getattr(summary, name) for name in _SUMMARY_NUMBERS),
-        *timings, len(summary.events.time), 0, intensity, scale,
+        *timings, len(summary.events.time), rechecked, intensity, scale,
     ]  # fmt: skip
     texts = _texts(
         {"base_record": base_record, "failure_mode": summary.failure_mode,
