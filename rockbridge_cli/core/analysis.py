@@ -366,12 +366,12 @@ def summary(bridge: Bridge, result: Integration) -> Summary:
             sign * events[:, EVENT_RATE_AFTER],
         ),  # fmt: skip
         t_onset=float(onsets[0]) if onsets.size else float("nan"),
-        n_impacts=int(np.sum(impacts_at)),
-        n_poundings=int(np.sum(kinds == POUNDING)),
+        n_impacts=int(np.count_nonzero(impacts_at)),
+        n_poundings=int(np.count_nonzero(kinds == POUNDING)),
         failure_mode=FAILURE_MODE[result.failure],
         failure_time=float(result.end_time) if result.failure != NOT_FAILED else float("nan"),
         n_impacts_significant=int(
-            np.sum(np.abs(events[impacts_at, EVENT_RATE_BEFORE]) > SIGNIFICANT_RATE)
+            np.count_nonzero(np.abs(events[impacts_at, EVENT_RATE_BEFORE]) > SIGNIFICANT_RATE)
         ),
         dcr_backfill=dcr_backfill(model, peaks[_U_DECK, 0]),
         dcr_overturning=max(peaks[_U_PIER1, 0], u_pier2) / model.B,

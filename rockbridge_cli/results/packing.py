@@ -300,6 +300,8 @@ def device_rows(devices: tuple[Device, ...], peaks: dict[str, tuple[float, float
     and broke (ruptured, fractured) is the solver's state (``<name>_yielded``, ``<name>_broken``),
     −1 where the device states no such limit."""
     rows = np.zeros(len(devices), DEVICE_RECORD)
+    if not devices:
+        return rows
     for row, device, name in zip(rows, devices, names(devices), strict=True):
         (length, length_time), (force, force_time) = (
             peaks[f"{name}_elongation"], peaks[f"{name}_force"]
@@ -329,6 +331,8 @@ def device_states(rows: np.ndarray) -> dict[str, float]:
     """What an analysis's device rows (`DEVICE_RECORD` s) say of the tendons' limit states
     (`core.quantities.DEVICE_LIMIT_STATES`): 1.0 where a tendon reached it, 0.0 where the
     bridge's tendons state that limit and none reached it, NaN where none states it."""
+    if not rows.size:  # no devices: no state
+        return dict.fromkeys(DEVICE_LIMIT_STATES, math.nan)
     found = {}
     for state, flag in DEVICE_LIMIT_STATES.items():
         kind = state.split("_")[0].encode()  # tendon_yield: the tendons' rows
