@@ -13,10 +13,14 @@ Per analysis it prints the wall time and the CPU time (``time.process_time``) of
 - ``solve``: the integration (`core.solver.integrate`, as `Response.solve_time_s` times it);
 - ``around the solve``: the rest of `core.analysis.analyze` but the response — its checks, the
   fidelity, the ground motion with its tail, the kinematics (a bridge's tables, built once per
-  worker and bridge), the devices' laws;
-- ``response``: the `Response` built from the integration (`core.analysis._response`);
-- ``result row``: the peak row and events kept for the file (`AnalysisResult.from_response`);
-- ``packing``: `AnalysisResult.pack`;
+  worker and bridge), the devices' laws; on the lean path of a study that keeps no histories,
+  the rest of `study.work._lean` (the cell's record, the same checks and ground motion, the
+  devices' rows; what a bridge's analyses share is prepared once per batch);
+- ``response``: the `Response` built from the integration (`core.analysis._response`), or on
+  the lean path its `core.analysis.summary` alone;
+- ``result row``: the peak row and events kept for the file (`AnalysisResult.from_response`;
+  none on the lean path);
+- ``packing``: `AnalysisResult.pack`, or on the lean path `results.packing.pack_summary`;
 - ``journal``: the batch's commit (`study.journal.Journal.add`), shared over its analyses;
 - ``rest of the batch``: the rest of a batch (`executors.worker.run_batch`: the kernels'
   check, each cell's record, the outcomes);
@@ -59,16 +63,27 @@ from bench_study import child, measure, write_study
 TIMED = (
     ("solve", "rockbridge_cli.core.analysis", "integrate"),
     ("analyze", "rockbridge_cli.core.analysis", "analyze"),
+    ("analyze", "rockbridge_cli.study.work", "_lean"),
     ("response", "rockbridge_cli.core.analysis", "_response"),
+    ("response", "rockbridge_cli.core.analysis", "summary"),
     ("result row", "rockbridge_cli.results.packing:AnalysisResult", "from_response"),
     ("packing", "rockbridge_cli.results.packing:AnalysisResult", "pack"),
+    ("packing", "rockbridge_cli.study.work", "pack_summary"),
     ("journal", "rockbridge_cli.study.journal:Journal", "add"),
     ("batch", "rockbridge_cli.study.executors.worker", "run_batch"),
 )
-"""What is timed: a name, where the function lives (a module, or ``module:class``), its name."""
+"""What is timed: a name, where the function lives (a module, or ``module:class``), its name.
+A name may time several functions: those of the per-analysis path and of the lean path of a
+study that keeps no histories (`study.work._lean`: the analysis, `core.analysis.summary` in
+place of the `Response`, `results.packing.pack_summary` in place of the result row and its
+packing); a function the package does not have (an older checkout's) is left out, and a call
+within a call of the same name counts once (`_response` calls `summary`)."""
 
 SUMS: dict[str, list[float]] = {}
-"""Per timed function in this process: wall time [s], CPU time [s], calls."""
+"""Per timed name in this process: wall time [s], CPU time [s], calls."""
+
+_RUNNING: set[str] = set()
+"""The timed names being called."""
 
 
 def timed(name: str, function: Callable) -> Callable:
@@ -77,6 +92,9 @@ def timed(name: str, function: Callable) -> Callable:
 
     @functools.wraps(function)  # its name and module: a pickled reference finds the wrapper
     def wrapper(*args: Any, **kwargs: Any) -> Any:
+        if name in _RUNNING:  # within a call of the same name, which times it
+            return function(*args, **kwargs)
+        _RUNNING.add(name)
         wall, cpu = time.perf_counter(), time.process_time()
         try:
             return function(*args, **kwargs)
@@ -84,6 +102,7 @@ def timed(name: str, function: Callable) -> Callable:
             sums[0] += time.perf_counter() - wall
             sums[1] += time.process_time() - cpu
             sums[2] += 1
+            _RUNNING.discard(name)
 
     return wrapper
 
@@ -116,7 +135,9 @@ def wrap(functions: tuple[tuple[str, str, str], ...]) -> None:
         module_name, _, class_name = where.partition(":")
         owner = importlib.import_module(module_name)
         owner = getattr(owner, class_name) if class_name else owner
-        function = owner.__dict__[attribute]
+        function = owner.__dict__.get(attribute)
+        if function is None:  # not in this checkout of the package
+            continue
         if isinstance(function, classmethod):
             setattr(owner, attribute, classmethod(timed(name, function.__func__)))
         else:
@@ -208,7 +229,13 @@ def table(rows: dict[str, dict], workers: int) -> None:
     print(", ".join(f"{f}: {row['n']} analyses in {row['e2e']:.2f} s, "
                     f"{row['n'] / row['e2e']:.0f} an./s" for f, row in rows.items()))  # fmt: skip
     timer = max(row["timer"] for row in rows.values())
-    calls = len(TIMED) - 1  # per analysis; a batch's and a commit's are shared by its analyses
+    calls = max(  # per analysis; a batch's and a commit's are shared by its analyses
+        sum(
+            count for name, (_, _, count) in row["sums"].items() if name not in ("batch", "journal")
+        )
+        / row["n"]
+        for row in rows.values()
+    )
     print(f"the timers: {1e6 * timer:.1f} µs a call, ≈ {1e6 * timer * calls:.0f} µs an analysis "
           "(included above)")  # fmt: skip
 

@@ -15,7 +15,7 @@ from studies import BRIDGES, REPO, STUDIED, write_records, write_study
 
 from rockbridge_cli.cli import main
 from rockbridge_cli.cli.progress import ProgressDisplay
-from rockbridge_cli.core.analysis import analyze
+from rockbridge_cli.core.analysis import solve
 from rockbridge_cli.paths import checked_output
 from rockbridge_cli.results import read_peaks
 from rockbridge_cli.study import kernels
@@ -155,14 +155,14 @@ def test_ctrl_c_keeps_what_finished(tmp_path, monkeypatch):
         calls.append(1)
         if len(calls) == 3:
             raise KeyboardInterrupt
-        return analyze(*args, **kwargs)
+        return solve(*args, **kwargs)
 
-    monkeypatch.setattr("rockbridge_cli.core.analysis.analyze", interrupted)
+    monkeypatch.setattr("rockbridge_cli.core.analysis.solve", interrupted)
     result = invoke("run", write_study(tmp_path), "--workers", "1")
     assert result.exit_code == 130 and "Traceback" not in result.output
     assert "interrupted: the analyses finished so far are in results/study.h5" in result.output
     assert len(read_peaks(tmp_path / "results" / "study.h5")) == 2
-    monkeypatch.setattr("rockbridge_cli.core.analysis.analyze", analyze)
+    monkeypatch.setattr("rockbridge_cli.core.analysis.solve", solve)
     resumed = invoke("run", tmp_path / "study.yaml", "--workers", "1")
     assert "(2 run now, 2 already done)" in resumed.output
 
@@ -522,7 +522,8 @@ def test_workers_beyond_a_multiple_of_the_cpus_are_refused_at_once(tmp_path, mon
 
 def interrupted_run(tmp_path, monkeypatch, extra: str, after: int):
     """Run a study of ``extra`` on one worker, stopped by Ctrl-C at analysis ``after``; returns
-    the results file it leaves (analyses 1 … after − 1 in it)."""
+    the results file it leaves (analyses 1 … after − 1 in it). It stops in `core.analysis.solve`,
+    which both paths of a study call (`study.work.run_cells`)."""
     kernels.prepare()  # the kernels' warm-up first: its analyses are not the study's
     calls = []
 
@@ -530,12 +531,12 @@ def interrupted_run(tmp_path, monkeypatch, extra: str, after: int):
         calls.append(1)
         if len(calls) == after:
             raise KeyboardInterrupt
-        return analyze(*args, **kwargs)
+        return solve(*args, **kwargs)
 
-    monkeypatch.setattr("rockbridge_cli.core.analysis.analyze", stopping)
+    monkeypatch.setattr("rockbridge_cli.core.analysis.solve", stopping)
     result = invoke("run", write_study(tmp_path, extra=extra), "--workers", "1")
     assert result.exit_code == 130, result.output
-    monkeypatch.setattr("rockbridge_cli.core.analysis.analyze", analyze)
+    monkeypatch.setattr("rockbridge_cli.core.analysis.solve", solve)
     return tmp_path / "results" / "study.h5"
 
 

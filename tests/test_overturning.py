@@ -375,8 +375,9 @@ def test_a_stopped_spectrum_says_where_its_map_is_and_resumes(tmp_path, monkeypa
     """Issue 39: Ctrl-C in a spectrum's first round ended with one word, "interrupted", not
     where the analyses finished were nor that the command resumes. It now says both, as
     ``run`` does, and run again, the command completes the spectrum (3 frequencies × 4
-    amplitudes: a map of 12; stopped at its 5th call to analyze, what finished is kept)."""
-    from rockbridge_cli.core.analysis import analyze
+    amplitudes: a map of 12; stopped at its 5th integration, `core.analysis.solve`, which a
+    study that keeps no histories calls without `analyze`: what finished is kept)."""
+    from rockbridge_cli.core.analysis import solve
     from rockbridge_cli.study import kernels
 
     kernels.prepare()  # the kernels' warm-up first: its analyses are not the spectrum's
@@ -389,9 +390,9 @@ def test_a_stopped_spectrum_says_where_its_map_is_and_resumes(tmp_path, monkeypa
         calls.append(1)
         if len(calls) == 5:
             raise KeyboardInterrupt
-        return analyze(*args, **kwargs)
+        return solve(*args, **kwargs)
 
-    monkeypatch.setattr("rockbridge_cli.core.analysis.analyze", interrupted)
+    monkeypatch.setattr("rockbridge_cli.core.analysis.solve", interrupted)
     command = ["spectrum", "overturning", str(bridge), "--frequencies", "1:5:3", "--amplitudes",
                "1:4:4", "-o", str(output), "--workers", "1"]  # fmt: skip
     result = CliRunner().invoke(main, command)
@@ -401,8 +402,8 @@ def test_a_stopped_spectrum_says_where_its_map_is_and_resumes(tmp_path, monkeypa
         "again to resume"
     )
     kept = read_peaks(output)[["bridge", "record"]].values.tolist()
-    assert 1 <= len(kept) < 12  # what finished before the 5th call to analyze, of the map's 12
-    monkeypatch.setattr("rockbridge_cli.core.analysis.analyze", analyze)
+    assert 1 <= len(kept) < 12  # what finished before the 5th solve, of the map's 12
+    monkeypatch.setattr("rockbridge_cli.core.analysis.solve", solve)
     resumed = CliRunner().invoke(main, command)
     assert resumed.exit_code == 0, resumed.output
     final = read_peaks(output)[["bridge", "record"]].values.tolist()

@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -34,6 +35,8 @@ from .solver import (
     POUNDING,
     SOLVER_ERRORS,
     Integration,
+    Laws,
+    Settings,
     integrate,
 )
 from .tables import tabulated
@@ -194,92 +197,225 @@ def analyze(
             f"analyze takes a Bridge (BridgeConfig.to_bridge() or core.bridge.Bridge), not "
             f"{type(bridge).__name__}: a bare model does not say whether it is mirrored"
         )
-    model = bridge.model
-    acc = _ground(acceleration, time_step)
+    acceleration = _ground(acceleration, time_step)  # its errors before the fidelity's
     chosen = resolve(fidelity, **overrides) if isinstance(fidelity, str) else (
         fidelity.changed(**overrides) if overrides else fidelity
     )  # fmt: skip
-    knobs = chosen.knobs
+    ground = motion(acceleration, time_step, chosen, bridge.model.g, vertical)
+    prepared = prepare(bridge, chosen)
+    result, solve_time = solve(prepared, ground.acc, time_step, ground.up, initial)
+    if ground.flight is not None:
+        result = _before_flight(
+            result, ground.flight, ground.samples, time_step, chosen.knobs["output_step"]
+        )
+    return _response(prepared, result, solve_time, histories)
+
+
+class Prepared(NamedTuple):
+    """What every analysis of one bridge at one fidelity shares, whatever its ground motion
+    (`prepare`): a study's batch computes it once per bridge, `analyze` once per call.
+
+    Attributes
+    ----------
+    bridge : the bridge
+    fidelity : the fidelity, settled (`fidelity.resolve`)
+    kin : the kinematics its preset names (exact, tabulated or simplified)
+    laws : the bridge's onset thresholds, restitution and pounding laws (`Bridge.laws`)
+    settings : the solver's settings of the fidelity (`Fidelity.settings`)
+    devices : the devices' table (`Bridge.device_table`), None without devices
+    """
+
+    bridge: Bridge
+    fidelity: Fidelity
+    kin: Kinematics
+    laws: Laws
+    settings: Settings
+    devices: np.ndarray | None
+
+
+def prepare(bridge: Bridge, fidelity: Fidelity) -> Prepared:
+    """What the analyses of ``bridge`` at ``fidelity`` share (`Prepared`).
+
+    Raises
+    ------
+    ValueError
+        The bridge's restitution does not reverse the rocking (`Bridge.laws`).
+    """
+    kin, laws = _kinematics(bridge.model, fidelity.knobs["kinematics"]), bridge.laws()
+    return Prepared(bridge, fidelity, kin, laws, fidelity.settings(), bridge.device_table())
+
+
+class Motion(NamedTuple):
+    """A ground motion as the integrator takes it (`motion`).
+
+    Attributes
+    ----------
+    acc : horizontal ground acceleration, with the fidelity's tail of rest or cut before a
+        free flight [m/s²]
+    up : vertical ground acceleration at the same samples, None without [m/s²]
+    flight : the first sample at which the bridge would leave the ground, None if never
+    samples : the record's samples, before the tail or the cut [-]
+    """
+
+    acc: np.ndarray
+    up: np.ndarray | None
+    flight: int | None
+    samples: int
+
+
+def motion(
+    acceleration: np.ndarray,
+    time_step: float,
+    fidelity: Fidelity,
+    g: float,
+    vertical: np.ndarray | None = None,
+) -> Motion:
+    """A record checked (`analyze`'s errors) and made the integrator's ground motion; arguments
+    as in `analyze`, ``g`` the bridge's gravity [m/s²], which decides a free flight."""
+    acc = _ground(acceleration, time_step)
+    knobs = fidelity.knobs
     check_work(knobs, acc.size, time_step)
     up = None if vertical is None else _vertical(vertical, acc.size)
-    samples, flight = acc.size, None if up is None else _flight(up, model.g)
+    samples, flight = acc.size, None if up is None else _flight(up, g)
     acc, up = _integrated(acc, up, flight, int(round(knobs["tail"] / time_step)))
-    kin = _kinematics(model, knobs["kinematics"])
-    sign = bridge.sign
-    laws = bridge.laws()
+    return Motion(acc, up, flight, samples)
 
+
+def solve(
+    prepared: Prepared,
+    acc: np.ndarray,
+    time_step: float,
+    up: np.ndarray | None = None,
+    initial: tuple[float, float] = (0.0, 0.0),
+) -> tuple[Integration, float]:
+    """The integration of a prepared bridge under a ground motion (`motion`'s ``acc`` and
+    ``up``) in the core's frame, and its wall time [s]; ``initial`` as in `analyze`."""
+    model, sign = prepared.bridge.model, prepared.bridge.sign
     start = time.perf_counter()
     arguments = (
-        model, laws, kin, sign * acc, float(time_step), chosen.settings(),
+        model, prepared.laws, prepared.kin, sign * acc, float(time_step), prepared.settings,
         sign * float(initial[0]), sign * float(initial[1]),
     )  # fmt: skip
     # the vertical motion is the same in the mirror image
-    devices = bridge.device_table()
-    if devices is not None:  # kernels compiled for devices, only for a bridge with some
-        result = integrate(*arguments, up, devices)
+    if prepared.devices is not None:  # kernels compiled for devices, only for a bridge with some
+        result = integrate(*arguments, up, prepared.devices)
     else:
         result = integrate(*arguments) if up is None else integrate(*arguments, up)
-    solve_time = time.perf_counter() - start
-    if flight is not None:
-        result = _before_flight(result, flight, samples, time_step, knobs["output_step"])
-    return _response(bridge, kin, chosen, result, solve_time, histories)
+    return result, time.perf_counter() - start
 
 
-def _response(
-    bridge: Bridge,
-    kin: Kinematics,
-    fidelity: Fidelity,
-    result: Integration,
-    solve_time: float,
-    histories: bool,
-) -> Response:
-    """The `Response` of an integration (`solver.Integration`) in the user's frame; arguments as
-    in `analyze`, ``solve_time`` [s] the wall time of the integration."""
+class Events(NamedTuple):
+    """An analysis's events in the user's frame, one entry per event: ``time`` [s], ``kind`` (a
+    code of `EVENT_NAMES`), ``mode`` after (+1, −1, 0 at rest), ``rate_before``, ``rate_after``
+    (θ̇1 [rad/s])."""
+
+    time: np.ndarray
+    kind: np.ndarray
+    mode: np.ndarray
+    rate_before: np.ndarray
+    rate_after: np.ndarray
+
+
+class Summary(NamedTuple):
+    """What an integration says besides its histories, in the user's frame (`summary`): all a
+    study that keeps no histories stores of it but the devices' peaks and the timings.
+    Attributes as `Response`'s of the same names; ``peaks`` (len(`PEAK_NAMES`), 2) each
+    quantity's peak and its time [s], NaN where the model has no such part or where the
+    integrator stopped early; ``events`` as `Events`."""
+
+    model: str
+    peaks: np.ndarray
+    events: Events
+    t_onset: float
+    n_impacts: int
+    n_poundings: int
+    failure_mode: str
+    failure_time: float
+    n_impacts_significant: int
+    dcr_backfill: float
+    dcr_overturning: float
+    status: str
+    steps: int
+    rejected_steps: int
+
+
+_U_DECK, _U_PIER1, _U_PIER2 = (PEAK_NAMES.index(name) for name in ("u_deck", "u_pier1", "u_pier2"))
+
+
+def summary(bridge: Bridge, result: Integration) -> Summary:
+    """The `Summary` of an integration of ``bridge`` (`solver.Integration`, whose peaks it masks
+    in place)."""
     model, sign = bridge.model, bridge.sign
     events, peaks = result.events, result.peaks
     if kind(model) == "single-block":  # the block's massless twin and deck are not results
         peaks[[PEAK_NAMES.index(name) for name in _ABSENT_IN_A_BLOCK]] = np.nan
-    times, stored = np.zeros(0), {}
-    if histories:
-        times = np.arange(result.theta1.size) * fidelity.knobs["output_step"]
-        stored = {**_histories(model, kin, sign, result), **_device_histories(bridge, result)}
     kinds = events[:, EVENT_KIND].astype(int)
-    failed = result.failure != NOT_FAILED
     if result.error != NO_ERROR:  # the integrator stopped early: no peak of the record is known
         peaks[:] = np.nan
-    peak = {name: peaks[i, 0] for i, name in enumerate(PEAK_NAMES)}
     impacts_at = kinds == IMPACT
     onsets = events[kinds == ONSET, EVENT_TIME]
-    return Response(
+    u_pier2 = peaks[_U_PIER2, 0] if model.m2 else 0.0
+    return Summary(
         model=kind(model),
-        fidelity=fidelity,
+        peaks=peaks,
+        events=Events(
+            events[:, EVENT_TIME],
+            kinds,
+            sign * events[:, EVENT_MODE],
+            sign * events[:, EVENT_RATE_BEFORE],
+            sign * events[:, EVENT_RATE_AFTER],
+        ),  # fmt: skip
+        t_onset=float(onsets[0]) if onsets.size else float("nan"),
+        n_impacts=int(np.count_nonzero(impacts_at)),
+        n_poundings=int(np.count_nonzero(kinds == POUNDING)),
+        failure_mode=FAILURE_MODE[result.failure],
+        failure_time=float(result.end_time) if result.failure != NOT_FAILED else float("nan"),
+        n_impacts_significant=int(
+            np.count_nonzero(np.abs(events[impacts_at, EVENT_RATE_BEFORE]) > SIGNIFICANT_RATE)
+        ),
+        dcr_backfill=dcr_backfill(model, peaks[_U_DECK, 0]),
+        dcr_overturning=max(peaks[_U_PIER1, 0], u_pier2) / model.B,
+        status=_status(result),
+        steps=int(result.steps),
+        rejected_steps=int(result.rejected),
+    )
+
+
+_SCALARS = tuple(name for name in Summary._fields if name not in ("model", "peaks", "events"))
+"""The fields a `Response` takes from its `Summary` as they are."""
+
+
+def _response(
+    prepared: Prepared, result: Integration, solve_time: float, histories: bool
+) -> Response:
+    """The `Response` of an integration (`solver.Integration`) in the user's frame; arguments as
+    in `analyze`, ``solve_time`` [s] the wall time of the integration."""
+    bridge = prepared.bridge
+    model, sign, kin = bridge.model, bridge.sign, prepared.kin
+    found = summary(bridge, result)
+    times, stored = np.zeros(0), {}
+    if histories:
+        times = np.arange(result.theta1.size) * prepared.fidelity.knobs["output_step"]
+        stored = {**_histories(model, kin, sign, result), **_device_histories(bridge, result)}
+    events, peaks = found.events, found.peaks
+    return Response(
+        model=found.model,
+        fidelity=prepared.fidelity,
         time=times,
         histories=stored,
         events={
-            "time": events[:, EVENT_TIME],
-            "kind": np.array([EVENT_NAMES[i] for i in kinds], dtype=object),
-            "mode": sign * events[:, EVENT_MODE],
-            "rate_before": sign * events[:, EVENT_RATE_BEFORE],
-            "rate_after": sign * events[:, EVENT_RATE_AFTER],
+            "time": events.time,
+            "kind": np.array([EVENT_NAMES[i] for i in events.kind], dtype=object),
+            "mode": events.mode,
+            "rate_before": events.rate_before,
+            "rate_after": events.rate_after,
         },
         peaks={
             **{name: (float(peaks[i, 0]), float(peaks[i, 1])) for i, name in enumerate(PEAK_NAMES)},
-            **_device_peaks(bridge, result),
+            **device_peaks(bridge, result),
         },
-        t_onset=float(onsets[0]) if onsets.size else float("nan"),
-        n_impacts=int(np.sum(impacts_at)),
-        n_impacts_significant=int(
-            np.sum(np.abs(events[impacts_at, EVENT_RATE_BEFORE]) > SIGNIFICANT_RATE)
-        ),
-        n_poundings=int(np.sum(kinds == POUNDING)),
-        failure_mode=FAILURE_MODE[result.failure],
-        failure_time=float(result.end_time) if failed else float("nan"),
-        dcr_backfill=dcr_backfill(model, peak["u_deck"]),
-        dcr_overturning=max(peak["u_pier1"], peak["u_pier2"] if model.m2 else 0.0) / model.B,
-        status=_status(result),
         solve_time_s=solve_time,
-        steps=int(result.steps),
-        rejected_steps=int(result.rejected),
+        **{name: getattr(found, name) for name in _SCALARS},
     )
 
 
@@ -311,7 +447,7 @@ def _device_histories(bridge: Bridge, result: Integration) -> dict[str, np.ndarr
     return out
 
 
-def _device_peaks(bridge: Bridge, result: Integration) -> dict[str, tuple[float, float]]:
+def device_peaks(bridge: Bridge, result: Integration) -> dict[str, tuple[float, float]]:
     """The devices' peaks of an integration, by name (`device_peak_names`), and for a tendon or
     dissipator whether it yielded and broke (ruptured, fractured), as ``<name>_yielded`` and
     ``<name>_broken``: (1.0, the first time) or (0.0, NaN), from the solver's state; NaN where the

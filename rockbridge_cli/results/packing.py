@@ -17,14 +17,14 @@ import json
 import math
 import struct
 import zlib
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
 from ..core.devices import Damper, Device, Tendon, names
-from ..core.quantities import DEVICE_LIMIT_STATES, kept_history
+from ..core.quantities import DEVICE_LIMIT_STATES, PEAK_NAMES, kept_history
 from .layout import (
     COMPRESSION,
     COUNT_COLUMNS,
@@ -39,7 +39,7 @@ from .layout import (
 )
 
 if TYPE_CHECKING:
-    from ..core.analysis import Response
+    from ..core.analysis import Response, Summary
 
 NUMBERS = tuple(name for name in PEAK_COLUMNS if name not in TEXT_COLUMNS)
 """The numeric columns of the peak table, in the order a packed result stores them (counts too:
@@ -158,10 +158,8 @@ class AnalysisResult:
         """The result of a finished analysis, keeping the histories named in ``keep``; with the
         bridge's ``devices`` (`core.devices`), their rows (`device_rows`)."""
         values = {k: v for k, v in response.peak_row().items() if k in PEAK_COLUMNS}
-        ok = response.status == "ok"
         values.update(
-            status="ok" if ok else "solver_error",
-            message="" if ok else response.status,
+            outcome(response.status),
             wall_time_s=wall_time,
             n_events=len(response.events["time"]),
             rechecked=0,
@@ -195,11 +193,9 @@ class AnalysisResult:
 
     def pack(self) -> Packed:
         """The result in its packed form (`Packed`)."""
-        texts = "\0".join(self.values[name].replace("\0", "\ufffd") for name in TEXTS)
+        texts = _texts(self.values)
         numbers = np.array([self.values[name] for name in NUMBERS], dtype=_SAMPLE)
-        events = np.empty(len(self.events["kind"]), EVENT_RECORD)
-        for name in EVENT_COLUMNS:
-            events[name] = self.events[name] if name != "kind" else kind_codes(self.events[name])
+        events = event_rows({**self.events, "kind": kind_codes(self.events["kind"])})
         chunks = {"time": Chunk.of(self.time)} if self.histories else {}
         chunks.update((name, Chunk.of(values)) for name, values in self.histories.items())
         histories = b""
@@ -213,6 +209,90 @@ class AnalysisResult:
                       histories, self.devices.astype(DEVICE_RECORD).tobytes())  # fmt: skip
 
 
+def outcome(status: str) -> dict[str, str]:
+    """The ``status`` and ``message`` columns of an analysis that ran, from its solver's status
+    (``ok``, or why it stopped early)."""
+    ok = status == "ok"
+    return {"status": "ok" if ok else "solver_error", "message": "" if ok else status}
+
+
+def event_rows(columns: Mapping[str, np.ndarray]) -> np.ndarray:
+    """The `EVENT_RECORD` rows of an analysis's events, given by column (`EVENT_COLUMNS`; the
+    kinds as codes of `core.quantities.EVENT_NAMES`)."""
+    rows = np.empty(len(columns["kind"]), EVENT_RECORD)
+    for name in EVENT_COLUMNS:
+        rows[name] = columns[name]
+    return rows
+
+
+def _texts(values: Mapping[str, Any]) -> str:
+    """The text columns of `TEXTS` among an analysis's ``values``, as a packed result stores
+    them (`Packed.texts`)."""
+    return "\0".join(values[name].replace("\0", "\ufffd") for name in TEXTS)
+
+
+_PEAKS_AT = [NUMBERS.index(f"{name}_{part}") for name in PEAK_NAMES for part in ("max", "time")]
+"""Where each peak and its time go in `NUMBERS`, in the order of `Summary.peaks`' values."""
+
+_SUMMARY_NUMBERS = (
+    "t_onset", "n_impacts", "n_poundings", "failure_time", "n_impacts_significant",
+    "dcr_backfill", "dcr_overturning", "steps", "rejected_steps",
+)  # fmt: skip
+"""The numeric fields of a `core.analysis.Summary` that are columns of the peak table."""
+
+_OTHER_NUMBERS = ("solve_time_s", "wall_time_s", "n_events", "rechecked", "intensity", "scale")
+"""The numeric columns a packed summary (`pack_summary`) takes besides the summary's."""
+
+_SUMMARY_AT = [NUMBERS.index(name) for name in _SUMMARY_NUMBERS + _OTHER_NUMBERS]
+assert sorted(_PEAKS_AT + _SUMMARY_AT) == list(range(len(NUMBERS))), "a column left unfilled"
+
+
+def pack_summary(
+    bridge: str,
+    record: str,
+    summary: Summary,
+    devices: np.ndarray,
+    scaled: tuple[str, float, float],
+    timings: tuple[float, float],
+    rechecked: int = 0,
+) -> Packed:
+    """The packed result (`Packed`) of an analysis that ran and keeps no histories, straight
+    from its summary (`core.analysis.Summary`): the same bytes as its `AnalysisResult`'s
+    `pack`, without building the result.
+
+    Parameters
+    ----------
+    bridge, record
+        The ids.
+    summary
+        What the analysis says.
+    devices
+        The devices' rows (`device_rows`), none without devices.
+    scaled
+        The record before scaling, the intensity level and the factor (the columns
+        ``base_record``, ``intensity`` and ``scale``).
+    timings
+        The wall times of the integration and of the analysis [s].
+    rechecked
+        The ``rechecked`` column: 0, or 1 and 2 for an analysis run again at ``reference``
+        (`study.work.analyze_cell`).
+    """
+    base_record, intensity, scale = scaled
+    numbers = np.empty(len(NUMBERS), _SAMPLE)
+    numbers[_PEAKS_AT] = summary.peaks.ravel()
+    numbers[_SUMMARY_AT] = [
+        *(getattr(summary, name) for name in _SUMMARY_NUMBERS),
+        *timings, len(summary.events.time), rechecked, intensity, scale,
+    ]  # fmt: skip
+    texts = _texts(
+        {"base_record": base_record, "failure_mode": summary.failure_mode,
+         "model": summary.model, **outcome(summary.status)}
+    )  # fmt: skip
+    events = event_rows(summary.events._asdict())
+    return Packed(bridge, record, texts, numbers.tobytes(), events.tobytes(), b"",
+                  devices.astype(DEVICE_RECORD).tobytes())  # fmt: skip
+
+
 def device_rows(devices: tuple[Device, ...], peaks: dict[str, tuple[float, float]]) -> np.ndarray:
     """The `DEVICE_RECORD` rows of a bridge's ``devices`` from an analysis's peaks (name →
     (value, time), `core.analysis.Response.peaks`): a tendon's strain is ε0 + Δ_max/L_free
@@ -220,6 +300,8 @@ def device_rows(devices: tuple[Device, ...], peaks: dict[str, tuple[float, float
     and broke (ruptured, fractured) is the solver's state (``<name>_yielded``, ``<name>_broken``),
     −1 where the device states no such limit."""
     rows = np.zeros(len(devices), DEVICE_RECORD)
+    if not devices:
+        return rows
     for row, device, name in zip(rows, devices, names(devices), strict=True):
         (length, length_time), (force, force_time) = (
             peaks[f"{name}_elongation"], peaks[f"{name}_force"]
@@ -249,6 +331,8 @@ def device_states(rows: np.ndarray) -> dict[str, float]:
     """What an analysis's device rows (`DEVICE_RECORD` s) say of the tendons' limit states
     (`core.quantities.DEVICE_LIMIT_STATES`): 1.0 where a tendon reached it, 0.0 where the
     bridge's tendons state that limit and none reached it, NaN where none states it."""
+    if not rows.size:  # no devices: no state
+        return dict.fromkeys(DEVICE_LIMIT_STATES, math.nan)
     found = {}
     for state, flag in DEVICE_LIMIT_STATES.items():
         kind = state.split("_")[0].encode()  # tendon_yield: the tendons' rows

@@ -6,14 +6,23 @@ import time
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, NamedTuple
 
+import numpy as np
+
 from ..assessment.limit_states import Verdict
-from ..core.fidelity import RECHECK_MARGIN
+from ..core.fidelity import RECHECK_MARGIN, Fidelity
 from ..core.quantities import NO_FAILURE
-from ..results.packing import AnalysisResult, Packed, device_states
+from ..results.packing import (
+    AnalysisResult,
+    Packed,
+    device_rows,
+    device_states,
+    outcome,
+    pack_summary,
+)
 from .grid import BridgeCase, Cell, Grid, RecordCase
 
 if TYPE_CHECKING:
-    from ..core.analysis import Response
+    from ..core.analysis import Prepared, Response, Summary
 
 
 class Finished(NamedTuple):
@@ -58,10 +67,21 @@ class Finished(NamedTuple):
 
 def run_cells(grid: Grid, cells: Sequence[Cell]) -> list[tuple[Finished, Packed]]:
     """Analyze ``cells``: what each says, and its packed result. An exception fails only its own
-    analysis."""
+    analysis.
+
+    A study that keeps no histories takes the lean path (`_lean`) where it can: what the
+    analyses of a bridge share is prepared once per bridge and batch, and each result is packed
+    straight from its integration's `core.analysis.Summary` (`pack_summary`); the same bytes
+    as the per-analysis path (`analyze_cell`), which the others take.
+    """
     analyzed = []
+    shared: dict[tuple[int, bool], Prepared] = {}  # `_lean`'s
     for cell in cells:
         start = time.perf_counter()
+        lean = None if grid.keep else _lean(grid, cell, shared)
+        if lean is not None:
+            analyzed.append(_packed(cell, lean, start))
+            continue
         result = analyze_cell(grid, cell)
         packed = result.pack()
         values = result.values
@@ -72,6 +92,82 @@ def run_cells(grid: Grid, cells: Sequence[Cell]) -> list[tuple[Finished, Packed]
         )  # fmt: skip
         analyzed.append((finished, packed))
     return analyzed
+
+
+class Lean(NamedTuple):
+    """What the lean path (`_lean`) found of a cell: the bridge's id, the record as analyzed,
+    the integration's summary, the devices' rows (`device_rows`), the solve's wall time [s], and
+    the ``rechecked`` column (`analyze_cell`)."""
+
+    bridge: str
+    record: RecordCase
+    summary: Summary
+    devices: np.ndarray
+    solve_time: float
+    rechecked: int = 0
+
+
+def _packed(cell: Cell, lean: Lean, start: float) -> tuple[Finished, Packed]:
+    """What a cell that took the lean path says, and its packed result; ``start`` the
+    `time.perf_counter` at its start [s]."""
+    found, record, said = lean.summary, lean.record, outcome(lean.summary.status)
+    packed = pack_summary(
+        lean.bridge, record.id, found, lean.devices, (record.base, record.level, record.scale),
+        (lean.solve_time, time.perf_counter() - start), lean.rechecked,
+    )  # fmt: skip
+    finished = Finished(
+        cell, lean.bridge, record.id, said["status"], said["message"], lean.solve_time,
+        found.failure_mode, found.dcr_backfill, time.perf_counter() - start,
+        *device_states(lean.devices).values(),
+    )  # fmt: skip
+    return finished, packed
+
+
+def _lean(grid: Grid, cell: Cell, shared: dict[tuple[int, bool], Prepared]) -> Lean | None:
+    """A cell analyzed without a `core.analysis.Response`, and rechecked as `analyze_cell`
+    says; what the analyses of a bridge share is in ``shared``, by the bridge's index and
+    whether at ``grid.recheck`` (filled as needed). None where the cell takes the per-analysis
+    path, which then records or repeats what is unusual: a record that could not be read, a
+    vertical motion (a free flight cuts it), an exception."""
+    case, record = grid.bridges[cell.bridge_index], grid.record_of(cell)
+    if record.acceleration is None or record.vertical is not None:
+        return None
+    try:
+        lean = _summarized(case, record, grid.fidelity, shared, (cell.bridge_index, False))
+        if grid.recheck is not None and _near_a_limit(lean.summary):
+            again = _summarized(case, record, grid.recheck, shared, (cell.bridge_index, True))
+            lean = again._replace(rechecked=rechecked(lean.summary, again.summary))
+    except Exception:  # the per-analysis path records it with its message
+        return None
+    return lean
+
+
+def _summarized(
+    case: BridgeCase,
+    record: RecordCase,
+    fidelity: Fidelity,
+    shared: dict[tuple[int, bool], Prepared],
+    key: tuple[int, bool],
+) -> Lean:
+    """The lean analysis of ``case`` under ``record`` at ``fidelity``, what they share under
+    ``key`` in ``shared`` (`_lean`)."""
+    from ..core import analysis  # the compiled kernels: a worker's, not the parent's
+
+    bridge, step = case.bridge, record.time_step
+    assert record.acceleration is not None, "a record that could not be read is not analyzed"
+    if key not in shared:
+        shared[key] = analysis.prepare(bridge, fidelity)
+    ground = analysis.motion(record.acceleration, step, fidelity, bridge.model.g)
+    result, solve_time = analysis.solve(shared[key], ground.acc, step)
+    found = analysis.summary(bridge, result)
+    devices = device_rows(bridge.devices, analysis.device_peaks(bridge, result))
+    return Lean(case.id, record, found, devices, solve_time)
+
+
+def rechecked(first: Response | Summary, again: Response | Summary) -> int:
+    """The ``rechecked`` column of an analysis run ``again`` at ``reference`` after a ``first``
+    run near a limit: 1, or 2 where the failure mode (the verdict) changed."""
+    return 1 + (again.failure_mode != first.failure_mode)
 
 
 def analyze_cell(grid: Grid, cell: Cell) -> AnalysisResult:
@@ -99,14 +195,13 @@ def _analyzed(grid: Grid, bridge: BridgeCase, record: RecordCase) -> AnalysisRes
             bridge.bridge, record.acceleration, record.time_step, grid.fidelity,
             histories=bool(grid.keep), vertical=record.vertical,
         )  # fmt: skip
-        rechecked = 0
+        checked = 0
         if grid.recheck is not None and _near_a_limit(response):
-            verdict = response.failure_mode
-            response = analyze(
+            again = analyze(
                 bridge.bridge, record.acceleration, record.time_step, grid.recheck,
                 histories=bool(grid.keep), vertical=record.vertical,
             )  # fmt: skip
-            rechecked = 1 + (response.failure_mode != verdict)  # 2: the verdict changed
+            checked, response = rechecked(response, again), again
     except Exception as exc:  # one failed analysis must not stop the others
         return AnalysisResult.failed(
             bridge.id, record.id, f"{type(exc).__name__}: {exc}", time.perf_counter() - start
@@ -119,11 +214,11 @@ def _analyzed(grid: Grid, bridge: BridgeCase, record: RecordCase) -> AnalysisRes
         time.perf_counter() - start,
         bridge.bridge.devices,
     )
-    result.values["rechecked"] = rechecked
+    result.values["rechecked"] = checked
     return result
 
 
-def _near_a_limit(response: Response) -> bool:
+def _near_a_limit(response: Response | Summary) -> bool:
     """Whether an analysis ended in a failure or within `RECHECK_MARGIN` of a capacity."""
     ratios = [r for r in (response.dcr_backfill, response.dcr_overturning) if r == r]  # not NaN
     return response.failure_mode != NO_FAILURE or any(r >= 1.0 - RECHECK_MARGIN for r in ratios)
