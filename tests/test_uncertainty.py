@@ -537,6 +537,17 @@ def test_sensitivity_of_an_ida_capacity_and_the_folded_fragility(tmp_path):
     (fit,) = json.loads(folded.output)
     assert fit["bridge"] == "studied-hbar1.25" and fit["samples"] == 6
     assert "beta_RTR" in invoke("fragility", "i.h5", "--fold-samples").output
+    assert invoke("run", path, "--shard", "1/2", "-o", "half.h5").exit_code == 0
+    for command in (
+        ("fragility", "half.h5", "--fold-samples"),
+        ("sensitivity", "half.h5", "--quantity", "capacity:abutment_failure"),
+    ):
+        part = invoke(*command)  # a shard: refused in one line (it was a KeyError, exit 1)
+        assert part.exit_code == 2 and "merge its shards (rockbridge merge)" in part.output, (
+            command,
+            part.output,
+        )
+        assert "Traceback" not in part.output and "KeyError" not in part.output
     report = invoke("report", "i.h5", "-o", "i.html")
     assert report.exit_code == 0, report.output
     page = (tmp_path / "i.html").read_text(encoding="utf-8")

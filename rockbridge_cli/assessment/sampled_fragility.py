@@ -20,7 +20,14 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..results.reading import bridge_samples, open_results, peak_columns, read_intensity
+from ..results.reading import (
+    UNFINISHED,
+    bridge_samples,
+    open_results,
+    partial,
+    peak_columns,
+    read_intensity,
+)
 from ..results.sections import IntensitySection
 from .fragility import Fragility, fragilities_of
 
@@ -62,13 +69,15 @@ def folded_fragilities(path: str | Path, seed: int = 0) -> list[FoldedFragility]
     Raises
     ------
     InputError
-        The study sampled no bridges, or has no intensity section.
+        The study sampled no bridges, has no intensity section, or the file holds part of it
+        (a shard, a stopped run).
     """
     with open_results(path) as file:
         intensity = read_intensity(file)
         config = json.loads(file.attrs["config"])
         samples = bridge_samples(file)
         columns = peak_columns(file)
+        part = partial(file)
     if (config.get("uncertainty") or {}).get("design") == "tornado":
         why = ("a tornado's bridges are chosen percentiles, not draws from the distributions: "
                "fold a study with an lhs, sobol, random or saltelli design")  # fmt: skip
@@ -76,6 +85,9 @@ def folded_fragilities(path: str | Path, seed: int = 0) -> list[FoldedFragility]
     if intensity is None or not samples:
         raise InputError(path, [("", "not a sampled study with an intensity section (uncertainty "
                                  "and intensity): no fragility to fold")])  # fmt: skip
+    if part or set(samples) - set(columns["bridge"].astype(str)):
+        why = "holds part of a sampled study, and a folded fragility needs all its analyses"
+        raise InputError(path, [("", f"{why}: {UNFINISHED}")])
     paired_all = config["uncertainty"].get("pairing", "all") == "all"
     return fold(columns, intensity, list(samples), paired_all, seed)
 

@@ -30,8 +30,10 @@ from ..core.quantities import LIMIT_STATES, check_limit_state
 from ..errors import InputError
 from ..results.layout import PEAK_COLUMNS, TEXT_COLUMNS
 from ..results.reading import (
+    UNFINISHED,
     bridge_samples,
     open_results,
+    partial,
     peak_columns,
     read_intensity,
     swept_values,
@@ -235,7 +237,8 @@ def design_outputs(
     found = {key: np.full(n, np.nan) for key in ["A", "B", *(f"AB{f}" for f in fields)]}
     for name, sample in samples.items():
         found[sample["matrix"] + sample.get("field", "")][sample["index"]] = outputs[name]
-    missing = [key for key, out in found.items() if np.isnan(out).any()]
+    missing = [key if key in ("A", "B") else f"A_B({key[2:]})" for key, out in found.items()
+               if np.isnan(out).any()]  # fmt: skip
     if missing:
         raise ValueError(f"samples of {', '.join(missing)} have no output")
     return found["A"], found["B"], np.vstack([found[f"AB{f}"] for f in fields])
@@ -297,7 +300,7 @@ def sensitivities(
         try:
             f_a, f_b, f_ab = design_outputs(mine, outputs, list(design["fields"]), design["size"])
         except ValueError as exc:
-            why = f"bridge {base}: {exc}: finish the study (rockbridge run) first"
+            why = f"bridge {base}: {exc}: {UNFINISHED}"
             raise InputError(path, [("", why)]) from None
         both = [rows[name] for name, s in mine.items() if s["matrix"] in ("A", "B")]
         found.append(_indices(base, quantity, statistic, list(design["fields"]), f_a, f_b,
@@ -358,6 +361,9 @@ def _outputs(
             raise InputError(path, [("", why)])
         samples = bridge_samples(file)
         columns = peak_columns(file)
+        if partial(file):
+            why = "holds part of a sampled study, and its sensitivity needs all its analyses"
+            raise InputError(path, [("", f"{why}: {UNFINISHED}")])
     if quantity.startswith(CAPACITY):
         if intensity is None or intensity.ida is None:
             why = f"{quantity}: capacities come from an IDA, and this study has none"

@@ -201,7 +201,7 @@ def analyze(
     chosen = resolve(fidelity, **overrides) if isinstance(fidelity, str) else (
         fidelity.changed(**overrides) if overrides else fidelity
     )  # fmt: skip
-    ground = motion(acceleration, time_step, chosen, bridge.model.g, vertical)
+    ground = ground_motion(acceleration, time_step, chosen, bridge.model.g, vertical)
     prepared = prepare(bridge, chosen)
     result, solve_time = solve(prepared, ground.acc, time_step, ground.up, initial)
     if ground.flight is not None:
@@ -245,8 +245,8 @@ def prepare(bridge: Bridge, fidelity: Fidelity) -> Prepared:
     return Prepared(bridge, fidelity, kin, laws, fidelity.settings(), bridge.device_table())
 
 
-class Motion(NamedTuple):
-    """A ground motion as the integrator takes it (`motion`).
+class GroundMotion(NamedTuple):
+    """A ground motion as the integrator takes it (`ground_motion`).
 
     Attributes
     ----------
@@ -263,13 +263,13 @@ class Motion(NamedTuple):
     samples: int
 
 
-def motion(
+def ground_motion(
     acceleration: np.ndarray,
     time_step: float,
     fidelity: Fidelity,
     g: float,
     vertical: np.ndarray | None = None,
-) -> Motion:
+) -> GroundMotion:
     """A record checked (`analyze`'s errors) and made the integrator's ground motion; arguments
     as in `analyze`, ``g`` the bridge's gravity [m/s²], which decides a free flight."""
     acc = _ground(acceleration, time_step)
@@ -278,7 +278,7 @@ def motion(
     up = None if vertical is None else _vertical(vertical, acc.size)
     samples, flight = acc.size, None if up is None else _flight(up, g)
     acc, up = _integrated(acc, up, flight, int(round(knobs["tail"] / time_step)))
-    return Motion(acc, up, flight, samples)
+    return GroundMotion(acc, up, flight, samples)
 
 
 def solve(
@@ -288,7 +288,7 @@ def solve(
     up: np.ndarray | None = None,
     initial: tuple[float, float] = (0.0, 0.0),
 ) -> tuple[Integration, float]:
-    """The integration of a prepared bridge under a ground motion (`motion`'s ``acc`` and
+    """The integration of a prepared bridge under a ground motion (`ground_motion`'s ``acc`` and
     ``up``) in the core's frame, and its wall time [s]; ``initial`` as in `analyze`."""
     model, sign = prepared.bridge.model, prepared.bridge.sign
     start = time.perf_counter()

@@ -203,6 +203,17 @@ def swept_values(file: h5py.File) -> dict[str, dict[str, float]]:
     }
 
 
+UNFINISHED = "finish the study (rockbridge run), or merge its shards (rockbridge merge), first"
+"""What a file that lacks some of its study's analyses needs, where a command needs them all
+(`partial`)."""
+
+
+def partial(file: h5py.File) -> bool:
+    """Whether an open results file holds part of its study: a shard, or a run stopped before
+    its end."""
+    return stored_shard_of(file) is not None or incompleteness(file.attrs) is not None
+
+
 def bridge_samples(file: h5py.File) -> dict[str, dict[str, Any]]:
     """Per sampled bridge, its place in the design (``index``; ``matrix`` and ``field`` in a
     saltelli design: `config.uncertainty.Sample`); bridges that were not sampled are left out."""

@@ -157,7 +157,7 @@ def _summarized(
     assert record.acceleration is not None, "a record that could not be read is not analyzed"
     if key not in shared:
         shared[key] = analysis.prepare(bridge, fidelity)
-    ground = analysis.motion(record.acceleration, step, fidelity, bridge.model.g)
+    ground = analysis.ground_motion(record.acceleration, step, fidelity, bridge.model.g)
     result, solve_time = analysis.solve(shared[key], ground.acc, step)
     found = analysis.summary(bridge, result)
     devices = device_rows(bridge.devices, analysis.device_peaks(bridge, result))
