@@ -134,6 +134,16 @@ def fragility(
     for item in found:
         if note := unreachable_note(item):
             click.echo(f"{item.bridge}  {note}")
+        if item.median is not None and item.beta is None:
+            click.echo(f"{item.bridge}  {item.limit_state}: {_UNFIXED.format(item.median)}")
+
+
+_UNFIXED = (
+    "β cannot be fitted from these data (docs/fragility.md), and the median {:.3g} is only where "
+    "they split the records, a bound rather than an estimate: more levels, or an IDA, fix both"
+)
+"""The note under a fit whose β the data leave open (levels that separate the records, one
+level alone, a single capacity)."""
 
 
 def _interval(pair: tuple[float, float] | None) -> str:
@@ -377,6 +387,9 @@ def _folded(results: Path, as_json: bool, csv_file: str | None) -> None:
           f"{r['samples_fitted']}/{r['samples']}", r["beta_rtr"], r["beta_u"],
           r["beta_shortcut"]] for r in rows],
     ))  # fmt: skip
+    for r in rows:
+        if r["median"] is not None and r["beta"] is None:
+            click.echo(f"{r['bridge']}  {r['limit_state']}: {_UNFIXED.format(r['median'])}")
 
 
 def _span(bounds: Any) -> str:
