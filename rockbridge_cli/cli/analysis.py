@@ -247,8 +247,8 @@ def _rows(bridge: str, record: str, s: dict) -> list[tuple[str, str]]:
         ("solve time", f"{s['solve_time_s'] * 1e3:.1f} ms ({s['steps']} steps)"),
         (
             "set-up, once per process",
-            f"{s['setup_time_s'] * 1e3:.0f} ms (loading the compiled "
-            "kernels, building the bridge's tables)",
+            f"{s['setup_time_s'] * 1e3:.0f} ms (loading the compiled kernels, or "
+            "compiling them the first time; building the bridge's tables)",
         ),
     ]
     if "output" in s:

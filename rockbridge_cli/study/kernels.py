@@ -27,14 +27,16 @@ from pathlib import Path
 
 from ..interrupts import STOPPING, held
 
-COMPILE_TIME_S = 20
-"""About how long compiling an analysis's kernels takes on an idle core [s] (15 s on the 2-core
-x86-64 machine of the manual's timings, 30 s while another process kept its cores busy)."""
+COMPILE_TIME_S = 70
+"""About how long compiling an analysis's kernels takes on an idle core [s]: 71 s wall, 65 s of
+CPU, for a cold `analyze` on the 2-core x86-64 machine of the manual's timings (2026-11-28, load
+average 0.8; 15 s on 2026-11-25, before the yielding devices' events and the event check
+compiled into the integrator's loop)."""
 
-VERTICAL_COMPILE_TIME_S = 20
+VERTICAL_COMPILE_TIME_S = 50
 """The same for the kernels of an analysis with a vertical ground motion, compiled for it of
-their own (`core.schemes.VerticalGround`) [s]: 404 s against the others' 545 s on a 2-core host
-that five other jobs kept busy (issue 40; 159 s in each of two workers compiling at once)."""
+their own (`core.schemes.VerticalGround`) [s]: 48 s of CPU for the bundled vertical example
+once the others were compiled (2026-11-28)."""
 
 COMPILING = (
     f"compiling the analysis kernels, once for this installation (about {COMPILE_TIME_S} s on an "
