@@ -17,6 +17,7 @@ import heapq
 import json
 import math
 import os
+import threading
 import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -66,6 +67,15 @@ Progress = Callable[[Finished, int, int], None]
 Assembly = Callable[[int, int], None]
 """Called while the results file is written with (analyses written, analyses to write)."""
 
+DESCRIBING = (
+    "every analysis has run; the results file's description (each record's intensity measures "
+    "and velocity pulses, each bridge's summary) is still being computed"
+)
+"""What a run says when its analyses end before the numerics of its description (a set of many
+records, or of pairs swept over angles, takes seconds to minutes)."""
+
+SLOW_S = 2.0
+"""How long a run's wait for its description goes unannounced [s] (`DESCRIBING`)."""
 
 ORPHAN_WAIT_S = 10.0
 """How long a run waits for the lock of a run that has died to be released by its dying worker
@@ -182,7 +192,8 @@ def run_study(
         try:
             try:
                 with executor(grid, journal, workers, scheduler, notice, pool) as offered:
-                    rounds.run(offered, plan, grid, verdicts, progress, motions_of(study))
+                    rounds.run(offered, plan, grid, verdicts, progress, motions_of(study),
+                               notice)  # fmt: skip
             except KeyboardInterrupt:
                 stopped = True
                 raise
@@ -274,6 +285,7 @@ class _Rounds:
     def run(
         self, offered: Any, plan: OneRound | Plan, grid: Grid,
         verdicts: dict[tuple[str, str], Verdict], progress: Progress | None, motions: Motions,
+        notice: Notice | None = None,
     ) -> None:  # fmt: skip
         """Run the plan's rounds on the executor ``offered``, each on the verdicts so far, and
         the numerics of the description (of the records' ``motions``) beside them: the bridges'
@@ -300,7 +312,8 @@ class _Rounds:
         except KeyboardInterrupt:
             self.numerics = _ready([first, *rest])
             raise
-        self.numerics = _joined(first(), [part() for part in rest])
+        with _said_if_slow(notice, DESCRIBING):
+            self.numerics = _joined(first(), [part() for part in rest])
         self.ended = True
 
     def _describe(self, collectors: list[Callable[..., Any]], call: Any) -> None:
@@ -308,6 +321,22 @@ class _Rounds:
         self.numerics = _ready(collectors)
         if self.numerics is not None and self.described is not None:
             self.described(self.numerics, call)
+
+
+@contextmanager
+def _said_if_slow(notice: Notice | None, line: str) -> Iterator[None]:
+    """Have ``notice`` say ``line`` if the block takes `SLOW_S` or more (from a timer's thread:
+    the block may hold this one)."""
+    if notice is None:
+        yield
+        return
+    timer = threading.Timer(SLOW_S, notice, (line,))
+    timer.daemon = True
+    timer.start()
+    try:
+        yield
+    finally:
+        timer.cancel()
 
 
 def _ready(collectors: list[Callable[..., Any]]) -> Numerics | None:
