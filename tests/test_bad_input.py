@@ -209,6 +209,29 @@ def test_an_intensity_level_beyond_any_ground_motion_is_refused(tmp_path):
     assert result.output.count("\n") == 1
 
 
+@pytest.mark.parametrize(
+    ("intensity", "warned"),
+    [("{measure: pga_g, levels: [0.69, 6.77]}", "intensity.levels.1: 6.77 g exceeds the largest "
+      "ground motion recorded (about 4 g): m/s² typed as g?"),
+     ("{measure: pgv, levels: [0.5, 50]}", "intensity.levels.1: 50 m/s exceeds the largest ground "
+      "motion recorded (about 3 m/s): cm/s typed as m/s?"),
+     ("{measure: pga_g, levels: [0.69, 4.0]}", None),
+     ("{measure: pga_g, ida: {start: 0.5, step: 1.0, max: 6.0}}", None)],
+)  # fmt: skip
+def test_a_level_above_any_recorded_motion_is_warned_of(tmp_path, intensity, warned):
+    """Between the largest motions recorded (about 4 g of PGA, 3 m/s of PGV: a 25th of the
+    refused bound) and that bound a level is legal, and likely a slip of units (a new user's
+    6.77 g was 0.69 g in m/s², 50 m/s meant 50 cm/s): the study loads with a warning naming the
+    file and the level. An IDA's scan, which scales records up to collapse, is not warned of."""
+    from studies import write_study
+
+    from rockbridge_cli.config.study import load_study
+
+    study = load_study(write_study(tmp_path, extra=f"intensity: {intensity}\n"))
+    found = [w for w in study.warnings if "exceeds the largest ground motion recorded" in w]
+    assert found == ([] if warned is None else [f"{tmp_path / 'study.yaml'}: {warned}"])
+
+
 def test_analyze_prints_the_pga_and_warns_of_g_read_as_metres(tmp_path):
     """A 0.51 g record whose file says m/s²: 0.51/9.80665 = 0.052 g, printed, and warned of."""
     (tmp_path / "b.yaml").write_text(BRIDGE)

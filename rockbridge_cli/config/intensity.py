@@ -174,15 +174,39 @@ def absurd_levels(intensity: Intensity) -> list[tuple[str, str]]:
     limit, basis, slip = bound
     measure = MEASURES[intensity.measure]
     name = measure.label.split(" [")[0]
+    return [
+        (field, f"{level:g} {measure.unit} is beyond any ground motion's {name} ({limit:.4g} "
+                f"{measure.unit} at most: {basis}): {slip}")
+        for field, level in _levels(intensity)
+        if level > limit
+    ]  # fmt: skip
+
+
+def unrecorded_levels(intensity: Intensity) -> list[str]:
+    """Warnings for stripes or a design level above the largest ground motion recorded (a 25th
+    of `absurd_level`'s bound: about 4 g of PGA, 3 m/s of PGV, 10 m of PGD) but within that
+    bound, where a slip of units (m/s² typed as g, cm/s typed as m/s) still runs: legal, and
+    implausible. An IDA's scan is left alone: it scales records up to collapse by design."""
+    bound = absurd_level(intensity)
+    if bound is None:
+        return []
+    limit, _, slip = bound
+    largest, unit = limit / 25.0, MEASURES[intensity.measure].unit
+    return [
+        f"{field}: {level:g} {unit} exceeds the largest ground motion recorded (about "
+        f"{largest:.3g} {unit}): {slip.replace('cm/s² typed as g', 'm/s² typed as g')}"
+        for field, level in _levels(intensity)
+        if largest < level <= limit and not field.startswith("intensity.ida")
+    ]
+
+
+def _levels(intensity: Intensity) -> list[tuple[str, float]]:
+    """The levels a section states, by field: its stripes, an IDA's start and max, the design
+    level."""
     fields = [(f"intensity.levels.{k}", level) for k, level in enumerate(intensity.levels or ())]
     if intensity.ida is not None:
         fields += [("intensity.ida.start", intensity.ida.start),
                    ("intensity.ida.max", intensity.ida.max)]  # fmt: skip
     if intensity.design is not None:
         fields.append(("intensity.design", intensity.design))
-    return [
-        (field, f"{level:g} {measure.unit} is beyond any ground motion's {name} ({limit:.4g} "
-                f"{measure.unit} at most: {basis}): {slip}")
-        for field, level in fields
-        if level > limit
-    ]  # fmt: skip
+    return fields

@@ -28,7 +28,7 @@ from ..kinds import expecting
 from ..results.sections import IntensitySection
 from . import loading
 from .bridge import BridgeConfig, load_bridge
-from .intensity import Intensity
+from .intensity import Intensity, unrecorded_levels
 from .loading import ConfigFolder
 from .plausibility import bridge_warnings, record_warnings, scale_warning
 from .spectrum import Spectrum
@@ -283,6 +283,8 @@ def _study(
         check_states(bridges, ida.limit_states, where, path)
     if config.intensity is not None:
         records = [scalable(item, config.intensity) for item in records]
+    if config.intensity is not None:
+        warnings += tuple(f"{path}: {w}" for w in unrecorded_levels(config.intensity))
     if config.intensity is not None and config.intensity.levels is not None:
         records = scaled(records, config.intensity)
         warnings += tuple(w for r in records if r.record for w in scale_warning(r.id, r.scale))
