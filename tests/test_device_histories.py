@@ -218,6 +218,8 @@ def test_plot_history_draws_each_devices_force_in_a_last_panel(tmp_path, monkeyp
             assert axes[-1].get_ylabel() == "device force [MN]"
             lines = axes[-1].get_lines()
             assert [line.get_label() for line in lines] == [f"dissipator{i}" for i in range(1, 5)]
+            colours = {tuple(np.atleast_1d(line.get_color())) for line in lines}
+            assert len(colours) == 4  # one shade each, beside the line styles
             for i, line in enumerate(lines, 1):
                 np.testing.assert_array_equal(
                     line.get_ydata(), stored[f"dissipator{i}_force"] * 1e-6

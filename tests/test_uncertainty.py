@@ -363,6 +363,10 @@ def test_sensitivity_of_a_saltelli_study_from_the_command_line(tmp_path):
     assert all(r["samples"] == 4 and r["records"] == 2 for r in rows)
     assert rows[1]["total_order"] > 0.0
     assert invoke("sensitivity", "s.h5", "--quantity", "failure").exit_code == 0
+    assert invoke("report", "s.h5", "-o", "s.html").exit_code == 0
+    page = (tmp_path / "s.html").read_text(encoding="utf-8")
+    ids = [r["bridge"] for r in json.loads(invoke("peaks", "s.h5", "--json").output)["rows"]]
+    assert all(f"({bridge})</td>" in page for bridge in ids)  # samples told apart by their ids
     drawn = invoke("plot", "sensitivity", "s.h5", "-o", "s.png")
     assert drawn.exit_code == 0 and (tmp_path / "s.png").stat().st_size > 10_000
     bad = invoke("sensitivity", "s.h5", "--quantity", "u_dek_max")
@@ -456,6 +460,9 @@ def test_a_tornado_swings_each_field_between_its_percentiles(tmp_path):
     capacity = next(r for r in rows if r["field"] == "abutments.ultimate_displacement")
     assert capacity["output_high"] < capacity["output_median"] < capacity["output_low"]
     assert rows[0]["swing"] >= rows[1]["swing"]
+    table = invoke("sensitivity", "t.h5").output  # units: the fields' (the config's), the output's
+    assert "output at low [-]" in table and "swing [-]" in table
+    assert all(line.split()[1] == "m" for line in table.splitlines() if line.startswith("abutm"))
     assert invoke("plot", "sensitivity", "t.h5", "-o", "t.png").exit_code == 0
     folded = invoke("fragility", "t.h5", "--fold-samples")
     assert folded.exit_code == 2 and "not draws from the distributions" in folded.output

@@ -28,6 +28,7 @@ from scipy import stats
 
 from ..core.quantities import LIMIT_STATES, check_limit_state
 from ..errors import InputError
+from ..motions.intensity import MEASURES
 from ..results.layout import PEAK_COLUMNS, TEXT_COLUMNS
 from ..results.reading import (
     UNFINISHED,
@@ -35,6 +36,7 @@ from ..results.reading import (
     open_results,
     partial,
     peak_columns,
+    peak_units,
     read_intensity,
     swept_values,
 )
@@ -331,6 +333,17 @@ def tornadoes(
         median = outputs[named[("mid", "")]]
         found.append(Tornado(base, quantity, statistic, median, tuple(swings)))
     return found
+
+
+def output_unit(path: str | Path, quantity: str) -> str:
+    """The unit of a sensitivity's output: a capacity's, the study's measure; a peak column's,
+    its own; a limit state's or ``failure``'s, a share of the records (``-``)."""
+    with open_results(path) as file:
+        intensity = read_intensity(file)
+        units = peak_units(file)
+    if quantity.startswith(CAPACITY) and intensity is not None:
+        return MEASURES[intensity.measure].unit
+    return units.get(quantity, "-")
 
 
 def design_of(path: str | Path) -> str:

@@ -48,12 +48,12 @@ def sensitivity(
     intervals, and the share of the quantity's variance over all analyses that is
     record-to-record (E[Var(Q|θ)] / Var(Q)). With design: tornado: each field's one-at-a-time
     swing between its low and high percentile, largest first."""
-    from ..assessment.sensitivity import design_of, sensitivities, tornadoes
+    from ..assessment.sensitivity import design_of, output_unit, sensitivities, tornadoes
 
     if design_of(results) == "tornado":
         swings = tornadoes(results, quantity, statistic)
         if not _rows_written(swings, results, as_json, csv_file):
-            _tornado(swings)
+            _tornado(swings, output_unit(results, quantity))
         return
     found = sensitivities(results, quantity, statistic)
     if not _rows_written(found, results, as_json, csv_file):
@@ -102,13 +102,16 @@ def _rows_written(found: list, results: Path, as_json: bool, csv_file: str | Non
     return csv_file is not None or as_json
 
 
-def _tornado(found: list[Tornado]) -> None:
+def _tornado(found: list[Tornado], unit: str) -> None:
+    from ..config.sweep import field_unit
+
     for item in found:
-        click.echo(f"{item.bridge}: {item.statistic} of {item.quantity}; every field at its "
-                   f"median: {item.median:.4g}")  # fmt: skip
+        click.echo(f"{item.bridge}: {item.statistic} of {item.quantity} [{unit}]; every field "
+                   f"at its median: {item.median:.4g} {unit}")  # fmt: skip
         click.echo(table_text(
-            ["field", "low value", "high value", "output at low", "output at high", "swing"],
-            [[s.field, *s.values, *s.outputs, s.swing] for s in item.swings],
+            ["field", "unit", "low value", "high value", f"output at low [{unit}]",
+             f"output at high [{unit}]", f"swing [{unit}]"],
+            [[s.field, field_unit(s.field), *s.values, *s.outputs, s.swing] for s in item.swings],
         ))  # fmt: skip
 
 

@@ -18,6 +18,7 @@ from collections.abc import Collection, Sequence
 from pathlib import Path
 
 import numpy as np
+from matplotlib.colors import to_rgb
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
@@ -46,6 +47,10 @@ PANELS = tuple((name, shown.factor, f"{shown.tex} [{shown.unit}]") for name, sho
 
 DEVICE_LINES = ("-", "--", ":", "-.")
 """Line styles of a bridge's devices in the device panel, in their order."""
+
+DEVICE_LIGHTENING = 0.22
+"""How much lighter each next device of a bridge is drawn than the one before, towards white
+(with its line style: four dissipators in one colour could not be told apart) [-]."""
 
 
 def plot_history(
@@ -168,13 +173,14 @@ def _device_panel(axes, histories: dict, forces: dict[str, list[str]]) -> None:
     """The last panel: each device's force [MN], positive in tension, its bridge's colour and
     one line style per device, named in the panel's own legend."""
     for index, (bridge, names) in enumerate(forces.items()):
-        arrays = histories[bridge]
-        for name, line in zip(names, itertools.cycle(DEVICE_LINES)):
+        arrays, colour = histories[bridge], np.array(to_rgb(style(index)["color"]))
+        for k, (name, line) in enumerate(zip(names, itertools.cycle(DEVICE_LINES))):
             label = name.removesuffix("_force") + (f" ({bridge})" if len(histories) > 1 else "")
+            shade = colour + (1.0 - colour) * DEVICE_LIGHTENING * (k % len(DEVICE_LINES))
             axes.plot(arrays["time"], arrays[name] * 1e-6, linewidth=0.9, linestyle=line,
-                      color=style(index)["color"], label=plain(label))  # fmt: skip
+                      color=shade, label=plain(label))  # fmt: skip
     axes.set_ylabel("device force [MN]")
-    axes.legend(fontsize="small", ncols=4, loc="lower right", frameon=False)
+    axes.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.0, 1.0), frameon=False)
 
 
 def _legend_keys(deck: bool, failed: bool) -> list[tuple[Line2D, str]]:

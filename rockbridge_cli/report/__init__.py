@@ -364,9 +364,12 @@ def _summary(
     except ValueError:
         pointer = IDA_POINTER.split(":")[0]
         return f"{heading} Here {escaped(pointer)}: their capacities are under Fragility.</p>"
+    names = [bridges[b]["name"] if b in bridges else b for b in dict.fromkeys(columns["bridge"])]
+    shared = {name for name in names if names.count(name) > 1}  # sampled bridges share theirs
     rows = []
     for group in groups[:MAX_ROWS]:
         mine = group.rows
+        name = bridges[group.bridge]["name"] if group.bridge in bridges else group.bridge
         ratio = columns["dcr_backfill"][mine]
         ratio = ratio[np.isfinite(ratio)]
         modes = columns["failure_mode"][mine]
@@ -374,7 +377,7 @@ def _summary(
             m: int(np.sum(modes == m)) for m in dict.fromkeys(modes) if m not in ("", NO_FAILURE)
         }
         rows.append([
-            bridges[group.bridge]["name"] if group.bridge in bridges else group.bridge,
+            f"{name} ({group.bridge})" if name in shared else name,
             *([] if group.level is None else [number(group.level)]),
             f"{int(np.sum(columns['status'][mine] == 'ok'))}/{int(np.sum(mine))}",
             f"{100 * ratio.max():.1f} %" if ratio.size else "-",
