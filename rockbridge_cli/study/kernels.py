@@ -30,8 +30,8 @@ from ..interrupts import STOPPING, held
 COMPILE_TIME_S = 70
 """About how long compiling an analysis's kernels takes on an idle core [s]: 71 s wall, 65 s of
 CPU, for a cold `analyze` on the 2-core x86-64 machine of the manual's timings (2026-11-28, load
-average 0.8; 15 s on 2026-11-25, before the yielding devices' events and the event check
-compiled into the integrator's loop)."""
+average 0.8). The 15 s stated before was never this: the integrator alone compiled in 57 s of
+CPU at the code of 2026-11-26, and in 56 s before the yielding devices' events."""
 
 VERTICAL_COMPILE_TIME_S = 50
 """The same for the kernels of an analysis with a vertical ground motion, compiled for it of
