@@ -166,6 +166,23 @@ def test_describe_table(cli):
     assert "0.9822 / 0.9811" in result.stdout
 
 
+def test_describe_lists_a_bridges_devices(cli):
+    """Each device of the bundled tendon bridge, named as in the results (tendon1, tendon2), on
+    its pier with its prestress and its axial stiffness E·A/L: 195 GPa × 5.04e-3 m² over the
+    pier's height (26.0 and 20.8 m, the config's), computed here by hand; a free-standing
+    bridge lists none (it used to print the same table for both)."""
+    result = cli(CONFIGS / "studied-hbar1.25-tendons.yaml")
+    assert result.exit_code == 0, result.output
+    for name, pier, height in (("tendon1", 1, 26.0), ("tendon2", 2, 20.8)):
+        (row,) = [line for line in result.stdout.splitlines() if line.startswith(name)]
+        assert f"pier {pier}, offset 0 m: P0 4.687e+06 N" in row
+        assert f"E·A/L {195e9 * 5.04e-3 / height:.4g} N/m" in row
+    data = json.loads(cli(CONFIGS / "studied-hbar1.25-tendons.yaml", "--json").stdout)
+    assert [d["prestress"] for d in data["devices"]] == [4.6872e6, 4.6872e6]
+    free = cli(CONFIGS / "studied-hbar1.25.yaml").stdout
+    assert "tendon" not in free and "pier 1, offset" not in free
+
+
 def test_describe_mirrored(cli, tmp_path):
     left, right = tmp_path / "left.yaml", tmp_path / "right.yaml"
     left.write_text(BRIDGE_TEXT.format(left=26.0, right=20.8))

@@ -25,9 +25,40 @@ def describe(bridge: Path, as_json: bool) -> None:
         click.echo(f"warning: {bridge}: {warning}", err=True)
     summary = described(config.to_bridge())
     if as_json:
-        echo_json({"name": config.label(bridge.stem), **summary})
+        devices = [device.model_dump() for device in config.devices]
+        echo_json({"name": config.label(bridge.stem), **summary, "devices": devices})
         return
-    echo_table(_rows(config.label(bridge.stem), summary))
+    echo_table(_rows(config.label(bridge.stem), summary) + _device_rows(config))
+
+
+def _device_rows(config) -> list[tuple[str, str]]:
+    """A row per device of a bridge config, as the config states it (pier counted in
+    ``piers.heights``, offset in the user's drawing), with a tendon's axial stiffness E·A/L."""
+    from ..config.devices import DamperConfig, TendonConfig
+    from ..core.devices import names
+
+    stems = names(tuple(config.to_bridge().devices))  # the numbering of results' columns
+    rows = []
+    for stem, device in zip(stems, config.devices, strict=True):
+        where = f"pier {device.pier}, offset {device.offset:g} m"
+        if isinstance(device, TendonConfig):
+            height = config.piers.heights[device.pier - 1]
+            text = (f"P0 {device.prestress:.4g} N, E·A/L {device.stiffness(height):.4g} N/m, "
+                    f"yield {_stated(device.yield_force, ' N')}, rupture strain "
+                    f"{_stated(device.rupture_strain)}")  # fmt: skip
+        elif isinstance(device, DamperConfig):
+            text = f"c {device.coefficient:.4g} N·s/m across the {device.interface}"
+        else:
+            text = (f"k1 {device.stiffness:.4g} N/m, F_y {device.yield_force:.4g} N, k2/k1 "
+                    f"{device.post_yield_ratio:g}, fracture at {_stated(device.fracture(), ' m')}"
+                    f" across the {device.interface}")  # fmt: skip
+        rows.append((stem, f"{where}: {text}"))
+    return rows
+
+
+def _stated(value: float | None, unit: str = "") -> str:
+    """A device's optional limit, or ``none`` where the config states none (or it is inf)."""
+    return "none" if value is None or math.isinf(value) else f"{value:.4g}{unit}"
 
 
 def _rows(name: str, s: dict) -> list[tuple[str, str]]:
