@@ -188,6 +188,25 @@ def test_progress_display(capsys, terminal):
         assert len(err.splitlines()) == 11 and "30/30 analyses (100%)" in err
 
 
+@pytest.mark.parametrize("growing", [False, True])
+def test_a_rounds_end_shows_no_time_left_where_more_rounds_follow(capsys, monkeypatch, growing):
+    """An IDA's total grows round by round: at a round's 100 % it printed "about 0 s left",
+    sixteen times in a new user's run. Where the total grows, a round's end gives no estimate
+    (the bar's "?:?? left"); elsewhere the last line is the run's end, "about 0 s left". On a
+    clock the test moves, an analysis a second."""
+    from rockbridge_cli.cli import progress
+
+    clock = [0.0]
+    monkeypatch.setattr(progress.time, "monotonic", lambda: clock[0])
+    display = ProgressDisplay(terminal=False, growing=growing)
+    for done in range(1, 11):
+        clock[0] = float(done)
+        display(Finished(CELL, "b", f"R{done}", "ok", "", 0.01, "none", 0.0), done, 10)
+    last = capsys.readouterr().err.splitlines()[-1]
+    assert last.startswith("10/10 analyses (100%)")
+    assert ("left" in last) is (not growing)
+
+
 def test_a_plain_progress_line_comes_at_least_once_a_minute(capsys, monkeypatch):
     """Issue 39: a spectrum's first round of a million analyses printed its first plain line
     after a tenth of them (minutes; 10 min for a 1e7 map). On a clock that this test moves (no

@@ -29,6 +29,9 @@ class ProgressDisplay:
         Printed once, before the first analysis is reported (nothing for a run that is refused).
     terminal
         Draw a bar; default: whether stderr is a terminal.
+    growing
+        Whether the total grows round by round (an IDA, a spectrum): the end of a round then
+        shows no time left, which its next rounds would belie.
     """
 
     WIDTH = 30
@@ -43,8 +46,8 @@ class ProgressDisplay:
     """Analyses that did not end ok reported one by one; the rest are counted (the peak table
     has them all)."""
 
-    def __init__(self, heading: str = "", terminal: bool | None = None):
-        self.heading = heading
+    def __init__(self, heading: str = "", terminal: bool | None = None, growing: bool = False):
+        self.heading, self.growing = heading, growing
         self.problems = 0
         self.terminal = sys.stderr.isatty() if terminal is None else terminal
         self.start = time.monotonic()
@@ -75,6 +78,8 @@ class ProgressDisplay:
             self.first = (now if self.first is None else self.first[0], done)
         began, counted = self.first
         left = (now - began) / (done - counted) * (total - done) if done > counted else math.nan
+        if self.growing and done == total:  # a round's end: the next rounds are not known yet
+            left = math.nan
         if self.terminal:
             if done < total and now - self.drawn < self.REDRAW:
                 return

@@ -103,7 +103,7 @@ def overturning(
     study = study_from_data(
         data, source, yaml.safe_dump(data, sort_keys=False), None, output, confined=False
     )
-    display = ProgressDisplay(heading=f"spectrum: {len(study.records)} frequencies")
+    display = ProgressDisplay(heading=f"spectrum: {len(study.records)} frequencies", growing=True)
     try:
         report = run_study(study, workers, overwrite=overwrite, progress=display,
                            assembly=display.assembling, notice=display.notice)  # fmt: skip

@@ -140,7 +140,7 @@ def run(
     local = scheduler is None and count > 1
     with LocalPool(count) if local else nullcontext() as pool:  # loading their kernels at once
         heading = _heading(resolved, count, scheduler, chosen, part, asked)
-        display = ProgressDisplay(heading=heading)
+        display = ProgressDisplay(heading=heading, growing=_in_rounds(resolved))
         try:
             report = run_study(
                 resolved, count, resume, overwrite, progress=display,
@@ -357,9 +357,15 @@ def _heading(
     if study.spectrum is not None:
         heading += ("\nspectrum: each frequency's rounds run the amplitudes the verdicts so far "
                     "call for; the total grows")  # fmt: skip
-    elif (intensity := study.intensity_section) is not None and intensity.ida is not None:
+    elif _in_rounds(study):
         heading += "\nIDA: each round runs the levels the verdicts so far call for; the total grows"
     return heading
+
+
+def _in_rounds(study) -> bool:
+    """Whether a study learns its analyses round by round (an IDA, a spectrum's map)."""
+    intensity = study.intensity_section
+    return study.spectrum is not None or (intensity is not None and intensity.ida is not None)
 
 
 def _shard(shard: str | None, count: int | None) -> tuple[int, int] | None:
