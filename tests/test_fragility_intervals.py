@@ -370,7 +370,7 @@ def test_risk_integrates_the_draws_of_the_intervals(study):
         assert risk.rate_90 == pytest.approx(np.percentile(cornell, [5.0, 95.0]), rel=1e-5)
 
 
-def test_the_records_needed_are_printed_exported_and_drawn(study, tmp_path):
+def test_the_records_needed_are_printed_exported_and_drawn(study, tmp_path, monkeypatch):
     """Counts 5, 7 and 10 of the ten records; at 10, the study's own intervals: half the
     ln-width of the median's interval of ``fragility --json``."""
     result = invoke("fragility", study, "--records-needed", "--subsets", 10)
@@ -400,3 +400,10 @@ def test_the_records_needed_are_printed_exported_and_drawn(study, tmp_path):
         drawn = invoke("plot", kind, study, "-o", figure)
         assert drawn.exit_code == 0, drawn.output
         assert figure.stat().st_size > 10_000
+    from rockbridge_cli.plots import fragility as fragility_plot
+
+    figures = []
+    monkeypatch.setattr(fragility_plot, "save", lambda figure, output: figures.append(figure))
+    fragility_plot.plot_records_needed(study, tmp_path / "n.png")
+    shown = [axes for axes in figures[0].axes if axes.get_visible()]
+    assert shown and all(axes.get_xlabel() == "records n [-]" for axes in shown)  # every panel

@@ -143,7 +143,8 @@ def plot_records_needed(
         panel_label(axes, letter)
     widths = [v for f in needed for w in f.widths for v in (w.median, w.beta) if v is not None]
     grid[0, 0].set_ylim(0.0, 1.05 * max([SETTLED, *widths]))  # the panels share it
-    for axes in grid[-1]:
+    for axes in grid.flat[: len(states)]:  # above an empty panel too, not the last row's only
+        axes.tick_params(labelbottom=True)
         axes.set_xlabel("records n [-]")
     for axes in grid[:, 0]:
         axes.set_ylabel("half-width of the 90 % interval [-]")
