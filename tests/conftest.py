@@ -404,11 +404,21 @@ def _prepared(vertical: bool = False, devices: bool = False) -> None:
     kernels.prepare(vertical=vertical, devices=devices)
 
 
-@pytest.fixture(scope="session", autouse=True)
-def horizontal_kernels() -> None:
-    """The analysis kernels, once per process before its first test (nearly every test file
-    analyzes): 0.6 s of CPU time loaded from a warm cache."""
-    _prepared()
+_horizontal_ready = False
+"""Whether this process has made the analysis kernels ready (`pytest_runtest_setup`)."""
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_runtest_setup(item: pytest.Item) -> None:
+    """The analysis kernels, once per process before its first test that may analyze (nearly
+    every test file does), ahead of that test's fixtures, which may analyze: 0.6 s of CPU time
+    loaded from a warm cache. Not for a test marked ``own_kernels`` (it compiles into a cache of
+    its own): on a cold cache its worker starts it at once instead of waiting for the other
+    worker's compile of the suite's kernels."""
+    global _horizontal_ready
+    if not _horizontal_ready and item.get_closest_marker("own_kernels") is None:
+        _prepared()
+        _horizontal_ready = True
 
 
 @pytest.fixture(scope="session")
@@ -424,3 +434,54 @@ def device_kernels() -> None:
     that analyze one. (Those of such a bridge under a vertical ground motion as well, another
     60–70 s of compile, only the warm-up's reach test calls: its process compiles them.)"""
     _prepared(devices=True)
+
+
+# The order the test files are handed to pytest-xdist's workers (README's `-n auto --dist
+# loadfile`: each file to one worker, the next file to the first worker free). The suite's wall
+# time is set by how the long files pack onto two workers and by the compiles: on a cold cache
+# (CI's) each kernel variant is compiled by one process at a time under the installation's lock
+# (`study.kernels`), and every process that loads kernels meanwhile, a run's workers included,
+# waits for it. So the file that compiles on a cache of its own starts at once on one worker
+# while the other compiles the suite's kernels and the devices', then the vertical motion's
+# while the first matches records in process; the other long files follow, longest first (wall
+# times of a cold whole-suite run, 2026-11-28); then the rest, most tests first, as
+# pytest-xdist orders them by default.
+FIRST_FILES = (
+    "test_cold_cache.py",  # 154 s: compiles every kernel on a cache and a lock of its own
+    "test_devices.py",  # 93 s: the analysis kernels, then the devices'
+    "test_matching.py",  # 58 s: record matching, in process (its kernels take no lock)
+    "test_cli_study.py",  # 132 s: the vertical motion's kernels
+    "test_cli_records.py",  # 65 s
+    "test_packaging.py",  # 53 s: the warm-up's reach (devices under a vertical motion)
+    "test_scale_out.py",  # 134 s: Dask workers, restarted, load the kernels
+    "test_run_signals.py",  # 68 s
+    "test_batch_docs.py",  # 52 s
+    "test_plots.py",  # 40 s
+    "test_readme_examples.py",  # 32 s
+    "test_config_paths.py",  # 28 s
+    "test_uncertainty.py",  # 26 s
+    "test_report.py",  # 23 s
+    "test_benchmarks.py",  # 23 s
+    "test_seeds.py",  # 20 s
+)
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """The ``own_kernels`` marker; the files in this module's order (`FIRST_FILES`), not
+    reordered by pytest-xdist (≥ 3.7 hands out the files with the most tests first)."""
+    config.addinivalue_line(
+        "markers", "own_kernels: compiles into a numba cache of its own (no suite kernels first)"
+    )
+    if hasattr(config.option, "loadscopereorder"):
+        config.option.loadscopereorder = False
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """The tests ordered by file: `FIRST_FILES` in their order, then the other files with the
+    most tests first; within a file, as written."""
+    files: dict[str, list[pytest.Item]] = {}
+    for item in items:
+        files.setdefault(item.path.name, []).append(item)
+    first = {name: rank for rank, name in enumerate(FIRST_FILES)}
+    order = sorted(files, key=lambda name: (first.get(name, len(first)), -len(files[name])))
+    items[:] = [item for name in order for item in files[name]]
