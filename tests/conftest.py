@@ -412,11 +412,11 @@ _horizontal_ready = False
 def pytest_runtest_setup(item: pytest.Item) -> None:
     """The analysis kernels, once per process before its first test that may analyze (nearly
     every test file does), ahead of that test's fixtures, which may analyze: 0.6 s of CPU time
-    loaded from a warm cache. Not for a test marked ``own_kernels`` (it compiles into a cache of
-    its own): on a cold cache its worker starts it at once instead of waiting for the other
-    worker's compile of the suite's kernels."""
+    loaded from a warm cache. Not for a test marked ``no_kernels`` (it analyzes nothing in this
+    process, or compiles into a cache of its own): on a cold cache its worker runs it at once
+    instead of waiting for the other worker's compiles."""
     global _horizontal_ready
-    if not _horizontal_ready and item.get_closest_marker("own_kernels") is None:
+    if not _horizontal_ready and item.get_closest_marker("no_kernels") is None:
         _prepared()
         _horizontal_ready = True
 
@@ -442,14 +442,14 @@ def device_kernels() -> None:
 # (CI's) each kernel variant is compiled by one process at a time under the installation's lock
 # (`study.kernels`), and every process that loads kernels meanwhile, a run's workers included,
 # waits for it. So the file that compiles on a cache of its own starts at once on one worker
-# while the other compiles the suite's kernels and the devices', then the vertical motion's
-# while the first matches records in process; the other long files follow, longest first (wall
+# while the other compiles the suite's kernels and the devices', and the first then matches
+# records, which needs none of them; the other long files follow, longest first (wall
 # times of a cold whole-suite run, 2026-11-28); then the rest, most tests first, as
 # pytest-xdist orders them by default.
 FIRST_FILES = (
     "test_cold_cache.py",  # 154 s: compiles every kernel on a cache and a lock of its own
     "test_devices.py",  # 93 s: the analysis kernels, then the devices'
-    "test_matching.py",  # 58 s: record matching, in process (its kernels take no lock)
+    "test_matching.py",  # 58 s: record matching, no analysis (no_kernels): no lock to wait for
     "test_cli_study.py",  # 132 s: the vertical motion's kernels
     "test_cli_records.py",  # 65 s
     "test_packaging.py",  # 53 s: the warm-up's reach (devices under a vertical motion)
@@ -467,10 +467,12 @@ FIRST_FILES = (
 
 
 def pytest_configure(config: pytest.Config) -> None:
-    """The ``own_kernels`` marker; the files in this module's order (`FIRST_FILES`), not
+    """The ``no_kernels`` marker; the files in this module's order (`FIRST_FILES`), not
     reordered by pytest-xdist (≥ 3.7 hands out the files with the most tests first)."""
     config.addinivalue_line(
-        "markers", "own_kernels: compiles into a numba cache of its own (no suite kernels first)"
+        "markers",
+        "no_kernels: analyzes nothing in this process, or only on a numba cache of its own: its"
+        " worker does not make the suite's analysis kernels ready first",
     )
     if hasattr(config.option, "loadscopereorder"):
         config.option.loadscopereorder = False

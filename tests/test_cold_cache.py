@@ -1,7 +1,7 @@
 """A first run on the image's empty numba cache: it compiles every kernel once and says so.
 
 Apart from the other checks of the image (`test_packaging.py`) because it alone compiles on
-purpose, on a cache and a kernel lock of its own (`own_kernels`): on a cold suite cache (CI's) its
+purpose, on a cache and a kernel lock of its own (`no_kernels`): on a cold suite cache (CI's) its
 worker starts it at once while the other compiles the suite's kernels (tests/conftest.py).
 """
 
@@ -14,7 +14,7 @@ import sys
 import pytest
 from test_packaging import REPO, dockerfile
 
-pytestmark = pytest.mark.own_kernels
+pytestmark = pytest.mark.no_kernels
 
 
 @pytest.mark.slow

@@ -24,6 +24,10 @@ from rockbridge_cli.records.set_files import read_record_set
 from rockbridge_cli.records.sets import GROUND_DISPLACEMENT_AIM, generate_record_set
 from rockbridge_cli.records.target import read_set_target
 
+# Record matching only, no analysis: on a cold cache its worker need not wait for the suite's
+# analysis kernels (tests/conftest.py).
+pytestmark = pytest.mark.no_kernels
+
 ROOT = Path(__file__).parents[1]
 PAPER = ROOT / "configs" / "records" / "ec8-type1-C-ag0.6g.yaml"
 TYPE_2 = ROOT / "configs" / "records" / "ec8-type2-A-ag0.3g.yaml"
