@@ -15,7 +15,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._jit import inlined, jit
+from ._jit import inlined, jit, uncounted
 from .device_events import watch as device_watch
 from .kinematics import Kinematics, displacements
 from .schemes import Segment, Step, take_step
@@ -52,6 +52,7 @@ def watched(segment: Segment, kin: Kinematics, theta: float, rate: float):
         -s * rate,  # WATCH_TURNING
     )
     return functions, d
+
 
 
 @inlined
@@ -237,7 +238,7 @@ def _past_limit(segment: Segment, kin: Kinematics, theta: float, watch: int) -> 
     return g / slope if slope > 0.0 else np.copysign(np.inf, g)
 
 
-@inlined
+@uncounted
 def first_event(segment, kin, ground, step: Step, g_start, count: int, settings):
     """The first event due within a step, if any (arguments as in `locate`).
 
@@ -248,9 +249,10 @@ def first_event(segment, kin, ground, step: Step, g_start, count: int, settings)
     two events within the event tolerance of each other are simultaneous, and `_first_of` takes
     one.
 
-    Compiled into the integrator's loop: most steps have no event, and their check is a handful
-    of subtractions, which a call (its arguments' arrays counted in and out) would outweigh; the
-    search of a step with one (`_located_first`) stays a call.
+    Called after every step, compiled without reference counting (`_jit.uncounted`): most
+    steps have no event, and their check is a handful of subtractions, which counting the
+    tables' arrays in and out of each look-up outweighed; the search of a step with one
+    (`_located_first`) counts its own.
     """
     g_end, d = watched(segment, kin, step.end.theta, step.end.rate)
     watch = _fired(g_start, g_end, count, -1)
