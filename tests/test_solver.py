@@ -35,8 +35,8 @@ from rockbridge_cli.core.events import (
     Bracket,
     _falsi,
     _narrowed,
-    interpolated,
     first_event,
+    interpolated,
     locate,
     watched,
     watched_one,
@@ -276,7 +276,6 @@ def test_compiled_and_plain_python_kernels_agree():
             assert y is None
             continue
         np.testing.assert_allclose(x, y, rtol=1e-12, atol=1e-15)
-
 
 
 @pytest.mark.skipif(not hasattr(integrate, "py_func"), reason="NUMBA_DISABLE_JIT: all plain")

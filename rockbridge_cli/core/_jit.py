@@ -8,6 +8,8 @@ check that both give the same numbers.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numba
 from numba import types
 
@@ -24,7 +26,10 @@ def absent(argument_type) -> bool:
     return isinstance(argument_type, (types.NoneType, types.Omitted))
 
 
-uncounted = numba.njit(cache=True, nogil=True, fastmath=False, error_model="numpy", _nrt=False)
+_WITHOUT_COUNTING: dict[str, Any] = {"_nrt": False}  # an option numba's type hints leave out
+uncounted = numba.njit(
+    cache=True, nogil=True, fastmath=False, error_model="numpy", **_WITHOUT_COUNTING
+)
 """`jit` without numba's reference counting (its runtime's ``NRT_incref``/``NRT_decref``), for
 the kernels of every step (`schemes.take_step`, `events.first_event`), which allocate nothing:
 the arrays they read (the tables, the record) outlive the call. Compiled with counting, each

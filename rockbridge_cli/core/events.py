@@ -54,7 +54,6 @@ def watched(segment: Segment, kin: Kinematics, theta: float, rate: float):
     return functions, d
 
 
-
 @inlined
 def watched_one(segment: Segment, kin: Kinematics, theta: float, rate: float, watch: int) -> float:
     """The function of ``watch`` alone at (θ1, θ̇1) = (theta, rate), bit for bit `watched`'s:
@@ -65,6 +64,7 @@ def watched_one(segment: Segment, kin: Kinematics, theta: float, rate: float, wa
     if watch == WATCH_TURNING:
         return -segment.s * rate
     return watched(segment, kin, theta, rate)[0][watch]
+
 
 @inlined
 def _fired(before, after, count: int, skip: int) -> int:

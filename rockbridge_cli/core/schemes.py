@@ -15,7 +15,7 @@ import numpy as np
 from numba import types
 from numba.extending import overload
 
-from ._jit import absent, inlined, jit, uncounted
+from ._jit import absent, inlined, uncounted
 from .dynamics import acceleration
 from .geometry import Model
 from .kinematics import Kinematics

@@ -25,10 +25,12 @@ from ..assessment.fragility import store as store_fragilities
 from ..assessment.limit_states import stored_verdicts
 from ..config.changes import what_differs
 from ..errors import InputError
+from ..interrupts import checkpointed, held
 from ..paths import checked_output, replace_atomically
 from ..results.packing import AnalysisResult
 from ..results.reading import is_results_file, open_results, stored_results
 from ..results.writing import ResultsWriter, copy_description
+from .output_lock import exclusive
 
 PROVENANCE = (
     "host", "created", "finished", "shard_index", "shard_count", "rockbridge_version",
@@ -73,7 +75,8 @@ def merge_results(output: Path, parts: list[Path], overwrite: bool = False) -> M
     InputError
         No parts, a part that is not a results file, parts of different studies or rockbridge
         versions, an output that is one of the parts, an existing output without
-        ``overwrite``, or one that is not a results file (never replaced).
+        ``overwrite``, one that is not a results file (never replaced), or one that a run or
+        another merge is writing.
     TypeError
         ``parts`` is one path, not a list of them.
     """
@@ -85,9 +88,17 @@ def merge_results(output: Path, parts: list[Path], overwrite: bool = False) -> M
     if any(output.resolve() == Path(part).resolve() for part in parts):
         raise InputError(output, [("", "is one of the parts: choose another output")])
     checked_output(output, ours=is_results_file, what="a rockbridge results file")
-    if output.exists() and not overwrite:
-        reason = "holds results; rerun with --overwrite to replace them, or choose another output"
-        raise InputError(output, [("", reason)])
+    with exclusive(output):  # not while a run or another merge writes it
+        if output.exists() and not overwrite:
+            reason = (
+                "holds results; rerun with --overwrite to replace them, or choose another output"
+            )
+            raise InputError(output, [("", reason)])
+        return _written(output, parts)
+
+
+def _written(output: Path, parts: list[Path]) -> MergeReport:
+    """`merge_results`'s file written, through a temporary file beside it."""
     temporary = output.with_name(f".{output.name}.{os.getpid()}.tmp")
     try:
         with ExitStack() as stack:
@@ -112,9 +123,12 @@ def merge_results(output: Path, parts: list[Path], overwrite: bool = False) -> M
                      for path, f in zip(parts, files, strict=True)], indent=1),
             )  # fmt: skip
             writer = ResultsWriter(file, len(order))
-            writer.add(result.pack() for result in _in_order(files, holders, order))
+            checkpoint = stack.enter_context(held())  # a stop between analyses (`_write`'s)
+            ordered = checkpointed(_in_order(files, holders, order), checkpoint)
+            writer.add(result.pack() for result in ordered)
             writer.close(max(str(part.attrs["finished"]) for part in files))
             store_fragilities(file)
+            checkpoint()
         replace_atomically(temporary, output)
     finally:
         temporary.unlink(missing_ok=True)
