@@ -216,6 +216,18 @@ def test_a_merge_removes_what_a_killed_merge_left(small_parts, tmp_path):
     assert sorted(p.name for p in tmp_path.glob(".m.h5*")) == []
 
 
+def test_a_merge_never_replaces_a_shard(small_parts, tmp_path):
+    """`merge --overwrite part-*.h5`, the merged file left out, would make the first part the
+    output: it is refused, and the shard's analyses stay (they were replaced by a merge of the
+    others, exit 1; a second reviewer, 2026-11-28)."""
+    _, first, second = small_parts
+    before = contents(first)
+    refused = invoke("merge", "--overwrite", first, second)
+    assert refused.exit_code == 2
+    assert "holds shard 1/2 of a study, which a merge never replaces" in refused.output
+    assert contents(first) == before
+
+
 def test_merge_refuses_what_it_cannot_trust(small_parts, tmp_path):
     study, first, second = small_parts
     refused = invoke("merge", first, first, second)

@@ -28,9 +28,10 @@ from ..errors import InputError
 from ..interrupts import checkpointed, held
 from ..paths import checked_output, replace_atomically
 from ..results.packing import AnalysisResult
-from ..results.reading import is_results_file, open_results, stored_results
+from ..results.reading import is_results_file, open_results, stored_results, stored_shard_of
 from ..results.writing import ResultsWriter, copy_description
 from .output_lock import exclusive
+from .shards import shard_label
 
 PROVENANCE = (
     "host", "created", "finished", "shard_index", "shard_count", "rockbridge_version",
@@ -75,8 +76,8 @@ def merge_results(output: Path, parts: list[Path], overwrite: bool = False) -> M
     InputError
         No parts, a part that is not a results file, parts of different studies or rockbridge
         versions, an output that is one of the parts, an existing output without
-        ``overwrite``, one that is not a results file (never replaced), or one that a run or
-        another merge is writing.
+        ``overwrite``, one that is not a results file or holds a shard (never replaced), or one
+        that a run or another merge is writing.
     TypeError
         ``parts`` is one path, not a list of them.
     """
@@ -89,12 +90,28 @@ def merge_results(output: Path, parts: list[Path], overwrite: bool = False) -> M
         raise InputError(output, [("", "is one of the parts: choose another output")])
     checked_output(output, ours=is_results_file, what="a rockbridge results file")
     with exclusive(output):  # not while a run or another merge writes it
+        if output.exists():
+            _not_a_shard(output)
         if output.exists() and not overwrite:
             reason = (
                 "holds results; rerun with --overwrite to replace them, or choose another output"
             )
             raise InputError(output, [("", reason)])
         return _written(output, parts)
+
+
+def _not_a_shard(output: Path) -> None:
+    """Refuse an output that holds a shard of a study, even with ``overwrite``: the merged file
+    was left out of the command (``merge part-*.h5`` made the first part the output, and
+    ``--overwrite`` replaced that shard's analyses with a merge of the others)."""
+    with open_results(output) as file:
+        shard = stored_shard_of(file)
+    if shard is not None:
+        reason = (
+            f"holds shard {shard_label(shard)} of a study, which a merge never replaces: give "
+            "the merged file to write first, then the parts"
+        )
+        raise InputError(output, [("", reason)])
 
 
 def _written(output: Path, parts: list[Path]) -> MergeReport:
