@@ -4,15 +4,17 @@ SIGHUP (the terminal closed) — as exceptions, raised only where Python code ru
 Python raises a signal's exception at the next bytecode of the main thread. While a compiled
 kernel runs, that bytecode can be inside a callback the kernel makes (numba unpickles the class of
 the result it returns), and an exception there crashes the process (SIGSEGV). Compiled work that a
-signal may meet therefore runs inside `held`: the signal is noted, and raised when the block ends.
+signal may meet therefore runs inside `held`: the signal is noted, and raised when the block ends,
+or at a checkpoint within it (`checkpointed`: the writing of a results file, between analyses).
 """
 
 from __future__ import annotations
 
 import signal
 import threading
-from collections.abc import Iterator
+from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
+from typing import TypeVar
 
 STOPPING = tuple(
     getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, name)
@@ -69,26 +71,47 @@ def stoppable() -> Iterator[None]:
 
 
 @contextmanager
-def held() -> Iterator[None]:
-    """Run compiled code: a stopping signal that arrives meanwhile is noted, and its handler
-    called when the block ends (raising its exception there, outside the compiled code).
+def held() -> Iterator[Callable[[], None]]:
+    """Run code that a stopping signal must not interrupt just anywhere: a signal that arrives
+    meanwhile is noted, and its handler called (raising its exception) at the next checkpoint,
+    the function the block is given, or when the block ends.
+
+    Compiled code is one such place. Writing an HDF5 file is another: h5py closes its objects in
+    callbacks of Python's garbage collector, and an exception raised there is printed and
+    dropped, so that a Ctrl-C there was lost, the run going on to exit 0 after a traceback
+    (a second reviewer, 2026-11-28); the writer calls the checkpoint between analyses.
 
     Only signals with a Python handler are held: one that is ignored (a worker process's) or left
     to the system stays so. Outside the main thread it does nothing.
     """
     if threading.current_thread() is not threading.main_thread():
-        yield
+        yield lambda: None
         return
     noted: list[int] = []
     previous = {
         signum: handler for signum in STOPPING if callable(handler := signal.getsignal(signum))
     }
+
+    def checkpoint() -> None:
+        if noted:
+            signum = noted.pop(0)
+            previous[signum](signum, None)
+
     for signum in previous:
         signal.signal(signum, lambda signum, frame: noted.append(signum))
     try:
-        yield
+        yield checkpoint
     finally:
         for signum, handler in previous.items():
             signal.signal(signum, handler)
-        if noted:
-            previous[noted[0]](noted[0], None)
+        checkpoint()
+
+
+Item = TypeVar("Item")
+
+
+def checkpointed(items: Iterable[Item], checkpoint: Callable[[], None]) -> Iterator[Item]:
+    """``items``, with ``checkpoint`` (`held`'s) called before each."""
+    for item in items:
+        checkpoint()
+        yield item

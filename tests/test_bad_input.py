@@ -663,6 +663,21 @@ def test_values_accepted_silently_before_are_refused(tmp_path):
     assert not (tmp_path / "x.h5.journal.db").exists()
 
 
+def test_a_record_with_an_offset_is_warned_about():
+    """A horizontal record whose mean is not near zero (an uncorrected baseline, an offset in
+    the file) ran without a word, while a vertical component's mean was checked (a second
+    reviewer, 2026-11-28: AR07 with 2 m/s² added rocked from t = 0). The bound, 1 % of the
+    peak, is 70 times the largest of the FEMA P695 sets' 100 components (0.015 %)."""
+    from rockbridge_cli.config.plausibility import record_warnings
+    from rockbridge_cli.records.files import Record
+
+    t = np.arange(0.0, 20.0, 0.01)
+    motion = 3.0 * np.sin(2.0 * np.pi * t)  # whole cycles: mean 0 to rounding
+    assert not any("mean" in w for w in record_warnings(Record("R", 0.01, motion)))
+    offset = record_warnings(Record("R", 0.01, motion + 0.5))
+    assert any("its mean is 0.051 g, 14.3% of its peak" in w for w in offset)
+
+
 def test_a_vertical_component_of_gravity_is_warned_about(tmp_path):
     """A vertical companion that is a constant −0.92 g (gravity written into the file) ran
     without a word (issue 39)."""

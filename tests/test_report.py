@@ -197,6 +197,21 @@ def test_a_study_with_stripes_gets_its_fragility(tmp_path):
         assert row[3] == f"{100 * rows['dcr_backfill'].max():.1f} %"
 
 
+def test_fig10_of_a_stripe_study_is_under_the_design_motion(tmp_path):
+    """Of a record's copies scaled to a study's stripes, the history figure is under the one at
+    the design level, as the paper's Fig. 10 (it was under the lowest stripe's, 0.2 g, where
+    the bridges barely rock; a second reviewer, 2026-11-28)."""
+    extra = (
+        "intensity: {measure: pga_g, design: 0.6, levels: [0.2, 0.6, 1.5]}\n"
+        "output: {path: stripes.h5, histories: [theta1]}\n"
+    )
+    study = load_study(write_study(tmp_path, extra=extra))
+    run_study(study, workers=1)
+    first = read_peaks(study.output)["record"].iloc[0].split("+")[0]
+    parsed = Page(write_report(study.output, tmp_path / "r.html").read_text(encoding="utf-8"))
+    assert f"Response histories under {first}+0.6g (as the paper's Fig. 10)" in parsed.headings
+
+
 @pytest.mark.slow
 def test_a_sweep_is_drawn_against_its_field_and_fig10_is_under_ar07(tmp_path):
     """A sweep's variants get a figure against the swept field instead of Fig. 9, and the history

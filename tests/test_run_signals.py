@@ -14,6 +14,7 @@ import signal
 import subprocess
 import sys
 import time
+import weakref
 from pathlib import Path
 
 import pytest
@@ -22,7 +23,9 @@ from studies import BRIDGES, contents, write_study
 from rockbridge_cli.config.study import load_study
 from rockbridge_cli.errors import InputError
 from rockbridge_cli.results import read_peaks
+from rockbridge_cli.results.writing import ResultsWriter
 from rockbridge_cli.study.journal import Journal
+from rockbridge_cli.study.merge import merge_results
 from rockbridge_cli.study.run import run_study
 
 pytestmark = pytest.mark.skipif(os.name != "posix", reason="POSIX signals")
@@ -237,12 +240,31 @@ def test_a_second_run_on_the_same_output_is_refused(tmp_path, study):
     child, started = start_run(tmp_path, path, workers=1)
     try:
         wait_for(lambda: len(pids(started)) >= 1)
-        with pytest.raises(InputError, match=rf"another rockbridge run \(process {child.pid}\)"):
+        running = rf"another rockbridge run or merge \(process {child.pid}\)"
+        with pytest.raises(InputError, match=running):
             run_study(load_study(path), workers=1)
     finally:
         child.kill()
         child.wait()
     assert run_study(load_study(path), workers=1).total == 4  # the lock died with the run
+
+
+@pytest.mark.slow
+def test_a_merge_into_the_output_of_a_running_study_is_refused(tmp_path, study):
+    """`merge` into the file a run is writing is refused, before it reads its parts: it used to
+    write the merged file, which the run then replaced with its own results, exit 0 for both
+    (a second reviewer, 2026-11-28). The run's results come out whole."""
+    path, expected = study
+    child, started = start_run(tmp_path, path, workers=1)
+    try:
+        wait_for(lambda: len(pids(started)) >= 1)
+        running = rf"another rockbridge run or merge \(process {child.pid}\)"
+        with pytest.raises(InputError, match=running):
+            merge_results(tmp_path / "out.h5", [tmp_path / "a part.h5"], overwrite=True)
+    finally:
+        child.wait(timeout=120)
+    assert child.returncode == 0, (tmp_path / "stderr.txt").read_text()
+    assert contents(tmp_path / "out.h5") == expected
 
 
 def test_a_full_disk_is_one_line_and_the_finished_analyses_stay(tmp_path, monkeypatch):
@@ -307,6 +329,56 @@ def test_a_sigkill_keeps_what_the_workers_journalled(tmp_path, study):
     report = run_study(load_study(path), workers=1)
     assert report.resumed == journalled and report.ran == 4 - journalled
     assert contents(tmp_path / "out.h5") == expected
+
+
+def test_a_stop_in_h5pys_teardown_while_the_results_are_written_still_stops(
+    tmp_path, study, monkeypatch
+):
+    """Ctrl-C while the results file is written stops the run between two analyses, even when
+    the signal lands in a callback of Python's garbage collector, where h5py closes its objects
+    and an exception is printed and dropped: a second reviewer's run (2026-11-28) printed a
+    traceback there, went on and exited 0. The journal keeps every analysis, no results file
+    is left, and the next run writes the one an uninterrupted run writes."""
+    path, expected = study
+    add = ResultsWriter.add
+
+    def stopped_in_a_callback(self, analyses, written=None):
+        def analyses_then_a_signal():
+            for number, packed in enumerate(analyses):
+                if number == 1:
+                    closed = _Closed()
+                    kept = weakref.ref(closed, _interrupt)  # noqa: F841 (its callback runs)
+                    del closed  # the callback runs here: the signal arrives inside it
+                yield packed
+
+        add(self, analyses_then_a_signal(), written)
+
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)  # an xdist worker's
+    try:
+        monkeypatch.setattr(ResultsWriter, "add", stopped_in_a_callback)
+        with pytest.raises(KeyboardInterrupt):
+            run_study(load_study(path), workers=1)
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    monkeypatch.setattr(ResultsWriter, "add", add)
+    assert not (tmp_path / "out.h5").exists()
+    journal = Journal(tmp_path / "out.h5", load_study(path).config_hash)
+    journalled = len(journal)
+    journal.close()
+    assert journalled == 4
+    assert run_study(load_study(path), workers=1).resumed == 4
+    assert contents(tmp_path / "out.h5") == expected
+
+
+class _Closed:
+    """An object whose weak reference's callback stands for h5py's teardown of its objects."""
+
+
+def _interrupt(reference: weakref.ref) -> None:
+    """A Ctrl-C delivered inside a garbage collector's callback, then Python code that runs in
+    it (where the signal's exception would be raised, printed and dropped)."""
+    os.kill(os.getpid(), signal.SIGINT)
+    sum(range(1000))
 
 
 def test_a_stop_while_the_results_are_written_names_the_journal(tmp_path, monkeypatch):

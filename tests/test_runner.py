@@ -16,6 +16,7 @@ import pytest
 from studies import VOLATILE, contents, write_study
 
 from rockbridge_cli import results
+from rockbridge_cli.cli.study import stopped_line
 from rockbridge_cli.config.study import load_study
 from rockbridge_cli.core.analysis import analyze
 from rockbridge_cli.errors import InputError
@@ -207,6 +208,21 @@ def test_interrupted_recomputation_keeps_the_earlier_results(tmp_path):
     partial = read_peaks(study.output)
     assert set(zip(partial["bridge"], partial["record"], strict=True)) == set(PAIRS)
     assert contents(study.output) == expected
+
+
+def test_a_stopped_recomputation_says_that_no_run_resumes_it(tmp_path):
+    """A stopped --no-resume run does not advise "the same command again to resume": that
+    command starts the recomputation over (a second reviewer, 2026-11-28); it says what the
+    file holds and what each rerun does."""
+    study, _ = _reference(tmp_path)
+    run_study(study, workers=1)
+    with pytest.raises(KeyboardInterrupt) as stop:
+        run_study(study, workers=1, resume=False, progress=Recorder(stop=1))
+    said = stopped_line(stop.value, study.output, resume=False)
+    assert "resume" not in said.replace("--no-resume", "")
+    assert said.startswith(f"interrupted: the analyses recomputed so far are in {study.output}")
+    assert "the same command starts the recomputation over" in said
+    assert stopped_line(stop.value, study.output).endswith("run the same command again to resume")
 
 
 def test_nothing_to_do_leaves_the_file_alone(tmp_path):

@@ -204,6 +204,30 @@ def test_merge_reports_missing_and_duplicated_analyses(small_parts, tmp_path):
     assert twice.exit_code == 0 and "2 analyses are in more than one part" in twice.output
 
 
+def test_a_merge_removes_what_a_killed_merge_left(small_parts, tmp_path):
+    """A merge killed while it wrote (SIGKILL: a cluster job's time limit) leaves its temporary
+    file, ``.<output>.<pid>.tmp``, beside the output; the next merge into that output removes
+    it (it used to stay, as large as the merged file, hidden by its dot)."""
+    _, first, second = small_parts
+    left = tmp_path / ".m.h5.4194999.tmp"  # a process id no longer alive
+    left.write_bytes(b"what a killed merge had written")
+    assert invoke("merge", tmp_path / "m.h5", first, second).exit_code == 0
+    assert not left.exists()
+    assert sorted(p.name for p in tmp_path.glob(".m.h5*")) == []
+
+
+def test_a_merge_never_replaces_a_shard(small_parts, tmp_path):
+    """`merge --overwrite part-*.h5`, the merged file left out, would make the first part the
+    output: it is refused, and the shard's analyses stay (they were replaced by a merge of the
+    others, exit 1; a second reviewer, 2026-11-28)."""
+    _, first, second = small_parts
+    before = contents(first)
+    refused = invoke("merge", "--overwrite", first, second)
+    assert refused.exit_code == 2
+    assert "holds shard 1/2 of a study, which a merge never replaces" in refused.output
+    assert contents(first) == before
+
+
 def test_merge_refuses_what_it_cannot_trust(small_parts, tmp_path):
     study, first, second = small_parts
     refused = invoke("merge", first, first, second)

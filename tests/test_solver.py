@@ -25,7 +25,7 @@ from conftest import (
 )
 from scipy.integrate import solve_ivp
 
-from rockbridge_cli.core import fidelity, impacts
+from rockbridge_cli.core import fidelity, impacts, tables
 from rockbridge_cli.core.analysis import analyze, dcr_backfill
 from rockbridge_cli.core.bridge import Bridge
 from rockbridge_cli.core.dynamics import acceleration, coefficients
@@ -35,9 +35,11 @@ from rockbridge_cli.core.events import (
     Bracket,
     _falsi,
     _narrowed,
+    first_event,
     interpolated,
     locate,
     watched,
+    watched_one,
 )
 from rockbridge_cli.core.geometry import single_block
 from rockbridge_cli.core.kinematics import EXACT
@@ -274,6 +276,32 @@ def test_compiled_and_plain_python_kernels_agree():
             assert y is None
             continue
         np.testing.assert_allclose(x, y, rtol=1e-12, atol=1e-15)
+
+
+@pytest.mark.skipif(not hasattr(integrate, "py_func"), reason="NUMBA_DISABLE_JIT: all plain")
+def test_the_kernels_of_every_step_count_no_references():
+    """The step and the check after it are compiled without numba's reference counting
+    (`_jit.uncounted`): counting the tables' arrays in and out of every look-up took a quarter
+    of a solve's CPU. A kernel compiled otherwise would still give the same numbers (the
+    integrator's tests), only slower: this is where that would show."""
+    for kernel in (take_step, first_event):
+        assert kernel.targetoptions.get("_nrt") is False
+
+
+@pytest.mark.parametrize("s", [1.0, -1.0])
+@pytest.mark.parametrize("contact", [False, True])
+def test_one_watched_function_is_that_of_all_of_them(s, contact):
+    """`watched_one`, which spares an impact's and a turning point's search the linkage's
+    displacements, gives each watched function bit for bit as `watched` does, in both modes,
+    with the gap open and closed, at rest, rocking and beyond the piers' limits."""
+    model = studied_bridge(1.25)
+    segment = Segment(model, s, contact, None)
+    kin = tables.tabulated(model)
+    for theta in (0.0, 0.004, 0.05, 0.3):
+        for rate in (0.0, -0.2, 0.7):
+            every = watched(segment, kin, s * theta, rate)[0]
+            for watch in range(len(every)):
+                assert watched_one(segment, kin, s * theta, rate, watch) == every[watch]
 
 
 # ---------------------------------------------------------------- event location

@@ -149,7 +149,7 @@ def run(
             )  # fmt: skip
         except KeyboardInterrupt as stop:
             display.close()
-            say(stopped_line(stop, resolved.output), err=True)
+            say(stopped_line(stop, resolved.output, resume), err=True)
             ctx.exit(exit_status(stop))
     display.close()
     counts = report.statuses
@@ -176,9 +176,11 @@ def run(
         ctx.exit(1)
 
 
-def stopped_line(stop: KeyboardInterrupt, output: Path) -> str:
+def stopped_line(stop: KeyboardInterrupt, output: Path, resume: bool = True) -> str:
     """What a run stopped by a signal says last: where the analyses finished are (the journal,
-    until the results file holds them), and how to resume."""
+    until the results file holds them), and how to resume; of a recomputation (``resume``
+    False, ``--no-resume``), that no run resumes it (the same command used to be advised, which
+    starts it over: a cluster task resubmitted so never ends)."""
     from ..interrupts import stopped_by
     from ..study.journal import journal_path
 
@@ -187,6 +189,10 @@ def stopped_line(stop: KeyboardInterrupt, output: Path) -> str:
     if not kept.exists():  # stopped before its first analysis finished (its kernels compiling?)
         return (f"{stopped_by(stop)}: no analysis had finished, nothing to keep; run the same "
                 "command again to start")  # fmt: skip
+    if not resume:  # a recomputation: the file it replaces stays, no run resumes it
+        return (f"{stopped_by(stop)}: the analyses recomputed so far are in {kept}, beside the "
+                "earlier results of the others; the same command starts the recomputation "
+                "over, one without --no-resume takes them as they are")  # fmt: skip
     return (f"{stopped_by(stop)}: the analyses finished so far are in {kept}; run the same "
             "command again to resume")  # fmt: skip
 

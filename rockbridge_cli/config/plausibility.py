@@ -69,6 +69,13 @@ VERTICAL_MEAN_G = 0.1
 """Largest plausible mean of a vertical component: ground motion averages near zero; a constant
 near ±1 g is gravity written into the file [g]."""
 
+HORIZONTAL_MEAN_SHARE = 0.01
+"""Largest plausible mean of a horizontal ground acceleration, as a share of its peak: recorded
+motions average near zero (the FEMA P695 sets' 100 components at most 0.015 %); a larger mean
+is an uncorrected baseline or an offset in the file, which shifts the onset of rocking and the
+demands (AR07 with 0.5 m/s² added: onset 4.3 s instead of 5.5 s, backfill d/c 33 % instead of
+31 %) [-]."""
+
 SCALE_FACTORS = (0.01, 100.0)
 """Factors an intensity level scales a record by, beyond which the level or the measure is
 probably wrong [-]."""
@@ -154,7 +161,8 @@ def _outside_ranges(config: BridgeConfig) -> list[str]:
 def record_warnings(record: Record) -> list[str]:
     """Implausible features of a ground motion: its peak for its stated unit, a time column that
     does not start at zero or a time step out of range (a record file's, not an analytic
-    pulse's), a vertical component that can lift the bridge off the ground."""
+    pulse's), a mean far from zero, a vertical component that can lift the bridge off the
+    ground."""
     found = list(record.metadata.get("notices", ()))
     pga = record.peak_acceleration / STANDARD_GRAVITY
     low, high = RECORD_PGA_G
@@ -174,6 +182,12 @@ def record_warnings(record: Record) -> list[str]:
     if not analytic and not low <= record.time_step <= high:
         found.append(f"time step {record.time_step:g} s is not a ground motion's ({low:g}–"
                      f"{high:g} s): is the time column in seconds?")  # fmt: skip
+    mean = float(record.acceleration.mean()) if record.acceleration.size else 0.0
+    if not analytic and abs(mean) > HORIZONTAL_MEAN_SHARE * record.peak_acceleration:
+        found.append(f"its mean is {mean / STANDARD_GRAVITY:.3g} g, "
+                     f"{abs(mean) / record.peak_acceleration:.1%} of its peak, where a ground "
+                     "motion's is near zero: an uncorrected baseline, or an offset in the "
+                     "file?")  # fmt: skip
     from ..records.vertical import peak_vertical  # numpy: loaded on use
 
     vertical = peak_vertical(record) / STANDARD_GRAVITY

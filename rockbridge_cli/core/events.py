@@ -15,7 +15,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._jit import inlined, jit
+from ._jit import inlined, jit, uncounted
 from .device_events import watch as device_watch
 from .kinematics import Kinematics, displacements
 from .schemes import Segment, Step, take_step
@@ -52,6 +52,18 @@ def watched(segment: Segment, kin: Kinematics, theta: float, rate: float):
         -s * rate,  # WATCH_TURNING
     )
     return functions, d
+
+
+@inlined
+def watched_one(segment: Segment, kin: Kinematics, theta: float, rate: float, watch: int) -> float:
+    """The function of ``watch`` alone at (θ1, θ̇1) = (theta, rate), bit for bit `watched`'s:
+    an impact's and a turning point's without the displacements of the linkage, which only the
+    others need (locating a turning point evaluates its function a dozen times)."""
+    if watch == WATCH_IMPACT:
+        return -segment.s * theta
+    if watch == WATCH_TURNING:
+        return -segment.s * rate
+    return watched(segment, kin, theta, rate)[0][watch]
 
 
 @inlined
@@ -122,7 +134,7 @@ def interpolated(step: Step, tau: float):
 def _on_interpolant(segment: Segment, kin: Kinematics, step: Step, watch: int, tau: float):
     """The function of ``watch`` τ [s] into a step, on its interpolant (`interpolated`)."""
     theta, rate = interpolated(step, tau)
-    return watched(segment, kin, theta, rate)[0][watch]
+    return watched_one(segment, kin, theta, rate, watch)
 
 
 @jit
@@ -133,7 +145,7 @@ def _estimated_event(segment: Segment, kin: Kinematics, step: Step, watch: int, 
     tolerance [s]."""
     if not (np.isfinite(step.start.accel) and np.isfinite(step.end.accel)):
         return -1.0, 0.0
-    g_end = watched(segment, kin, step.end.theta, step.end.rate)[0][watch]
+    g_end = watched_one(segment, kin, step.end.theta, step.end.rate, watch)
     ends = Bracket(lo, step.h, _on_interpolant(segment, kin, step, watch, lo), g_end, 0)
     if not (ends.g_lo <= 0.0 < ends.g_hi):
         return -1.0, 0.0
@@ -159,7 +171,7 @@ def _left_zero(segment, kin, ground, step: Step, watch: int, b: Bracket, setting
     while b.hi > settings.event_tol:
         probe = 0.5 * b.hi
         end = take_step(segment, kin, ground, step.k, step.t, step.start, probe, settings.scheme)[0]
-        g = watched(segment, kin, end.theta, end.rate)[0][watch]
+        g = watched_one(segment, kin, end.theta, end.rate, watch)
         if g < 0.0:
             return Bracket(probe, b.hi, g, b.g_hi, b.side), step
         b = Bracket(b.lo, probe, b.g_lo, g, b.side)
@@ -203,7 +215,7 @@ def locate(segment, kin, ground, step: Step, watch: int, g_start, g_end, setting
                 if b.lo < straddle < b.hi:
                     mid = straddle
         end = take_step(segment, kin, ground, step.k, step.t, step.start, mid, settings.scheme)[0]
-        g = watched(segment, kin, end.theta, end.rate)[0][watch]
+        g = watched_one(segment, kin, end.theta, end.rate, watch)
         trials += 1
         estimate = mid - g / slope if slope > 0.0 else estimate
         if g > 0.0:
@@ -237,7 +249,7 @@ def _past_limit(segment: Segment, kin: Kinematics, theta: float, watch: int) -> 
     return g / slope if slope > 0.0 else np.copysign(np.inf, g)
 
 
-@inlined
+@uncounted
 def first_event(segment, kin, ground, step: Step, g_start, count: int, settings):
     """The first event due within a step, if any (arguments as in `locate`).
 
@@ -248,9 +260,10 @@ def first_event(segment, kin, ground, step: Step, g_start, count: int, settings)
     two events within the event tolerance of each other are simultaneous, and `_first_of` takes
     one.
 
-    Compiled into the integrator's loop: most steps have no event, and their check is a handful
-    of subtractions, which a call (its arguments' arrays counted in and out) would outweigh; the
-    search of a step with one (`_located_first`) stays a call.
+    Called after every step, compiled without reference counting (`_jit.uncounted`): most
+    steps have no event, and their check is a handful of subtractions, which counting the
+    tables' arrays in and out of each look-up outweighed; the search of a step with one
+    (`_located_first`) counts its own.
     """
     g_end, d = watched(segment, kin, step.end.theta, step.end.rate)
     watch = _fired(g_start, g_end, count, -1)

@@ -15,7 +15,7 @@ import numpy as np
 from numba import types
 from numba.extending import overload
 
-from ._jit import absent, inlined, jit
+from ._jit import absent, inlined, uncounted
 from .dynamics import acceleration
 from .geometry import Model
 from .kinematics import Kinematics
@@ -156,7 +156,7 @@ def _accel_at(segment: Segment, kin: Kinematics, ground, k: int, t: float, y, w)
     return acceleration(model, s, y, w, a_g, contact, kin, lift, devices)
 
 
-@jit
+@uncounted
 def take_step(segment: Segment, kin: Kinematics, ground: Ground, k, t, start: State, h, scheme):
     """One step of length h [s] of a segment from ``start`` at time t [s] in sample interval k of
     the ground motion, with `RK4` or `DOPRI5`; ``kin``: how to compute the linkage.

@@ -89,8 +89,9 @@ def write_report(
     output
         The HTML file to write.
     record
-        The record of the history figure (Fig. 10); default the study's first record. A study
-        that kept no histories gets none.
+        The record of the history figure (Fig. 10); default the paper's, AR07, where the study
+        has it, else its first record, and of its copies scaled to the study's levels the one
+        nearest the design level. A study that kept no histories gets none.
     hazard, years
         A site's hazard curve (`assessment.hazard`): the page then gives each limit state's
         annual frequency there and its probability in ``years`` (`assessment.risk`).
@@ -133,7 +134,9 @@ def write_report(
     if hazard is not None and intensity is None:
         reason = "the study has no intensity section: no fragility to integrate with the hazard"
         raise InputError(results, [("", reason)])
-    chosen = record or (_default_record(records) if kept and not is_ida(intensity) else None)
+    design_level = None if intensity is None else intensity.design
+    default = _default_record(records, columns, design_level)
+    chosen = record or (default if kept and not is_ida(intensity) else None)
     title = _description(attributes) or Path(str(attributes.get("study_file", results))).stem
     parts = [
         f"<h1>{escaped(title)}</h1>",
@@ -207,11 +210,18 @@ MAX_SWEPT = 3
 """Swept fields drawn at most (one figure each)."""
 
 
-def _default_record(records: list[str]) -> str | None:
-    """The record of the history figure: the paper's (`PAPER_RECORD`, or a scaled copy of it),
-    else the first."""
-    paper = [r for r in records if r.split("+", 1)[0] == PAPER_RECORD]
-    return next(iter(paper + records), None)
+def _default_record(
+    records: list[str], columns: dict[str, np.ndarray], design: float | None
+) -> str | None:
+    """The record of the history figure: the paper's (`PAPER_RECORD`), else the first; of its
+    scaled copies, the one at the design level, or nearest it (the paper's Fig. 10 is under
+    the design motion; the first copy, the lowest stripe's, left the bridges barely rocking)."""
+    first = next(iter([r for r in records if r.split("+", 1)[0] == PAPER_RECORD] + records), None)
+    if first is None or design is None:
+        return first
+    level = dict(zip(columns["record"].tolist(), columns["intensity"].tolist(), strict=True))
+    copies = [r for r in records if r.split("+", 1)[0] == first.split("+", 1)[0]]
+    return min(copies, key=lambda r: abs(level[r] - design))  # the first of equals
 
 
 def _levels(intensity: IntensitySection | None, columns: dict[str, np.ndarray]) -> str:

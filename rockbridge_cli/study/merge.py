@@ -25,10 +25,13 @@ from ..assessment.fragility import store as store_fragilities
 from ..assessment.limit_states import stored_verdicts
 from ..config.changes import what_differs
 from ..errors import InputError
+from ..interrupts import checkpointed, held
 from ..paths import checked_output, replace_atomically
 from ..results.packing import AnalysisResult
-from ..results.reading import is_results_file, open_results, stored_results
+from ..results.reading import is_results_file, open_results, stored_results, stored_shard_of
 from ..results.writing import ResultsWriter, copy_description
+from .output_lock import exclusive
+from .shards import shard_label
 
 PROVENANCE = (
     "host", "created", "finished", "shard_index", "shard_count", "rockbridge_version",
@@ -73,7 +76,8 @@ def merge_results(output: Path, parts: list[Path], overwrite: bool = False) -> M
     InputError
         No parts, a part that is not a results file, parts of different studies or rockbridge
         versions, an output that is one of the parts, an existing output without
-        ``overwrite``, or one that is not a results file (never replaced).
+        ``overwrite``, one that is not a results file or holds a shard (never replaced), or one
+        that a run or another merge is writing.
     TypeError
         ``parts`` is one path, not a list of them.
     """
@@ -85,9 +89,33 @@ def merge_results(output: Path, parts: list[Path], overwrite: bool = False) -> M
     if any(output.resolve() == Path(part).resolve() for part in parts):
         raise InputError(output, [("", "is one of the parts: choose another output")])
     checked_output(output, ours=is_results_file, what="a rockbridge results file")
-    if output.exists() and not overwrite:
-        reason = "holds results; rerun with --overwrite to replace them, or choose another output"
+    with exclusive(output):  # not while a run or another merge writes it
+        if output.exists():
+            _not_a_shard(output)
+        if output.exists() and not overwrite:
+            reason = (
+                "holds results; rerun with --overwrite to replace them, or choose another output"
+            )
+            raise InputError(output, [("", reason)])
+        return _written(output, parts)
+
+
+def _not_a_shard(output: Path) -> None:
+    """Refuse an output that holds a shard of a study, even with ``overwrite``: the merged file
+    was left out of the command (``merge part-*.h5`` made the first part the output, and
+    ``--overwrite`` replaced that shard's analyses with a merge of the others)."""
+    with open_results(output) as file:
+        shard = stored_shard_of(file)
+    if shard is not None:
+        reason = (
+            f"holds shard {shard_label(shard)} of a study, which a merge never replaces: give "
+            "the merged file to write first, then the parts"
+        )
         raise InputError(output, [("", reason)])
+
+
+def _written(output: Path, parts: list[Path]) -> MergeReport:
+    """`merge_results`'s file written, through a temporary file beside it."""
     temporary = output.with_name(f".{output.name}.{os.getpid()}.tmp")
     try:
         with ExitStack() as stack:
@@ -112,9 +140,12 @@ def merge_results(output: Path, parts: list[Path], overwrite: bool = False) -> M
                      for path, f in zip(parts, files, strict=True)], indent=1),
             )  # fmt: skip
             writer = ResultsWriter(file, len(order))
-            writer.add(result.pack() for result in _in_order(files, holders, order))
+            checkpoint = stack.enter_context(held())  # a stop between analyses (`_write`'s)
+            ordered = checkpointed(_in_order(files, holders, order), checkpoint)
+            writer.add(result.pack() for result in ordered)
             writer.close(max(str(part.attrs["finished"]) for part in files))
             store_fragilities(file)
+            checkpoint()
         replace_atomically(temporary, output)
     finally:
         temporary.unlink(missing_ok=True)

@@ -35,7 +35,7 @@ from ..core.quantities import NO_FAILURE
 from ..core.summary import summarize_all
 from ..cpus import excess_workers, usable_cpus
 from ..errors import InputError
-from ..interrupts import stoppable
+from ..interrupts import checkpointed, held, stoppable
 from ..paths import checked_output, replace_atomically
 from ..results.packing import AnalysisResult, Packed
 from ..results.reading import (
@@ -51,6 +51,7 @@ from .describe import Motions, Numerics, motions_of, numerics
 from .executors import LocalPool, Notice, executor
 from .grid import Grid
 from .journal import Journal, remove_journal
+from .output_lock import exclusive
 from .plan import OneRound, Plan, plan_of
 from .prewritten import Prewritten
 from .shards import shard_label
@@ -76,10 +77,6 @@ records, or of pairs swept over angles, takes seconds to minutes)."""
 
 SLOW_S = 2.0
 """How long a run's wait for its description goes unannounced [s] (`DESCRIBING`)."""
-
-ORPHAN_WAIT_S = 10.0
-"""How long a run waits for the lock of a run that has died to be released by its dying worker
-processes [s]."""
 
 
 @dataclass(frozen=True)
@@ -185,7 +182,7 @@ def run_study(
     grid = Grid.of(study)
     plan = plan_of(study, grid, grid.cells if shard is None else grid.shard(*shard))
     described = Prewritten(output, study, [case.bridge for case in grid.bridges], created, shard)
-    with _exclusive(output), stoppable():
+    with exclusive(output), stoppable():
         journal, verdicts = _resumed(output, study, shard, resume, overwrite)
         early = described.write if scheduler is None else None  # a Dask worker's folder differs
         resumed, rounds, stopped = len(verdicts), _Rounds(described=early), False
@@ -391,24 +388,29 @@ def _write(
     each status, and with a failure."""
     temporary = output.with_name(f".{output.name}.{os.getpid()}.tmp")
     try:
-        with h5py.File(temporary, "w") as file, _earlier_results(output, grid) as earlier:
-            described.into(file, computed)
-            cells = grid.cells
-            writer = ResultsWriter(file, len(cells))
-            merged = _merged(journal, earlier, {cell.index for cell in cells})
-            if assembly is not None and len(journal):  # before the first block: a large
-                assembly(0, len(cells))  # journal takes a while
-            writer.add(merged, None if assembly is None else lambda n: assembly(n, len(cells)))
-            writer.close(_timestamp())
-            if not finished:
-                file.attrs["complete"] = False
-            if shard is None and study.intensity is not None:
-                from ..assessment.fragility import (
-                    store,  # scipy's optimizers: only an intensity study's
+        with held() as checkpoint:  # a stop between analyses, not in h5py's teardown (dropped)
+            with h5py.File(temporary, "w") as file, _earlier_results(output, grid) as earlier:
+                described.into(file, computed)
+                cells = grid.cells
+                writer = ResultsWriter(file, len(cells))
+                merged = _merged(journal, earlier, {cell.index for cell in cells})
+                if assembly is not None and len(journal):  # before the first block: a large
+                    assembly(0, len(cells))  # journal takes a while
+                writer.add(
+                    checkpointed(merged, checkpoint),
+                    None if assembly is None else lambda n: assembly(n, len(cells)),
                 )
+                writer.close(_timestamp())
+                if not finished:
+                    file.attrs["complete"] = False
+                if shard is None and study.intensity is not None:
+                    from ..assessment.fragility import (
+                        store,  # scipy's optimizers: only an intensity study's
+                    )
 
-                store(file)
-        replace_atomically(temporary, output)
+                    store(file)
+            checkpoint()  # a stop before the file replaces the output's
+            replace_atomically(temporary, output)
     except (OSError, RuntimeError) as exc:  # a full disk (h5py: RuntimeError), a removed folder
         reason = getattr(exc, "strerror", None) or str(exc)
         if getattr(exc, "errno", None) == errno.ENOSPC or f"errno = {errno.ENOSPC}," in str(exc):
@@ -455,8 +457,7 @@ def _earlier_verdicts(
     output: Path, study: Study, shard: tuple[int, int] | None, overwrite: bool
 ) -> dict[tuple[str, str], Verdict]:
     """The verdict of each analysis an earlier results file of the same study (and shard) holds;
-    none with ``overwrite``, which first deletes the file and its journal (and a killed run's
-    temporary files either way).
+    none with ``overwrite``, which first deletes the file and its journal.
 
     Raises
     ------
@@ -464,8 +465,6 @@ def _earlier_verdicts(
         The file cannot be read, belongs to another study (the message names what differs), or
         holds another shard.
     """
-    for stale in output.parent.glob(f".{output.name}.*.tmp"):  # a killed run's
-        stale.unlink()
     if overwrite:
         remove_journal(output)
         output.unlink(missing_ok=True)
@@ -499,58 +498,6 @@ def _tally(output: Path) -> tuple[dict[str, int], int]:
     names, counts = np.unique(columns["status"], return_counts=True)
     failures = int(np.isin(columns["failure_mode"], ("", NO_FAILURE), invert=True).sum())
     return dict(zip(names.tolist(), counts.tolist(), strict=True)), failures
-
-
-@contextmanager
-def _exclusive(output: Path) -> Iterator[None]:
-    """Hold the output's lock for the run: a second run on the same output is refused.
-
-    The lock is an advisory ``flock`` on ``.<output>.lock`` beside it; the operating system
-    releases it when the process ends, however it ends, so a killed run never blocks the next.
-    Its worker processes share the lock until they have died with it, a few milliseconds later:
-    a lock whose run has died is waited for, up to `ORPHAN_WAIT_S`. (Where ``fcntl`` does not
-    exist, Windows, runs are not locked.)
-    """
-    try:
-        import fcntl
-    except ImportError:
-        yield
-        return
-    path = output.with_name(f".{output.name}.lock")
-    descriptor = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
-    try:
-        deadline = time.monotonic() + ORPHAN_WAIT_S
-        while True:
-            try:
-                fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)
-                break
-            except BlockingIOError:
-                holder = os.pread(descriptor, 32, 0).decode(errors="replace").strip() or "?"
-                if _alive(holder) or time.monotonic() > deadline:
-                    reason = (f"another rockbridge run (process {holder}) is writing this file; "
-                              "wait for it to end, or choose another output")  # fmt: skip
-                    raise InputError(output, [("", reason)]) from None
-                time.sleep(0.02)
-        os.ftruncate(descriptor, 0)
-        os.pwrite(descriptor, str(os.getpid()).encode(), 0)
-        try:
-            yield
-        finally:
-            path.unlink(missing_ok=True)
-    finally:
-        os.close(descriptor)
-
-
-def _alive(pid: str) -> bool:
-    """Whether the process of that id (as a lock file states it) exists; unknown ids count as
-    alive."""
-    try:
-        os.kill(int(pid), 0)
-    except ProcessLookupError:
-        return False
-    except (ValueError, OSError):  # not a number, or another user's process
-        return True
-    return True
 
 
 def _timestamp() -> str:
