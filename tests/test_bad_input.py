@@ -114,6 +114,8 @@ def test_an_at2_without_units_still_asks_for_them(tmp_path):
     ("change", "warning"),
     [
         (("gap: 0.12", "gap: 200.0"), "abutments.gap: 200 m is not an expansion joint"),
+        # a second reviewer (2026-11-28): a gap of 0.1 mm ran silently (0 is no joint: silent)
+        (("gap: 0.12", "gap: 0.0001"), "abutments.gap: 0.0001 m is not an expansion joint"),
         (("stiffness: 132.0e6", "stiffness: 132000.0"), "abutments.stiffness: 132000 N/m"),
         (("heights: [26.0, 20.8]", "heights: [26.0, 3.6]"), "piers.heights.1: a pier 1.38"),
         # issue 32: values that were silently accepted
@@ -135,6 +137,15 @@ def test_implausible_bridge_values_are_warnings_not_errors(tmp_path, change, war
     result = invoke("describe", path)
     assert result.exit_code == 0
     assert f"warning: {path}: {warning}" in result.output
+
+
+def test_a_bridge_without_an_end_joint_is_not_warned_about(tmp_path):
+    """A gap of 0 is a bridge without an end joint, not a slip of units: no warning (below the
+    range of expansion joints, 0.1 mm is warned of)."""
+    path = tmp_path / "b.yaml"
+    path.write_text(BRIDGE.replace("gap: 0.12", "gap: 0.0"))
+    result = invoke("describe", path)
+    assert result.exit_code == 0 and "abutments.gap" not in result.output
 
 
 @pytest.mark.parametrize(

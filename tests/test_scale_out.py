@@ -182,6 +182,25 @@ def test_shards_from_the_scheduler_s_variables(paper, tmp_path, monkeypatch):
     )
 
 
+@pytest.mark.slow
+def test_an_array_s_output_names_the_stem_of_every_task_s_part(tmp_path, monkeypatch):
+    """With --shard auto every task runs the same command: ``-o mine.h5`` names the parts
+    ``mine.part-K-of-N.h5`` (it named one file for all of them, and the second task was refused:
+    a second reviewer, 2026-11-28). An explicit --shard K/N writes where -o says."""
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setenv("SLURM_ARRAY_TASK_COUNT", "2")
+    monkeypatch.setenv("SLURM_ARRAY_TASK_MIN", "1")
+    for task in ("1", "2"):
+        monkeypatch.setenv("SLURM_ARRAY_TASK_ID", task)
+        result = invoke("run", PAPER, "--shard", "auto", "-o", tmp_path / "mine.h5")
+        assert result.exit_code == 0, result.output
+    assert sorted(p.name for p in tmp_path.glob("mine*")) == [
+        "mine.part-1-of-2.h5", "mine.part-2-of-2.h5"
+    ]  # fmt: skip
+    explicit = invoke("run", PAPER, "--shard", "1/2", "-o", tmp_path / "named.h5")
+    assert explicit.exit_code == 0 and (tmp_path / "named.h5").exists()
+
+
 @pytest.fixture
 def small_parts(tmp_path):
     """The four-analysis test study as two shards: (study file, part 1, part 2)."""
@@ -300,6 +319,8 @@ def test_a_dask_cluster_gives_the_same_file(paper, cluster, tmp_path):
     result = invoke("run", PAPER, "--scheduler", cluster.scheduler_address, "-o", output)
     assert result.exit_code == 0, result.output
     assert f"the Dask cluster at {cluster.scheduler_address}" in result.output
+    assert f"wall on the Dask cluster at {cluster.scheduler_address}, " in result.output  # not
+    # this machine's CPUs, as it said (a second reviewer, 2026-11-28)
     assert without(contents(output), "host") == without(expected, "host")
 
 

@@ -88,7 +88,7 @@ _DISPLAY = tuple(
     help="Run only shard K of N (K from 1) of the study's analyses, into its own file "
     "[default output: <output stem>.part-K-of-N.h5], for 'rockbridge merge'. 'auto' takes K (and "
     "N where the scheduler sets it) from a Kubernetes Indexed Job, AWS Batch array job or SLURM "
-    "job array.",
+    "job array; with it, --output names the stem of every task's part.",
 )
 @click.option(
     "--shard-count",
@@ -135,7 +135,8 @@ def run(
     count = workers or usable_cpus()
     if scheduler is None and (excess := excess_workers(count)) is not None:
         raise click.BadParameter(excess, param_hint="--workers")
-    resolved = _loaded(study, fidelity, output, tail, recheck, part)
+    automatic = part is not None and shard in (None, "auto")  # the same command in every task
+    resolved = _loaded(study, fidelity, output, tail, recheck, part, automatic)
     count, asked = min(count, _analyses(resolved, part)), count  # once the study's size is known
     local = scheduler is None and count > 1
     with LocalPool(count) if local else nullcontext() as pool:  # loading their kernels at once
@@ -160,8 +161,9 @@ def run(
         f"{counts.get('error', 0)} could not run; {report.failures} with a failure of the "
         "bridge"
     )
+    on = f"the Dask cluster at {scheduler}" if scheduler else f"{report.workers} worker(s)"
     say(
-        f"time: {report.wall_time_s:.2f} s wall on {report.workers} worker(s), "
+        f"time: {report.wall_time_s:.2f} s wall on {on}, "
         f"{report.solve_time_s:.2f} s solving "
         f"(summed over the {report.ran} analyses run now)"
     )
@@ -199,10 +201,12 @@ def stopped_line(stop: KeyboardInterrupt, output: Path, resume: bool = True) -> 
 
 def _loaded(
     study: Path, fidelity: str | None, output: Path | None, tail: float | None,
-    recheck: bool | None, part: tuple[int, int] | None,
+    recheck: bool | None, part: tuple[int, int] | None, automatic: bool = False,
 ):  # fmt: skip
     """The study as ``run``'s options change it (`config.study.load_study`), its warnings said;
-    a shard's output named after its part where no ``--output`` is given."""
+    a shard's output named after its part where no ``--output`` is given, or where the shard is
+    the scheduler's (``automatic``: every task of an array runs the same command, and an
+    ``--output`` named one file for all of them, the second task refused)."""
     from ..config.study import load_study
 
     resolved = load_study(study, preset=fidelity, output=output)
@@ -214,7 +218,7 @@ def _loaded(
             raise click.BadParameter(exc.problems[0][1], param_hint="--tail") from None
     for warning in resolved.warnings:
         say(f"warning: {warning}", err=True)
-    if part is not None and output is None:
+    if part is not None and (output is None or automatic):
         stem = resolved.output.stem
         name = f"{stem}.part-{part[0] + 1}-of-{part[1]}{resolved.output.suffix}"
         resolved = dataclasses.replace(resolved, output=resolved.output.with_name(name))

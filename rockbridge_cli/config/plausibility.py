@@ -26,8 +26,9 @@ WEAK_PGA_G = 0.1
 """A record in m/s² that peaks below this [g] rocks few bridges (their onsets are 0.1–0.35 g):
 where its numbers would be a record's in g (0.05–5), they may be in g."""
 
-GAP_M = 1.0
-"""End-joint gaps above this [m] are not bridge expansion joints (they are 0.01–0.3 m)."""
+GAP_M = (0.001, 1.0)
+"""End-joint gaps outside these [m], but for 0 (no joint), are not bridge expansion joints (they
+are 0.01–0.3 m): 0.1 mm is a gap in mm converted to m twice, 200 m one in mm typed as m."""
 
 BACKFILL_STIFFNESS_N_M = 1e6
 """Backfill springs below this [N/m] are not abutment backfills (tens to hundreds of MN/m)."""
@@ -104,9 +105,12 @@ def bridge_warnings(config: BridgeConfig) -> list[str]:
             )
     abutments = config.abutments
     if abutments is not None:
-        if abutments.gap > GAP_M:
+        if abutments.gap > GAP_M[1]:
             found.append(f"abutments.gap: {abutments.gap:g} m is not an expansion joint "
                          "(0.01–0.3 m): mm typed as m?")  # fmt: skip
+        elif 0.0 < abutments.gap < GAP_M[0]:
+            found.append(f"abutments.gap: {abutments.gap:g} m is not an expansion joint "
+                         "(0.01–0.3 m; 0 for none): a length converted to m twice?")  # fmt: skip
         if 0.0 < abutments.stiffness < BACKFILL_STIFFNESS_N_M:
             found.append(f"abutments.stiffness: {abutments.stiffness:g} N/m is far below a "
                          "backfill's (tens of MN/m): kN/m typed as N/m?")  # fmt: skip
