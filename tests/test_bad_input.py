@@ -459,6 +459,9 @@ def test_the_python_api_checks_its_arguments(tmp_path):
     bridge = load_bridge(tmp_path / "b.yaml").to_bridge()
     with pytest.raises(TypeError, match="real accelerations"):
         analyze(bridge, np.array([0.0, 1.0j, 0.0]), 0.01)
+    record = read_record(tmp_path / "R1.txt")  # the record, not its samples: numpy's float()
+    with pytest.raises(TypeError, match=r"\(record.acceleration, record.time_step\), not the"):
+        analyze(bridge, record, record.time_step)
     assert not (tmp_path / "out.h5").exists()
 
 

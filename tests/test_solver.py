@@ -478,6 +478,9 @@ def test_strong_pulse_overturns_a_frame():
     [
         (np.array([0.0, np.nan, 0.0]), DT, "non-finite"),
         (np.array([]), DT, "two samples"),
+        # a time column beside the accelerations, as np.loadtxt reads a file (a second reviewer,
+        # 2026-11-28: "needs at least two samples" of 3001 rows)
+        (np.zeros((3001, 2)), DT, r"1-D array of accelerations, not of shape \(3001, 2\)"),
         (np.zeros(10), 0.0, "time step"),
         (np.zeros(10), -0.01, "time step"),
     ],

@@ -185,12 +185,13 @@ def analyze(
     Raises
     ------
     TypeError
-        ``bridge`` is not a `bridge.Bridge` (a bare `Model` does not say which way it faces), or
-        the accelerations or the time step are not real numbers.
+        ``bridge`` is not a `bridge.Bridge` (a bare `Model` does not say which way it faces),
+        the accelerations or the time step are not real numbers, or a record is given in place
+        of its accelerations.
     ValueError
-        An empty, non-finite or too short record, a vertical component not of its length or
-        not finite, a non-positive time step, a knob out of its range (`fidelity.LIMITS`), or
-        an analysis too long for them (`fidelity.check_work`).
+        An empty, non-finite, too short or not one-dimensional record, a vertical component not
+        of its length or not finite, a non-positive time step, a knob out of its range
+        (`fidelity.LIMITS`), or an analysis too long for them (`fidelity.check_work`).
     """
     if not isinstance(bridge, Bridge):
         raise TypeError(
@@ -487,10 +488,16 @@ def _integrated(
 
 def _ground(acceleration: np.ndarray, time_step: float) -> np.ndarray:
     """The horizontal ground motion as a float array, checked (`analyze`'s errors) [m/s²]."""
+    if hasattr(acceleration, "acceleration") and hasattr(acceleration, "time_step"):
+        raise TypeError("analyze takes a record's accelerations and time step "
+                        "(record.acceleration, record.time_step), not the record")  # fmt: skip
     if np.iscomplexobj(acceleration) or not isinstance(time_step, (int, float, np.number)):
         raise TypeError("analyze takes real accelerations [m/s²] and a real time step [s]")
     acc = np.ascontiguousarray(acceleration, dtype=float)
-    if acc.ndim != 1 or acc.size < 2:
+    if acc.ndim != 1:
+        raise ValueError(f"the ground motion is a 1-D array of accelerations, not of shape "
+                         f"{acc.shape} (a column of times beside them?)")  # fmt: skip
+    if acc.size < 2:
         raise ValueError("the ground motion needs at least two samples")
     if not np.all(np.isfinite(acc)):
         raise ValueError("the ground motion has non-finite values")
