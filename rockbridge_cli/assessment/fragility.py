@@ -76,13 +76,16 @@ class Fragility:
 
     Attributes
     ----------
-    bridge, limit_state, measure : what it is of (measure: ``pga_g``, ``sa_g`` or ``scale``)
-    median : θ, the intensity at which half the records reach the state; None if no record
-        reaches it within the levels, or every record already at the lowest
+    bridge, limit_state, measure : what it is of (measure: ``pga_g``, ``sa_g`` or ``scale``,
+        or another of `motions.intensity.MEASURES`, whose unit every intensity below is in:
+        g for ``pga_g`` and ``sa_g``, none for ``scale``)
+    median : θ, the intensity at which half the records reach the state [the measure's unit];
+        None if no record reaches it within the levels, or every record already at the lowest
     beta : β, the log-standard deviation [-]; None with ``median``, or where the levels do not
         resolve it (every record changes state between the same two levels)
-    median_90 : 5 % and 95 % bootstrap percentiles of θ over the records (None without a fit)
-    levels : the intensity levels
+    median_90 : 5 % and 95 % bootstrap percentiles of θ over the records [the measure's unit]
+        (None without a fit)
+    levels : the intensity levels [the measure's unit]
     fractions : share of the records that reach the state at each level
     capacities : per record, the lowest level at which it reaches the state, or None
     draws : (θ, β) of each bootstrap resampling of the records that fixes both (what

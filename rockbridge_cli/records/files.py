@@ -160,8 +160,8 @@ def read_record(
     path
         the file.
     units
-        ``"g"`` or ``"m/s2"``: the units of a file that does not state them; must agree with the
-        file when it does.
+        ``"g"``, ``"m/s2"`` or ``"cm/s2"``: the units of a file that does not state them; must
+        agree with the file when it does.
     time_step
         time step of a one-column file [s]; must agree with the file when it states one.
 
