@@ -223,6 +223,18 @@ def test_merge_reports_missing_and_duplicated_analyses(small_parts, tmp_path):
     assert twice.exit_code == 0 and "2 analyses are in more than one part" in twice.output
 
 
+def test_a_merge_of_parts_of_different_splits_says_so(small_parts, tmp_path):
+    """Parts of a split into 2 shards and of one into 3 (an earlier array's part caught by a
+    glob) merged with only "duplicates" and "in no part", which name neither split (a second
+    reviewer, 2026-11-28): the merge now says the parts come from both."""
+    study, first, _ = small_parts
+    third = tmp_path / "of3.h5"
+    assert invoke("run", study, "--shard", "1/3", "-o", third).exit_code == 0
+    mixed = invoke("merge", tmp_path / "mixed.h5", first, third)
+    assert "the parts come from splits into 2 and 3 shards" in mixed.output
+    assert "splits into" not in invoke("merge", tmp_path / "same.h5", *small_parts[1:]).output
+
+
 def test_a_merge_removes_what_a_killed_merge_left(small_parts, tmp_path):
     """A merge killed while it wrote (SIGKILL: a cluster job's time limit) leaves its temporary
     file, ``.<output>.<pid>.tmp``, beside the output; the next merge into that output removes

@@ -153,7 +153,10 @@ def _written(output: Path, parts: list[Path]) -> MergeReport:
 
 
 def _check(parts: list[Path], files: list[h5py.File]) -> list[str]:
-    """Refuse parts that disagree on what must agree; flag what should."""
+    """Refuse parts that disagree on what must agree; flag what should, and parts of splits
+    into different numbers of shards (a glob of ``part-*-of-*`` that caught an earlier array's:
+    its analyses are the same study's, but the missing or duplicated ones then follow no one
+    split)."""
     for path, file in zip(parts, files, strict=True):
         _check_counts(path, file)
     first = files[0].attrs
@@ -173,6 +176,10 @@ def _check(parts: list[Path], files: list[h5py.File]) -> list[str]:
         if len(values) > 1:
             flags.append(f"{name} differs between the parts ({', '.join(values)}): their last "
                          "digits may differ from a single run's")  # fmt: skip
+    splits = sorted({shard[1] for file in files if (shard := stored_shard_of(file)) is not None})
+    if len(splits) > 1:
+        flags.append(f"the parts come from splits into {' and '.join(map(str, splits))} "
+                     "shards: are parts of an earlier array among them?")  # fmt: skip
     return flags
 
 
