@@ -10,17 +10,22 @@ Nothing in the package changes: the timers exist only in the benchmark's process
 
 Per analysis it prints the wall time and the CPU time (``time.process_time``) of
 
-- ``solve``: the integration (`core.solver.integrate`, as `Response.solve_time_s` times it);
+- ``solve``: the integration (`core.solver.integrate`, as `Response.solve_time_s` times it), or
+  on the compiled batch the call that integrates a bridge's cells (`core.batch.integrate_batch`);
 - ``around the solve``: the rest of `core.analysis.analyze` but the response — its checks, the
   fidelity, the ground motion with its tail, the kinematics (a bridge's tables, built once per
   worker and bridge), the devices' laws; on the lean path of a study that keeps no histories,
   the rest of `study.work._lean` (the cell's record, the same checks and ground motion, the
-  devices' rows; what a bridge's analyses share is prepared once per batch);
+  devices' rows; what a bridge's analyses share is prepared once per batch), and on the
+  compiled batch the rest of `study.work._integrated_together` (preparing the bridge, joining
+  the records, what each cell says); the cells' records and checks there fall in ``rest of the
+  batch``;
 - ``response``: the `Response` built from the integration (`core.analysis._response`), or on
-  the lean path its `core.analysis.summary` alone;
+  the lean path its `core.analysis.summary` alone, on the compiled batch `core.batch.summaries`;
 - ``result row``: the peak row and events kept for the file (`AnalysisResult.from_response`;
   none on the lean path);
-- ``packing``: `AnalysisResult.pack`, or on the lean path `results.packing.pack_summary`;
+- ``packing``: `AnalysisResult.pack`, or on the lean path `results.packing.pack_summary`, on
+  the compiled batch `results.packing.pack_summaries`;
 - ``journal``: the batch's commit (`study.journal.Journal.add`), shared over its analyses;
 - ``rest of the batch``: the rest of a batch (`executors.worker.run_batch`: the kernels'
   check, each cell's record, the outcomes);
@@ -62,21 +67,27 @@ from bench_study import child, measure, write_study
 
 TIMED = (
     ("solve", "rockbridge_cli.core.analysis", "integrate"),
+    ("solve", "rockbridge_cli.core.batch", "integrate_batch"),
     ("analyze", "rockbridge_cli.core.analysis", "analyze"),
     ("analyze", "rockbridge_cli.study.work", "_lean"),
+    ("analyze", "rockbridge_cli.study.work", "_integrated_together"),
     ("response", "rockbridge_cli.core.analysis", "_response"),
     ("response", "rockbridge_cli.core.analysis", "summary"),
+    ("response", "rockbridge_cli.core.batch", "summaries"),
     ("result row", "rockbridge_cli.results.packing:AnalysisResult", "from_response"),
     ("packing", "rockbridge_cli.results.packing:AnalysisResult", "pack"),
     ("packing", "rockbridge_cli.study.work", "pack_summary"),
+    ("packing", "rockbridge_cli.study.work", "pack_summaries"),
     ("journal", "rockbridge_cli.study.journal:Journal", "add"),
     ("batch", "rockbridge_cli.study.executors.worker", "run_batch"),
 )
 """What is timed: a name, where the function lives (a module, or ``module:class``), its name.
-A name may time several functions: those of the per-analysis path and of the lean path of a
-study that keeps no histories (`study.work._lean`: the analysis, `core.analysis.summary` in
-place of the `Response`, `results.packing.pack_summary` in place of the result row and its
-packing); a function the package does not have (an older checkout's) is left out, and a call
+A name may time several functions: those of the per-analysis path and of the two paths of a
+study that keeps no histories: the lean path (`study.work._lean`: the analysis,
+`core.analysis.summary` in place of the `Response`, `results.packing.pack_summary` in place of
+the result row and its packing) and the compiled batch (`study.work._integrated_together`: a
+bridge's cells of a batch, `core.batch.integrate_batch` their solve, `core.batch.summaries`
+their summaries, `results.packing.pack_summaries` their packing); a function the package does not have (an older checkout's) is left out, and a call
 within a call of the same name counts once (`_response` calls `summary`)."""
 
 SUMS: dict[str, list[float]] = {}

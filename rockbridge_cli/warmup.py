@@ -28,11 +28,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .core import geometry
+from .core import analysis, batch, geometry
 from .core.analysis import analyze
 from .core.bridge import Bridge
 from .core.devices import Damper, Tendon
-from .core.fidelity import PRESETS
+from .core.fidelity import PRESETS, resolve
 from .motions import spectra
 
 TIME_STEP = 0.01
@@ -63,12 +63,16 @@ def pulse(amplitude: float = 6.0, period: float = 1.0, duration: float = 4.0) ->
 def analysis_kernels(models: tuple[geometry.Model, ...] | None = None) -> None:
     """Call every kernel an analysis uses (compiling it, or loading it from the disk cache): an
     analysis of a short pulse at every fidelity preset, of each model (default: the studied
-    bridge and a single block)."""
+    bridge and a single block), and a study's batch of the first (`core.batch`)."""
     ground = pulse(duration=1.0)
     models = models or (studied_bridge(), geometry.single_block(1.3, 13.0, 2500.0, 9.81))
     for model in models:
         for preset in PRESETS:
             analyze(Bridge(model), ground, TIME_STEP, preset)
+    if batch.AVAILABLE:  # a study's batches (`study.work`), where the platform runs them
+        for preset in PRESETS:
+            batch.summarized(analysis.prepare(Bridge(models[0]), resolve(preset)), [ground],
+                             [TIME_STEP])  # fmt: skip
 
 
 def vertical_kernels() -> None:

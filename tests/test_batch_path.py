@@ -1,18 +1,24 @@
-"""The lean path of a study that keeps no histories (`study.work._lean`): its packed results are
-the per-analysis path's (`study.work.analyze_cell`, then `AnalysisResult.pack`), bit for bit but
-the timings, for a failing analysis, a solver error, a recheck, an exception and a record that
-could not be read. The expected bytes are computed independently by the per-analysis path, the
-one that builds a `core.analysis.Response` and an `AnalysisResult` (issue 43, item 2)."""
+"""The paths of a study that keeps no histories, the compiled batch (`study.work._batched`,
+`core.batch`) and the lean path (`study.work._lean`): their packed results are the
+per-analysis path's (`study.work.analyze_cell`, then `AnalysisResult.pack`), bit for bit but the
+timings, for a failing analysis, a solver error, a recheck, an exception, a record that could
+not be read, scaled records and devices. The expected bytes are computed independently by the
+per-analysis path, the one that builds a `core.analysis.Response` and an `AnalysisResult`
+(issue 43, item 2)."""
 
 from __future__ import annotations
 
 import dataclasses
+import time
 
+import numba
 import numpy as np
 import pytest
-from studies import SLENDER_BLOCK, write_study
+from studies import BRIDGES, SLENDER_BLOCK, write_study
 
 from rockbridge_cli.config.study import load_study
+from rockbridge_cli.core import batch
+from rockbridge_cli.core._jit import clock_ns
 from rockbridge_cli.core.fidelity import resolve
 from rockbridge_cli.results.packing import NUMBERS, Packed
 from rockbridge_cli.study import work
@@ -70,6 +76,14 @@ def taken(grid: Grid) -> list[bool]:
     return [work._lean(grid, cell, {}) is not None for cell in every_cell(grid)]
 
 
+def batched(grid: Grid, cells: list[Cell] | None = None) -> list[int]:
+    """The indices of the cells that the compiled batch integrates."""
+    return sorted(work._batched(grid, cells or every_cell(grid)))
+
+
+needs_batches = pytest.mark.skipif(not batch.AVAILABLE, reason="no compiled batch here")
+
+
 def test_a_batch_is_the_per_analysis_path_bit_for_bit(grid):
     finished = assert_as_per_analysis(grid)
     assert taken(grid) == [True, True, False] * 3  # R3 could not be read
@@ -78,10 +92,30 @@ def test_a_batch_is_the_per_analysis_path_bit_for_bit(grid):
     assert [status for status, _ in said[2::3]] == ["error"] * 3
 
 
+@needs_batches
+def test_the_compiled_batch_takes_every_readable_record_of_a_bridge_without_devices(grid):
+    assert batched(grid) == [0, 1, 3, 4, 6, 7]  # R3 could not be read
+    finished = work.run_cells(grid, every_cell(grid))
+    for one in finished[:2]:
+        assert 0.0 < one[0].solve_time_s <= one[0].busy_s < 10.0  # the kernel's clock [s]
+
+
+@needs_batches
+def test_scaled_records_are_the_per_analysis_paths(grid):
+    grid = dataclasses.replace(grid, measure="pga_g")
+    scaled = [Cell(i, b, r, 0.1 * (i + 1), 0.5 + 0.3 * i)  # an IDA's cells: levels and factors
+              for i, (b, r) in enumerate([(0, 0), (0, 1), (1, 0), (1, 1), (2, 1)])]  # fmt: skip
+    analyzed = work.run_cells(grid, scaled)
+    assert batched(grid, scaled) == [0, 1, 2, 3, 4]
+    for cell, (_, packed) in zip(scaled, analyzed, strict=True):
+        assert timeless(packed) == timeless(work.analyze_cell(grid, cell).pack()), cell
+
+
 def test_a_solver_error_is_the_per_analysis_paths(grid):
     few = dataclasses.replace(grid, fidelity=grid.fidelity.changed(max_events=2))
     finished = assert_as_per_analysis(few)
     assert {f.status for f in finished if f.record != "R3"} == {"solver_error"}
+    assert batched(few) == ([0, 1, 3, 4, 6, 7] if batch.AVAILABLE else [])
 
 
 def test_a_recheck_is_the_per_analysis_paths(grid):
@@ -90,6 +124,7 @@ def test_a_recheck_is_the_per_analysis_paths(grid):
     assert_as_per_analysis(rechecking)
     lean = work._lean(rechecking, every_cell(grid)[6], {})
     assert lean is not None and lean.rechecked >= 1  # the block's failure is run again
+    assert 6 not in batched(rechecking)  # (by the lean path)
 
 
 def test_an_exception_takes_the_per_analysis_path(grid):
@@ -100,6 +135,7 @@ def test_an_exception_takes_the_per_analysis_path(grid):
     broken = dataclasses.replace(grid, records=tuple(records))
     finished = assert_as_per_analysis(broken)
     assert taken(broken) == [True, False, False] * 3
+    assert batched(broken) == ([0, 3, 6] if batch.AVAILABLE else [])
     assert finished[1].message == "ValueError: the ground motion has non-finite values"
 
 
@@ -109,5 +145,35 @@ def test_devices_take_the_lean_path(tmp_path):
     grid = Grid.of(load_study(path))
     assert_as_per_analysis(grid)
     assert taken(grid) == [True, True]
+    assert batched(grid) == []  # the batch is not compiled for devices
     lean = work._lean(grid, every_cell(grid)[0], {})
     assert lean is not None and lean.devices.size == 4  # four dissipators in its config
+
+
+@needs_batches
+def test_a_mirrored_bridge_is_the_per_analysis_paths(tmp_path):
+    mirrored = tmp_path / "mirrored.yaml"  # the tall pier on the right: the core's frame flips
+    text = (BRIDGES / "studied-hbar2.00.yaml").read_text(encoding="utf-8")
+    mirrored.write_text(text.replace("[26.0, 13.0]", "[13.0, 26.0]"), encoding="utf-8")
+    path = write_study(tmp_path, bridges=(), bridge_files=(mirrored,),
+                       extra="fidelity: fast\noutput: {histories: none}\n")  # fmt: skip
+    grid = Grid.of(load_study(path))
+    assert grid.bridges[0].bridge.sign == -1.0
+    finished = assert_as_per_analysis(grid)
+    assert batched(grid) == [0, 1]
+    assert all(f.status == "ok" for f in finished)
+
+
+@numba.njit
+def clock_now() -> int:
+    """The kernels' clock, read in a compiled function [ns]."""
+    return clock_ns()
+
+
+@needs_batches
+def test_the_kernels_clock_is_pythons():
+    clock_now()  # compiled
+    before = time.monotonic_ns()
+    read = clock_now()
+    after = time.monotonic_ns()
+    assert before <= read <= after  # time.monotonic_ns reads the same clock

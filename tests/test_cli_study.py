@@ -158,6 +158,8 @@ def test_ctrl_c_keeps_what_finished(tmp_path, monkeypatch):
         return solve(*args, **kwargs)
 
     monkeypatch.setattr("rockbridge_cli.core.analysis.solve", interrupted)
+    monkeypatch.setattr("rockbridge_cli.core.batch.AVAILABLE", False)  # the lean path: the
+    # compiled batch has no Python call per analysis to stop in (test_run_signals stops one)
     result = invoke("run", write_study(tmp_path), "--workers", "1")
     assert result.exit_code == 130 and "Traceback" not in result.output
     assert "interrupted: the analyses finished so far are in results/study.h5" in result.output
@@ -542,7 +544,7 @@ def test_workers_beyond_a_multiple_of_the_cpus_are_refused_at_once(tmp_path, mon
 def interrupted_run(tmp_path, monkeypatch, extra: str, after: int):
     """Run a study of ``extra`` on one worker, stopped by Ctrl-C at analysis ``after``; returns
     the results file it leaves (analyses 1 … after − 1 in it). It stops in `core.analysis.solve`,
-    which both paths of a study call (`study.work.run_cells`)."""
+    which the per-analysis and lean paths of a study call (`study.work.run_cells`)."""
     kernels.prepare()  # the kernels' warm-up first: its analyses are not the study's
     calls = []
 
@@ -553,6 +555,8 @@ def interrupted_run(tmp_path, monkeypatch, extra: str, after: int):
         return solve(*args, **kwargs)
 
     monkeypatch.setattr("rockbridge_cli.core.analysis.solve", stopping)
+    monkeypatch.setattr("rockbridge_cli.core.batch.AVAILABLE", False)  # the lean path: the
+    # compiled batch has no Python call per analysis to stop in (test_run_signals stops one)
     result = invoke("run", write_study(tmp_path, extra=extra), "--workers", "1")
     assert result.exit_code == 130, result.output
     monkeypatch.setattr("rockbridge_cli.core.analysis.solve", solve)

@@ -21,6 +21,7 @@ import pytest
 from studies import BRIDGES, contents, write_study
 
 from rockbridge_cli.config.study import load_study
+from rockbridge_cli.core import batch
 from rockbridge_cli.errors import InputError
 from rockbridge_cli.results import read_peaks
 from rockbridge_cli.results.writing import ResultsWriter
@@ -33,7 +34,7 @@ pytestmark = pytest.mark.skipif(os.name != "posix", reason="POSIX signals")
 SLOW_RUN = """
 import os, sys, time
 from rockbridge_cli.cli import main
-from rockbridge_cli.core import analysis
+from rockbridge_cli.core import analysis, batch
 from rockbridge_cli.study import kernels
 
 kernels.prepare()  # the kernels' warm-up first (and inherited by the workers): not slowed down
@@ -47,34 +48,51 @@ def slow(*args, **kwargs):
     time.sleep(0.5)
     return solve(*args, **kwargs)
 
-analysis.solve = slow  # what a worker calls once per analysis on either path (a study that
-# keeps no histories calls no `analyze`: slowing that left a spectrum's map too fast to stop)
+analysis.solve = slow  # what a worker calls once per analysis on the per-analysis and lean
+# paths (a study that keeps no histories calls no `analyze`: slowing that left a spectrum's map
+# too fast to stop)
+summarized = batch.summarized
+
+def slow_batch(prepared, motions, time_steps):
+    with open(started, "a") as file:
+        file.write(f"{os.getpid()}\\n" * len(motions))
+    time.sleep(0.5 * len(motions))
+    return summarized(prepared, motions, time_steps)
+
+batch.summarized = slow_batch  # the compiled batch's, once per bridge and batch (`core.batch`)
 main(sys.argv[2:], prog_name="rockbridge")
 """
 
-LONG_KERNEL = """
+LONG_CALL = """
 import os, sys, time
 from rockbridge_cli.cli import main
-from rockbridge_cli.core import analysis
+from rockbridge_cli.core import MODULE
 from rockbridge_cli.study import kernels
 
 kernels.prepare()  # the kernels' warm-up first: not slowed down
 
 started = sys.argv[1]
-integrate = analysis.integrate
+compiled = MODULE.KERNEL
 
 def long(*args):
     with open(started, "a") as file:
         file.write(f"{os.getpid()}\\n")
     finish = time.perf_counter() + 0.3
-    while True:  # the compiled integrator again and again: a signal arrives while it runs
-        result = integrate(*args)
+    while True:  # the compiled kernel again and again: a signal arrives while it runs
+        result = compiled(*args)
         if time.perf_counter() > finish:
             return result
 
-analysis.integrate = long
+MODULE.KERNEL = long
 main(sys.argv[2:], prog_name="rockbridge")
 """
+"""A run whose compiled kernel ``MODULE.KERNEL`` takes at least 0.3 s a call."""
+
+LONG_KERNEL = LONG_CALL.replace("MODULE", "analysis").replace("KERNEL", "integrate")
+"""The integrator, once per analysis (the per-analysis and lean paths)."""
+
+LONG_BATCH = LONG_CALL.replace("MODULE", "batch").replace("KERNEL", "integrate_batch")
+"""The compiled batch, once per bridge and batch (`core.batch`)."""
 
 
 def start_run(
@@ -171,6 +189,30 @@ def test_a_signal_in_the_compiled_integrator_saves_the_finished_analyses(
     report = run_study(load_study(path), workers=1)
     assert report.resumed == len(saved) and report.ran == 4 - len(saved)
     assert contents(tmp_path / "out.h5") == expected
+
+
+@pytest.mark.skipif(not batch.AVAILABLE, reason="no compiled batch here")
+def test_a_signal_in_the_compiled_batch_saves_the_finished_analyses(tmp_path):
+    """The same for a study that keeps no histories, whose analyses of a bridge run in one
+    compiled call a batch (`core.batch`): SIGTERM while it runs stops the run once the batch is
+    journalled, and the next run resumes to the file an uninterrupted run writes."""
+    output = tmp_path / "out.h5"
+    path = write_study(tmp_path, extra=f"output: {{path: {output}, histories: none}}\n")
+    run_study(load_study(path), workers=1)
+    expected = contents(output)
+    output.unlink()
+    child, started = start_run(tmp_path, path, workers=1, script=LONG_BATCH)
+    wait_for(lambda: len(started.read_text().split()) >= 2 if started.exists() else False)
+    child.send_signal(signal.SIGTERM)  # the second batch is integrating
+    child.wait(timeout=120)
+    err = (tmp_path / "stderr.txt").read_text()
+    assert child.returncode == 143, err
+    assert "terminated (SIGTERM): " in err and "Traceback" not in err
+    saved = read_peaks(output)
+    assert 1 <= len(saved) < 4
+    report = run_study(load_study(path), workers=1)
+    assert report.resumed == len(saved) and report.ran == 4 - len(saved)
+    assert contents(output) == expected
 
 
 @pytest.mark.slow

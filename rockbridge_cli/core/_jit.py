@@ -8,10 +8,14 @@ check that both give the same numbers.
 
 from __future__ import annotations
 
+import time
 from typing import Any
 
 import numba
+from llvmlite import ir
 from numba import types
+from numba.core import cgutils
+from numba.extending import intrinsic
 
 jit = numba.njit(cache=True, nogil=True, fastmath=False, error_model="numpy")
 
@@ -36,3 +40,30 @@ the arrays they read (the tables, the record) outlive the call. Compiled with co
 inlined table look-up counted them in and out, two atomic operations each; perf put 24 % of a
 `default` solve's CPU in them. Such a kernel may call a counted one (`jit`), which counts its
 own."""
+
+
+CLOCK = getattr(time, "CLOCK_MONOTONIC", None)
+"""The clock a compiled kernel reads (`clock_ns`): the one `time.perf_counter` reads on Linux and
+macOS; None where the C library has no ``clock_gettime`` (Windows), where no kernel reads one."""
+
+
+@intrinsic
+def clock_ns(typingctx):
+    """The monotonic clock `CLOCK` in a compiled kernel, as `time.monotonic_ns` reads it [ns]:
+    the C library's ``clock_gettime``, linked by name (so that a cached kernel finds it in any
+    process). Only where `CLOCK` is not None."""
+    assert CLOCK is not None, "no clock_gettime on this platform"
+
+    def codegen(context, builder, signature, args):
+        i32, i64 = ir.IntType(32), ir.IntType(64)
+        timespec = ir.LiteralStructType([i64, i64])  # seconds, nanoseconds (LP64)
+        now = builder.alloca(timespec)
+        gettime = cgutils.get_or_insert_function(
+            builder.module, ir.FunctionType(i32, [i32, timespec.as_pointer()]), "clock_gettime"
+        )
+        builder.call(gettime, [ir.Constant(i32, CLOCK), now])
+        seconds = builder.load(builder.gep(now, [ir.Constant(i32, 0), ir.Constant(i32, 0)]))
+        nanoseconds = builder.load(builder.gep(now, [ir.Constant(i32, 0), ir.Constant(i32, 1)]))
+        return builder.add(builder.mul(seconds, ir.Constant(i64, 1_000_000_000)), nanoseconds)
+
+    return types.int64(), codegen

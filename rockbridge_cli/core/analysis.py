@@ -141,7 +141,8 @@ def dcr_backfill(model: Model, u_deck: float) -> float:
     return max(0.0, u_deck - model.u_jo) / model.u_ab
 
 
-_ABSENT_IN_A_BLOCK = ("u_deck", "v_deck", "theta_deck", "theta2", "u_pier2")
+ABSENT_IN_A_BLOCK = ("u_deck", "v_deck", "theta_deck", "theta2", "u_pier2")
+"""The peaks a single block has no part for (its massless twin and deck): NaN in its results."""
 
 
 def analyze(
@@ -273,13 +274,19 @@ def ground_motion(
 ) -> GroundMotion:
     """A record checked (`analyze`'s errors) and made the integrator's ground motion; arguments
     as in `analyze`, ``g`` the bridge's gravity [m/s²], which decides a free flight."""
-    acc = _ground(acceleration, time_step)
-    knobs = fidelity.knobs
-    check_work(knobs, acc.size, time_step)
+    acc, knobs = check_motion(acceleration, time_step, fidelity), fidelity.knobs
     up = None if vertical is None else _vertical(vertical, acc.size)
     samples, flight = acc.size, None if up is None else _flight(up, g)
     acc, up = _integrated(acc, up, flight, int(round(knobs["tail"] / time_step)))
     return GroundMotion(acc, up, flight, samples)
+
+
+def check_motion(acceleration: np.ndarray, time_step: float, fidelity: Fidelity) -> np.ndarray:
+    """A horizontal record as a float array, checked as `analyze` checks it at ``fidelity``
+    (its errors) [m/s²]; ``time_step`` [s]."""
+    acc = _ground(acceleration, time_step)
+    check_work(fidelity.knobs, acc.size, time_step)
+    return acc
 
 
 def solve(
@@ -349,7 +356,7 @@ def summary(bridge: Bridge, result: Integration) -> Summary:
     model, sign = bridge.model, bridge.sign
     events, peaks = result.events, result.peaks
     if kind(model) == "single-block":  # the block's massless twin and deck are not results
-        peaks[[PEAK_NAMES.index(name) for name in _ABSENT_IN_A_BLOCK]] = np.nan
+        peaks[[PEAK_NAMES.index(name) for name in ABSENT_IN_A_BLOCK]] = np.nan
     kinds = events[:, EVENT_KIND].astype(int)
     if result.error != NO_ERROR:  # the integrator stopped early: no peak of the record is known
         peaks[:] = np.nan

@@ -40,6 +40,7 @@ from .layout import (
 
 if TYPE_CHECKING:
     from ..core.analysis import Response, Summary
+    from ..core.batch import Summaries
 
 NUMBERS = tuple(name for name in PEAK_COLUMNS if name not in TEXT_COLUMNS)
 """The numeric columns of the peak table, in the order a packed result stores them (counts too:
@@ -291,6 +292,52 @@ def pack_summary(
     events = event_rows(summary.events._asdict())
     return Packed(bridge, record, texts, numbers.tobytes(), events.tobytes(), b"",
                   devices.astype(DEVICE_RECORD).tobytes())  # fmt: skip
+
+
+def pack_summaries(
+    bridge: str,
+    records: Sequence[tuple[str, str, float, float]],
+    summaries: Summaries,
+    timings: np.ndarray,
+) -> list[Packed]:
+    """The packed results of a batch of analyses of one bridge without devices that ran and keep
+    no histories, straight from their summaries (`core.batch.Summaries`): each the same bytes as
+    `pack_summary` of its analysis (``rechecked`` 0), the numbers and events packed by column
+    for the whole batch.
+
+    Parameters
+    ----------
+    bridge
+        The bridge's id.
+    records
+        Each analysis's record: its id, the record before scaling, the intensity level and the
+        factor (the columns ``record``, ``base_record``, ``intensity`` and ``scale``).
+    summaries
+        What the analyses say, in the order of ``records``.
+    timings
+        (n, 2) the wall times of each integration and of each analysis [s].
+    """
+    count = len(records)
+    numbers = np.empty((count, len(NUMBERS)), _SAMPLE)
+    numbers[:, _PEAKS_AT] = summaries.peaks.reshape(count, -1)
+    starts = summaries.event_starts
+    levels, scales = [r[2] for r in records], [r[3] for r in records]
+    numbers[:, _SUMMARY_AT] = np.column_stack(
+        [
+            *(getattr(summaries, name) for name in _SUMMARY_NUMBERS),
+            timings[:, 0], timings[:, 1], np.diff(starts), np.zeros(count), levels, scales,
+        ]
+    )  # fmt: skip
+    rows = event_rows(summaries.events._asdict())
+    packed, model = [], summaries.model
+    for (record, base, _, _), row, failure_mode, status, start, end in zip(
+        records, numbers, summaries.failure_mode, summaries.status, starts[:-1].tolist(),
+        starts[1:].tolist(), strict=True,
+    ):  # fmt: skip
+        texts = {"base_record": base, "failure_mode": failure_mode, "model": model}
+        packed.append(Packed(bridge, record, _texts(texts | outcome(status)), row.tobytes(),
+                             rows[start:end].tobytes(), b"", b""))  # fmt: skip
+    return packed
 
 
 def device_rows(devices: tuple[Device, ...], peaks: dict[str, tuple[float, float]]) -> np.ndarray:

@@ -17,12 +17,17 @@ from ..results.packing import (
     device_rows,
     device_states,
     outcome,
+    pack_summaries,
     pack_summary,
 )
 from .grid import BridgeCase, Cell, Grid, RecordCase
 
+NO_DEVICE_STATES = tuple(device_states(np.zeros(0)).values())
+"""`Finished`'s device states of an analysis of a bridge without devices: NaN."""
+
 if TYPE_CHECKING:
     from ..core.analysis import Prepared, Response, Summary
+    from ..core.batch import Summaries
 
 
 class Finished(NamedTuple):
@@ -69,14 +74,19 @@ def run_cells(grid: Grid, cells: Sequence[Cell]) -> list[tuple[Finished, Packed]
     """Analyze ``cells``: what each says, and its packed result. An exception fails only its own
     analysis.
 
-    A study that keeps no histories takes the lean path (`_lean`) where it can: what the
+    A study that keeps no histories integrates the analyses of each bridge without devices in
+    one compiled call (`_batched`), and takes the lean path (`_lean`) where it cannot: what the
     analyses of a bridge share is prepared once per bridge and batch, and each result is packed
-    straight from its integration's `core.analysis.Summary` (`pack_summary`); the same bytes
-    as the per-analysis path (`analyze_cell`), which the others take.
+    straight from its integration's `core.analysis.Summary` (`pack_summary`). Both give the same
+    bytes as the per-analysis path (`analyze_cell`), which the others take.
     """
+    batched = {} if grid.keep else _batched(grid, cells)
     analyzed = []
     shared: dict[tuple[int, bool], Prepared] = {}  # `_lean`'s
     for cell in cells:
+        if cell.index in batched:
+            analyzed.append(batched[cell.index])
+            continue
         start = time.perf_counter()
         lean = None if grid.keep else _lean(grid, cell, shared)
         if lean is not None:
@@ -92,6 +102,74 @@ def run_cells(grid: Grid, cells: Sequence[Cell]) -> list[tuple[Finished, Packed]
         )  # fmt: skip
         analyzed.append((finished, packed))
     return analyzed
+
+
+def _batched(grid: Grid, cells: Sequence[Cell]) -> dict[int, tuple[Finished, Packed]]:
+    """The cells of a bridge without devices, under a record that was read and has no vertical
+    component, integrated bridge by bridge in one compiled call each (`core.batch`), by their
+    index: what each says and its packed result, the same bytes as `_lean`'s. Left to the
+    others: the rest, a motion that `core.analysis.check_motion` refuses, a batch that raised,
+    and an analysis to recheck (`_near_a_limit`).
+
+    The integration's wall time of each is measured by the kernel; its analysis's wall time
+    (``wall_time_s``, ``busy_s``) is that plus an equal share of what its bridge's batch spent
+    around the integrations before packing (preparing the bridge, joining the records,
+    summarizing).
+    """
+    from ..core import analysis, batch  # the compiled kernels: a worker's, not the parent's
+
+    if not batch.AVAILABLE:
+        return {}
+    groups: dict[int, list[tuple[Cell, RecordCase, np.ndarray]]] = {}
+    for cell in cells:
+        case, record = grid.bridges[cell.bridge_index], grid.record_of(cell)
+        if case.bridge.devices or record.acceleration is None or record.vertical is not None:
+            continue
+        try:
+            checked = analysis.check_motion(record.acceleration, record.time_step, grid.fidelity)
+        except (TypeError, ValueError):  # the per-analysis path says why
+            continue
+        groups.setdefault(cell.bridge_index, []).append((cell, record, checked))
+    done = {}
+    for index, group in groups.items():
+        try:
+            done.update(_integrated_together(grid, grid.bridges[index], group))
+        except Exception:  # the per-analysis path records it with its message
+            continue
+    return done
+
+
+def _integrated_together(
+    grid: Grid, case: BridgeCase, group: list[tuple[Cell, RecordCase, np.ndarray]]
+) -> dict[int, tuple[Finished, Packed]]:
+    """`_batched` of the cells of one bridge, each with its record and its accelerations as
+    `core.analysis.check_motion` made them [m/s²]."""
+    from ..core import analysis, batch
+
+    start = time.perf_counter()
+    prepared = analysis.prepare(case.bridge, grid.fidelity)
+    records = [record for _, record, _ in group]
+    found = batch.summarized(
+        prepared, [motion for _, _, motion in group], [r.time_step for r in records]
+    )
+    kept = ~_near_limits(found, grid.recheck is not None)
+    around = (time.perf_counter() - start - np.nansum(found.solve_time)) / len(group)
+    timings = np.column_stack([found.solve_time, found.solve_time + around])
+    packed = pack_summaries(
+        case.id, [(r.id, r.base, r.level, r.scale) for r in records], found, timings
+    )
+    done = {}
+    for (cell, record, _), ok, one, status, mode, dcr, (solve, wall) in zip(
+        group, kept.tolist(), packed, found.status, found.failure_mode,
+        found.dcr_backfill.tolist(), timings.tolist(), strict=True,
+    ):  # fmt: skip
+        if ok:
+            said = outcome(status)
+            done[cell.index] = (Finished(
+                cell, case.id, record.id, said["status"], said["message"], solve, mode, dcr,
+                wall, *NO_DEVICE_STATES,
+            ), one)  # fmt: skip
+    return done
 
 
 class Lean(NamedTuple):
@@ -216,6 +294,16 @@ def _analyzed(grid: Grid, bridge: BridgeCase, record: RecordCase) -> AnalysisRes
     )
     result.values["rechecked"] = checked
     return result
+
+
+def _near_limits(found: Summaries, recheck: bool) -> np.ndarray:
+    """`_near_a_limit` of each analysis of a batch, where the study rechecks (else none)."""
+    if not recheck:
+        return np.zeros(len(found.failure_mode), bool)
+    near = np.array([mode != NO_FAILURE for mode in found.failure_mode], bool)
+    for ratios in (found.dcr_backfill, found.dcr_overturning):
+        near |= ratios >= 1.0 - RECHECK_MARGIN  # NaN: no
+    return near
 
 
 def _near_a_limit(response: Response | Summary) -> bool:
