@@ -87,8 +87,9 @@ study that keeps no histories: the lean path (`study.work._lean`: the analysis,
 `core.analysis.summary` in place of the `Response`, `results.packing.pack_summary` in place of
 the result row and its packing) and the compiled batch (`study.work._integrated_together`: a
 bridge's cells of a batch, `core.batch.integrate_batch` their solve, `core.batch.summaries`
-their summaries, `results.packing.pack_summaries` their packing); a function the package does not have (an older checkout's) is left out, and a call
-within a call of the same name counts once (`_response` calls `summary`)."""
+their summaries, `results.packing.pack_summaries` their packing); a function the package does
+not have (an older checkout's) is left out, and a call within a call of the same name counts once
+(`_response` calls `summary`)."""
 
 SUMS: dict[str, list[float]] = {}
 """Per timed name in this process: wall time [s], CPU time [s], calls."""
