@@ -277,7 +277,8 @@ def median_row(rows: list[dict]) -> dict:
 START = """
 import json, sys, time
 from rockbridge_cli.config.bridge import load_bridge  # the parent's modules, which a fork inherits
-from rockbridge_cli.study.run import run_study
+from rockbridge_cli.config.study import load_study
+from rockbridge_cli.study.executors import LocalPool
 models = [load_bridge(path).to_bridge().model for path in sys.argv[1:]]
 clock = [time.perf_counter()]
 import numba
@@ -285,6 +286,7 @@ clock.append(time.perf_counter())
 import rockbridge_cli.core.analysis, rockbridge_cli.warmup
 clock.append(time.perf_counter())
 from rockbridge_cli.study import kernels
+kernels.own_process()  # as a worker (`executors.worker.start_worker`)
 kernels.prepare(compiling=False)
 clock.append(time.perf_counter())
 from rockbridge_cli.core.tables import tabulated
@@ -295,8 +297,9 @@ scipy = sorted(m for m in sys.modules if m.startswith("scipy."))
 print(json.dumps({"clock": clock, "scipy": scipy}))
 """
 """A worker's start, step by step, in a process that holds what a worker inherits from its
-parent (the study's modules): numba's import, the package's compiled modules (scipy's too,
-where they import it), the kernels loaded from numba's cache, the tables of the bridges."""
+parent (the modules that load a study and start the pool): numba's import, the package's
+compiled modules (scipy's too, where they import it), the kernels loaded from numba's cache as a
+worker loads them (`study.kernels.own_process`), the tables of the bridges."""
 
 STEPS = ("import numba", "import the kernels' modules", "load the kernels", "tables of 3 bridges")
 

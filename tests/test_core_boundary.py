@@ -7,8 +7,10 @@ from __future__ import annotations
 
 import ast
 import json
+import os
 from pathlib import Path
 
+import pytest
 from conftest import fresh_python
 
 import rockbridge_cli.core
@@ -238,3 +240,31 @@ def test_a_worker_loads_no_scipy_subpackage():
         "print(sorted(m for m in set(sys.modules) - baseline if m.startswith('scipy')))\n"
     )
     assert fresh_python(code) == "[]"
+
+
+@pytest.mark.skipif(os.environ.get("NUMBA_DISABLE_JIT") == "1", reason="no compiled kernel")
+def test_rockbridge_s_own_processes_load_the_kernels_without_numba_s_blas_probe():
+    """When its compiled code first loads, numba imports ``scipy.linalg`` (0.18 s by ``python
+    -X importtime``, scipy 1.17) to learn whether the ``np.convolve`` of compiled code may use
+    BLAS. A ``rockbridge`` command and a local pool's worker (`study.kernels.own_process`) skip
+    that probe (issue 43: a worker's start); another program's process keeps it, and numba
+    there is as it was. The kernels give the same bits either way: an analysis of the studied
+    bridge under a pulse at `default`, in both processes."""
+    code = (
+        "import sys\n"
+        "from rockbridge_cli.study import kernels\n"
+        "if {own}: kernels.own_process()\n"
+        "kernels.prepare()\n"
+        "import numba.np.arraymath\n"
+        "from rockbridge_cli import warmup\n"
+        "from rockbridge_cli.core.bridge import Bridge\n"
+        "response = warmup.analyze(Bridge(warmup.studied_bridge()), warmup.pulse(), "
+        "warmup.TIME_STEP, 'default')\n"
+        "print('scipy.linalg' in sys.modules, numba.np.arraymath._HAVE_BLAS, "
+        "[value.hex() for peak in response.peaks.values() for value in peak])\n"
+    )
+    own = fresh_python(code.format(own=True))
+    other = fresh_python(code.format(own=False))
+    assert own.startswith("False False [") and other.startswith("True True [")
+    assert own.split(" ", 2)[2] == other.split(" ", 2)[2]
+    assert "nan" not in own.split(" ", 2)[2]  # the peaks were computed

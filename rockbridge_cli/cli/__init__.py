@@ -31,6 +31,7 @@ import click
 from .. import __version__
 from ..errors import InputError
 from ..interrupts import exit_status, stoppable, stopped_by
+from ..study.kernels import own_process
 
 
 class _Group(click.Group):
@@ -101,7 +102,9 @@ def plot() -> None:
 def entry() -> None:
     """The ``rockbridge`` console script: `main`, after which Ctrl-C is left to the system, so
     that one pressed while the interpreter tears down ends it quietly (Python printed
-    "Exception ignored … KeyboardInterrupt" and exited 0)."""
+    "Exception ignored … KeyboardInterrupt" and exited 0). The process is rockbridge's own
+    (`study.kernels.own_process`)."""
+    own_process()
     try:
         main()
     finally:

@@ -127,8 +127,6 @@ def run(
     from ..cpus import excess_workers, usable_cpus
     from ..interrupts import exit_status
     from ..study.executors import LocalPool
-    from ..study.run import run_study
-    from .progress import ProgressDisplay
 
     chosen = workers is not None
     part = _shard(shard, shard_count)
@@ -140,6 +138,9 @@ def run(
     count, asked = min(count, _analyses(resolved, part)), count  # once the study's size is known
     local = scheduler is None and count > 1
     with LocalPool(count) if local else nullcontext() as pool:  # loading their kernels at once
+        from ..study.run import run_study  # imported as the workers start: not theirs
+        from .progress import ProgressDisplay
+
         heading = _heading(resolved, count, scheduler, chosen, part, asked)
         display = ProgressDisplay(heading=heading, growing=_in_rounds(resolved))
         try:

@@ -8,6 +8,7 @@ check that both give the same numbers.
 
 from __future__ import annotations
 
+import sys
 import time
 from typing import Any
 
@@ -67,3 +68,24 @@ def clock_ns(typingctx):
         return builder.add(builder.mul(seconds, ir.Constant(i64, 1_000_000_000)), nanoseconds)
 
     return types.int64(), codegen
+
+
+def skip_blas_probe() -> None:
+    """Spare this process the import of ``scipy.linalg`` (0.17–0.5 s, measured 2026-11-28 with
+    scipy 1.17; a third of what a worker spent loading its kernels) that numba makes when its
+    compiled code first loads, only to learn whether BLAS is there for the ``np.convolve`` and
+    ``np.correlate`` of compiled code (``numba.np.arraymath._HAVE_BLAS``), which no kernel here
+    calls: numba is told there is none. Nothing else changes: a compiled ``np.dot`` would still
+    import it when compiled, and the kernels compile to the same code either way.
+
+    For rockbridge's own processes alone (`study.kernels.own_process`): in another program's,
+    its compiled ``np.convolve`` would lose BLAS. Does nothing where numba has already probed,
+    or where ``scipy.linalg``'s BLAS is already imported (the probe is then cheap)."""
+    hidden = "scipy.linalg.cython_blas"
+    if "numba.np.arraymath" in sys.modules or hidden in sys.modules:
+        return
+    sys.modules[hidden] = None  # type: ignore[assignment]  # an import of it fails at once
+    try:
+        import numba.np.arraymath  # noqa: F401  # numba's probe, which now finds no BLAS
+    finally:
+        del sys.modules[hidden]

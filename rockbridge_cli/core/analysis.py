@@ -19,7 +19,15 @@ from .fidelity import Fidelity, check_work, resolve
 from .geometry import Model, kind
 from .kinematics import EXACT, Displacements, Kinematics, displacements, simplified
 from .memo import BoundedCache
-from .quantities import EVENT_NAMES, HISTORY_UNITS, PEAK_NAMES, SIGNIFICANT_RATE
+from .quantities import (
+    EVENT_NAMES,
+    HISTORY_UNITS,
+    PEAK_NAMES,
+    PEAK_U_DECK,
+    PEAK_U_PIER1,
+    PEAK_U_PIER2,
+    SIGNIFICANT_RATE,
+)
 from .solver import (
     EVENT_KIND,
     EVENT_MODE,
@@ -347,9 +355,6 @@ class Summary(NamedTuple):
     rejected_steps: int
 
 
-_U_DECK, _U_PIER1, _U_PIER2 = (PEAK_NAMES.index(name) for name in ("u_deck", "u_pier1", "u_pier2"))
-
-
 def summary(bridge: Bridge, result: Integration) -> Summary:
     """The `Summary` of an integration of ``bridge`` (`solver.Integration`, whose peaks it masks
     in place)."""
@@ -362,7 +367,7 @@ def summary(bridge: Bridge, result: Integration) -> Summary:
         peaks[:] = np.nan
     impacts_at = kinds == IMPACT
     onsets = events[kinds == ONSET, EVENT_TIME]
-    u_pier2 = peaks[_U_PIER2, 0] if model.m2 else 0.0
+    u_pier2 = peaks[PEAK_U_PIER2, 0] if model.m2 else 0.0
     return Summary(
         model=kind(model),
         peaks=peaks,
@@ -381,8 +386,8 @@ def summary(bridge: Bridge, result: Integration) -> Summary:
         n_impacts_significant=int(
             np.count_nonzero(np.abs(events[impacts_at, EVENT_RATE_BEFORE]) > SIGNIFICANT_RATE)
         ),
-        dcr_backfill=dcr_backfill(model, peaks[_U_DECK, 0]),
-        dcr_overturning=max(peaks[_U_PIER1, 0], u_pier2) / model.B,
+        dcr_backfill=dcr_backfill(model, peaks[PEAK_U_DECK, 0]),
+        dcr_overturning=max(peaks[PEAK_U_PIER1, 0], u_pier2) / model.B,
         status=_status(result),
         steps=int(result.steps),
         rejected_steps=int(result.rejected),

@@ -20,7 +20,7 @@ import numpy as np
 from ._jit import CLOCK, clock_ns, jit
 from .analysis import ABSENT_IN_A_BLOCK, Events, Prepared
 from .geometry import kind
-from .quantities import PEAK_NAMES, SIGNIFICANT_RATE
+from .quantities import PEAK_NAMES, PEAK_U_DECK, PEAK_U_PIER1, PEAK_U_PIER2, SIGNIFICANT_RATE
 from .solver import (
     EVENT_KIND,
     EVENT_MODE,
@@ -180,9 +180,6 @@ def summarized(
     return summaries(prepared, found)
 
 
-_U_DECK, _U_PIER1, _U_PIER2 = (PEAK_NAMES.index(name) for name in ("u_deck", "u_pier1", "u_pier2"))
-
-
 def summaries(prepared: Prepared, found: Integrated) -> Summaries:
     """The summaries of a batch integrated for a ``prepared`` bridge (`integrate_batch`), the
     same bits as `analysis.summary` of each analysis (its ``max`` and its masks, by column)."""
@@ -192,8 +189,8 @@ def summaries(prepared: Prepared, found: Integrated) -> Summaries:
         peaks[:, [PEAK_NAMES.index(name) for name in ABSENT_IN_A_BLOCK]] = np.nan
     error = counts[:, ERROR]
     peaks[error != NO_ERROR] = np.nan
-    u_deck, u_pier1 = peaks[:, _U_DECK, 0], peaks[:, _U_PIER1, 0]
-    u_pier2 = peaks[:, _U_PIER2, 0] if model.m2 else np.zeros(len(peaks))
+    u_deck, u_pier1 = peaks[:, PEAK_U_DECK, 0], peaks[:, PEAK_U_PIER1, 0]
+    u_pier2 = peaks[:, PEAK_U_PIER2, 0] if model.m2 else np.zeros(len(peaks))
     dcr_backfill = np.full(len(peaks), np.nan)
     if model.has_abutments:
         opened = u_deck - model.u_jo

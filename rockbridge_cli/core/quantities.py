@@ -53,6 +53,12 @@ def kept_history(name: str, keep: Collection[str]) -> bool:
 PEAK_NAMES = ("u_deck", "v_deck", "theta_deck", "theta1", "theta2", "u_pier1", "u_pier2")
 """Peak quantities tracked during the integration, by index (all absolute except v_deck)."""
 
+PEAK_U_DECK, PEAK_U_PIER1, PEAK_U_PIER2 = (
+    PEAK_NAMES.index(name) for name in ("u_deck", "u_pier1", "u_pier2")
+)
+"""The indices in `PEAK_NAMES` of the deck's and the piers' peak displacements, which the demand
+ratios read."""
+
 PEAK_UNITS = {name: HISTORY_UNITS[name] for name in PEAK_NAMES}
 """Peak quantities: maxima of the absolute values, except v_deck (largest uplift)."""
 

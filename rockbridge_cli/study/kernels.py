@@ -64,9 +64,20 @@ COMPILING_DEVICES = (
 )
 """What a run with a bridge that has devices says when their kernels are being compiled."""
 
+_own = False
+"""Whether this process is rockbridge's own (`own_process`)."""
+
 _ready: set[str] = set()
 """The kernels this process has: ``horizontal``, ``vertical`` (a vertical ground motion's),
 ``devices`` (a bridge's with devices), ``devices vertical`` (both)."""
+
+
+def own_process() -> None:
+    """Declare this process rockbridge's own (a ``rockbridge`` command, a local pool's worker),
+    not another program's that uses the package: its kernels then load without numba's probe
+    for BLAS (`core._jit.skip_blas_probe`)."""
+    global _own
+    _own = True
 
 
 def compiling_message(vertical: bool, devices: bool = False) -> str:
@@ -108,6 +119,11 @@ def prepare(
     if wanted <= _ready:
         return True
     from .. import warmup  # the compiled kernels: a worker's, not the parent's
+
+    if _own:
+        from ..core._jit import skip_blas_probe
+
+        skip_blas_probe()
 
     loaders = {
         "horizontal": lambda: warmup.analysis_kernels((warmup.studied_bridge(),)),

@@ -49,6 +49,7 @@ def start_worker(setups: Any, said: Any, parent: int) -> None:
     if os.getppid() != parent:  # the parent died before the request took effect
         os._exit(1)
     _said = said
+    kernels.own_process()
     ready_kernels(compiling=False)
     setup = setups.get()
     if setup is not None:  # None: the pool ends unused (the run was refused or stopped)
