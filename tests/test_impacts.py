@@ -29,7 +29,7 @@ from rockbridge_cli.core.impacts import (
     onset_threshold,
     restitution,
 )
-from rockbridge_cli.core.kinematics import EXACT, centres, displacements
+from rockbridge_cli.core.kinematics import EXACT, Displacements, centres, displacements
 from rockbridge_cli.core.summary import summarize
 
 MODES = (1.0, -1.0)
@@ -510,10 +510,21 @@ def test_backfill_stiffness_extremes(k):
             )
 
 
-def test_a_limit_is_found_to_the_last_bit():
-    """`_first_reached` returns the smallest float at which the excess is ≥ 0: for t − c that is
-    c itself; for t² − 2, √2 correctly rounded or the float above it (t·t rounds)."""
-    assert _first_reached(lambda t: t - 0.1234, 0.0, 1.0) == 0.1234
-    root = _first_reached(lambda t: t * t - 2.0, 1.0, 2.0)
-    assert root * root >= 2.0 and math.nextafter(root, 0.0) ** 2 < 2.0
-    assert root in (math.sqrt(2.0), math.nextafter(math.sqrt(2.0), 2.0))
+@pytest.mark.parametrize("s", [1.0, -1.0])
+@pytest.mark.parametrize("field", ["u_deck", "u_pier1", "u_pier2"])
+def test_a_limit_is_found_to_the_last_bit(s, field):
+    """`_first_reached` returns the smallest float t at which |field| at θ1 = s·t reaches the
+    limit: the displacement of the exact linkage, asked from Python, is at or beyond the limit
+    at t and short of it at the float below. The limit is the one failure sets (u_jo + u_ab for
+    the deck, B for a pier) and, beyond every value the linkage reaches, inf."""
+    model = studied_bridge(1.25)
+    index = Displacements._fields.index(field)
+    limit = model.u_jo + model.u_ab if field == "u_deck" else model.B
+    grid = np.linspace(0.0, 1.5 * model.alpha1, 385)[1:]
+    t = _first_reached(model, s, index, limit, grid)
+
+    def reached(rotation: float) -> bool:
+        return abs(displacements(model, s, s * rotation, EXACT)[index]) >= limit
+
+    assert 0.0 < t < grid[-1] and reached(t) and not reached(math.nextafter(t, 0.0))
+    assert _first_reached(model, s, index, 1e3, grid) == math.inf
