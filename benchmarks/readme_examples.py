@@ -141,7 +141,7 @@ def gap_sweep(folder: Path) -> dict[str, str]:
                 + " | ".join(f"{f.median:.2f} ({f.beta:.2f})" for f in failure)
                 + " |",
                 "| gap closure: median PGA [g] | "
-                + " | ".join(f"{f.median:.3f}" for f in closure)
+                + " | ".join(f"{f.median:.2f}" for f in closure)
                 + " |",
             ]
         ),  # fmt: skip
