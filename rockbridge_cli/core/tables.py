@@ -171,9 +171,9 @@ def _thomas(
 
     Row i reads lower_i·z_(i−1) + diagonal_i·z_i + upper_i·z_(i+1) = right_i (``lower[0]`` and
     ``upper[-1]`` unused); ``right`` has shape (n, m), one column per system. The pivots depend
-    on the matrix alone: a loop over its rows. The substitutions, forward and back, are
+    on the matrix alone (`_eliminated`, row by row). The substitutions, forward and back, are
     first-order linear recurrences on the columns, each computed by recursive doubling
-    (`_recurrence`): log2(n) array operations instead of n.
+    (`_recurrence`, whose order of operations sets the tables' bits).
     """
     pivot, factors = _eliminated(lower, diagonal, upper)
     forward = _recurrence(-factors, right)  # z_i = r_i − f_i·z_(i−1)
