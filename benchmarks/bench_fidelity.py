@@ -44,11 +44,12 @@ BUNDLED = REPO / "records" / "ec8-type1-C-ag0.6g"
 PEAKS = ("u_deck", "v_deck", "theta_deck", "theta1", "theta2")
 VARIANTS = [  # (label, preset, knob overrides)
     ("reference", "reference", {}),
-    ("default rtol=1e-9", "default", {"rtol": 1e-9, "atol": 1e-12}),
+    ("default rtol=1e-9", "default", {"rtol": 1e-9, "atol": 1e-14}),
     ("default", "default", {}),
     ("default, exact kinematics", "default", {"kinematics": "exact"}),
-    ("default rtol=1e-7", "default", {"rtol": 1e-7, "atol": 1e-10}),
-    ("default rtol=1e-6", "default", {"rtol": 1e-6, "atol": 1e-9}),
+    ("default atol=1e-11", "default", {"atol": 1e-11}),
+    ("default rtol=1e-7", "default", {"rtol": 1e-7, "atol": 1e-12}),
+    ("default rtol=1e-6", "default", {"rtol": 1e-6, "atol": 1e-11}),
     ("default event_tol=1e-11", "default", {"event_tol": 1e-11}),
     ("default event_tol=1e-9", "default", {"event_tol": 1e-9}),
     ("default, peaks at steps", "default", {"turning_points": False}),

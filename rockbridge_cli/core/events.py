@@ -6,7 +6,8 @@ step; `locate` finds when, by re-stepping from the step's start with shorter ste
 event time is known to the event tolerance, and returns the step that ends just past it. Two
 searches are available: the paper's plain bisection, and Illinois regula falsi (`_narrowed`) led
 by an estimate of the event time on the step's quintic interpolant (`interpolated`,
-`_estimated_event`).
+`_estimated_event`). A turning point (θ̇1 = 0), where θ1 peaks but nothing else changes, is not
+an event: `turning_point` finds it on the interpolant of the step that holds it.
 """
 
 from __future__ import annotations
@@ -20,16 +21,13 @@ from .device_events import watch as device_watch
 from .kinematics import Kinematics, displacements
 from .schemes import Segment, Step, take_step
 
-WATCH_IMPACT, WATCH_GAP, WATCH_ABUTMENT, WATCH_PIER1, WATCH_PIER2, WATCH_DEVICES, WATCH_TURNING = (
-    range(7)
-)
+WATCH_IMPACT, WATCH_GAP, WATCH_ABUTMENT, WATCH_PIER1, WATCH_PIER2, WATCH_DEVICES = range(6)
 """What the integrator watches while rocking, one signed function each (`watched`): the return to
 θ1 = 0 (an impact), the end gap (closing while open, reopening while closed), the abutment–backfill
-limit, the overturning of each pier, a yielding device's change of branch (`device_events.watch`:
-the constant −1 without devices), and θ̇1 = 0 (a turning point, only when asked for: the last, so
-that the first ``count`` functions are watched). Events within the event tolerance of each other
-are taken in this order, except the two piers' overturning, taken in the order of their limits in
-θ1 (`_first_of`); a device's unloading, at a turning point, is taken before it."""
+limit, the overturning of each pier, and a yielding device's change of branch
+(`device_events.watch`: the constant −1 without devices). Events within the event tolerance of
+each other are taken in this order, except the two piers' overturning, taken in the order of
+their limits in θ1 (`_first_of`)."""
 
 _ESTIMATED_TRIALS = 4
 """Trials of an event's location placed by its estimated time (`locate`); Illinois after them."""
@@ -49,7 +47,6 @@ def watched(segment: Segment, kin: Kinematics, theta: float, rate: float):
         abs(d.u_pier1) - model.B,  # WATCH_PIER1
         abs(d.u_pier2) - model.B if model.m2 > 0.0 else -1.0,  # WATCH_PIER2 (a block has none)
         device_watch(segment.devices, model, s, theta, rate, kin),  # WATCH_DEVICES
-        -s * rate,  # WATCH_TURNING
     )
     return functions, d
 
@@ -57,28 +54,21 @@ def watched(segment: Segment, kin: Kinematics, theta: float, rate: float):
 @inlined
 def watched_one(segment: Segment, kin: Kinematics, theta: float, rate: float, watch: int) -> float:
     """The function of ``watch`` alone at (θ1, θ̇1) = (theta, rate), bit for bit `watched`'s:
-    an impact's and a turning point's without the displacements of the linkage, which only the
-    others need (locating a turning point evaluates its function a dozen times)."""
+    an impact's without the displacements of the linkage, which only the others need (locating
+    an impact evaluates its function a dozen times)."""
     if watch == WATCH_IMPACT:
         return -segment.s * theta
-    if watch == WATCH_TURNING:
-        return -segment.s * rate
     return watched(segment, kin, theta, rate)[0][watch]
 
 
 @inlined
-def _fired(before, after, count: int, skip: int) -> int:
-    """The first of the first ``count`` watched functions (other than ``skip``) that turned
-    positive over a step, or −1.
-
-    A function that starts a step at exactly zero counts as negative (it is zero right after its
-    own event), except the turning point's: a step that starts with θ̇1 = 0 starts at the turning
-    point itself (a release from rest), which is not an event.
-    """
-    for i in range(count):
-        if i != skip and after[i] > 0.0:
-            if before[i] < 0.0 or (before[i] == 0.0 and i != WATCH_TURNING):
-                return i
+def _fired(before, after, skip: int) -> int:
+    """The first of the watched functions (other than ``skip``) that turned positive over a
+    step, or −1. A function that starts a step at exactly zero counts as negative: it is zero
+    right after its own event."""
+    for i in range(len(after)):
+        if i != skip and after[i] > 0.0 and before[i] <= 0.0:
+            return i
     return -1
 
 
@@ -128,6 +118,34 @@ def interpolated(step: Step, tau: float):
     theta = y + x * (v0 + x * (0.5 * a0 + x * (c3 + x * (c4 + x * c5))))
     rate = (v0 + x * (a0 + x * (3.0 * c3 + x * (4.0 * c4 + x * 5.0 * c5)))) / h
     return theta, rate
+
+
+@inlined
+def turns(s: float, step: Step) -> bool:
+    """Whether a step of mode s holds a turning point: θ̇1 changes sign from rocking away
+    (s·θ̇1 > 0) to rocking back, so that θ1 peaks inside it. A step that starts at θ̇1 = 0 (a
+    release from rest) starts at one, which it does not count; one that ends at θ̇1 = 0 ends at
+    it, where the step's end is taken anyway."""
+    return s * step.start.rate > 0.0 and s * step.end.rate < 0.0
+
+
+@jit
+def turning_point(step: Step, s: float, tol: float):
+    """The turning point inside a step of mode s that `turns`: its time from the step's start
+    [s], the root of θ̇1 on the step's interpolant (`interpolated`; θ̈1 known at both ends) found
+    by Illinois to ``tol`` [s], and θ1 there [rad].
+
+    Not located by re-stepping, as an event is: nothing jumps at a turning point, and θ1 on the
+    interpolant is within 5e-12 (relative) of θ1 after a step of that length at the `default`
+    tolerances (FEMA P695 far-field components × the studied bridges, docs/benchmarks.md)."""
+    b = Bracket(0.0, step.h, -s * step.start.rate, -s * step.end.rate, 0)
+    for _ in range(60):
+        if b.hi - b.lo <= tol:
+            break
+        mid = _falsi(b)
+        b = _narrowed(b, mid, -s * interpolated(step, mid)[1])
+    tau = 0.5 * (b.lo + b.hi)
+    return tau, interpolated(step, tau)[0]
 
 
 @jit
@@ -250,15 +268,14 @@ def _past_limit(segment: Segment, kin: Kinematics, theta: float, watch: int) -> 
 
 
 @uncounted
-def first_event(segment, kin, ground, step: Step, g_start, count: int, settings):
+def first_event(segment, kin, ground, step: Step, g_start, settings):
     """The first event due within a step, if any (arguments as in `locate`).
 
-    ``g_start`` are the watched functions at the step's start; only the first ``count`` are
-    watched. Returns the watch that fired (−1: none), the step to take (ending just past that
-    event, or the whole step), and the watched functions and `kinematics.Displacements` at its
-    end. When another event fires earlier inside a shortened step, that one is located instead;
-    two events within the event tolerance of each other are simultaneous, and `_first_of` takes
-    one.
+    ``g_start`` are the watched functions at the step's start. Returns the watch that fired
+    (−1: none), the step to take (ending just past that event, or the whole step), and the
+    watched functions and `kinematics.Displacements` at its end. When another event fires
+    earlier inside a shortened step, that one is located instead; two events within the event
+    tolerance of each other are simultaneous, and `_first_of` takes one.
 
     Called after every step, compiled without reference counting (`_jit.uncounted`): most
     steps have no event, and their check is a handful of subtractions, which counting the
@@ -266,14 +283,14 @@ def first_event(segment, kin, ground, step: Step, g_start, count: int, settings)
     (`_located_first`) counts its own.
     """
     g_end, d = watched(segment, kin, step.end.theta, step.end.rate)
-    watch = _fired(g_start, g_end, count, -1)
+    watch = _fired(g_start, g_end, -1)
     if watch < 0:
         return watch, step, g_end, d
-    return _located_first(segment, kin, ground, step, g_start, g_end, d, watch, count, settings)
+    return _located_first(segment, kin, ground, step, g_start, g_end, d, watch, settings)
 
 
 @jit
-def _located_first(segment, kin, ground, step: Step, g_start, g_end, d, watch, count, settings):
+def _located_first(segment, kin, ground, step: Step, g_start, g_end, d, watch, settings):
     """`first_event` of a step in which ``watch`` fired first at its end, where the watched
     functions are ``g_end`` and the displacements ``d``: the event located, or an earlier one
     that fires inside the shortened step. Returns as `first_event`."""
@@ -284,7 +301,7 @@ def _located_first(segment, kin, ground, step: Step, g_start, g_end, d, watch, c
         if previous >= 0 and step.h - located.h <= settings.event_tol:
             return _first_of(segment, kin, located.end.theta, watch, previous), located, g_end, d
         step = located
-        earlier = _fired(g_start, g_end, count, watch)
+        earlier = _fired(g_start, g_end, watch)
         if earlier < 0:
             break
         previous, watch = watch, earlier

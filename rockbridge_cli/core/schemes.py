@@ -148,7 +148,7 @@ def _compiled_lift_at(ground, g, k, t):
 
 
 @inlined
-def _accel_at(segment: Segment, kin: Kinematics, ground, k: int, t: float, y, w) -> float:
+def accel_at(segment: Segment, kin: Kinematics, ground, k: int, t: float, y, w) -> float:
     """θ̈1 at (θ1, θ̇1) = (y, w) and time t [s] in sample interval k (`dynamics.acceleration`)."""
     model, s, contact, devices = segment
     a_g = ground_at(ground.acc, ground.dt, k, t)
@@ -167,15 +167,15 @@ def take_step(segment: Segment, kin: Kinematics, ground: Ground, k, t, start: St
     """
     y, w, f0 = start
     if not np.isfinite(f0):
-        f0 = _accel_at(segment, kin, ground, k, t, y, w)
+        f0 = accel_at(segment, kin, ground, k, t, y, w)
     if scheme == RK4:
         f1 = f0
         y2, w2 = y + 0.5 * h * w, w + 0.5 * h * f1
-        f2 = _accel_at(segment, kin, ground, k, t + 0.5 * h, y2, w2)
+        f2 = accel_at(segment, kin, ground, k, t + 0.5 * h, y2, w2)
         y3, w3 = y + 0.5 * h * w2, w + 0.5 * h * f2
-        f3 = _accel_at(segment, kin, ground, k, t + 0.5 * h, y3, w3)
+        f3 = accel_at(segment, kin, ground, k, t + 0.5 * h, y3, w3)
         y4, w4 = y + h * w3, w + h * f3
-        f4 = _accel_at(segment, kin, ground, k, t + h, y4, w4)
+        f4 = accel_at(segment, kin, ground, k, t + h, y4, w4)
         end = State(
             y + h / 6.0 * (w + 2.0 * w2 + 2.0 * w3 + w4),
             w + h / 6.0 * (f1 + 2.0 * f2 + 2.0 * f3 + f4),
@@ -187,20 +187,20 @@ def take_step(segment: Segment, kin: Kinematics, ground: Ground, k, t, start: St
     v1 = w
     y2 = y + h * (v1 / 5.0)
     v2 = w + h * (a1 / 5.0)
-    a2 = _accel_at(segment, kin, ground, k, t + h / 5.0, y2, v2)
+    a2 = accel_at(segment, kin, ground, k, t + h / 5.0, y2, v2)
     y3 = y + h * (3.0 * v1 + 9.0 * v2) / 40.0
     v3 = w + h * (3.0 * a1 + 9.0 * a2) / 40.0
-    a3 = _accel_at(segment, kin, ground, k, t + 0.3 * h, y3, v3)
+    a3 = accel_at(segment, kin, ground, k, t + 0.3 * h, y3, v3)
     y4 = y + h * (44.0 / 45.0 * v1 - 56.0 / 15.0 * v2 + 32.0 / 9.0 * v3)
     v4 = w + h * (44.0 / 45.0 * a1 - 56.0 / 15.0 * a2 + 32.0 / 9.0 * a3)
-    a4 = _accel_at(segment, kin, ground, k, t + 0.8 * h, y4, v4)
+    a4 = accel_at(segment, kin, ground, k, t + 0.8 * h, y4, v4)
     y5 = y + h * (
         19372.0 / 6561.0 * v1 - 25360.0 / 2187.0 * v2 + 64448.0 / 6561.0 * v3 - 212.0 / 729.0 * v4
     )
     v5 = w + h * (
         19372.0 / 6561.0 * a1 - 25360.0 / 2187.0 * a2 + 64448.0 / 6561.0 * a3 - 212.0 / 729.0 * a4
     )
-    a5 = _accel_at(segment, kin, ground, k, t + 8.0 / 9.0 * h, y5, v5)
+    a5 = accel_at(segment, kin, ground, k, t + 8.0 / 9.0 * h, y5, v5)
     y6 = y + h * (
         9017.0 / 3168.0 * v1 - 355.0 / 33.0 * v2 + 46732.0 / 5247.0 * v3
         + 49.0 / 176.0 * v4 - 5103.0 / 18656.0 * v5
@@ -209,7 +209,7 @@ def take_step(segment: Segment, kin: Kinematics, ground: Ground, k, t, start: St
         9017.0 / 3168.0 * a1 - 355.0 / 33.0 * a2 + 46732.0 / 5247.0 * a3
         + 49.0 / 176.0 * a4 - 5103.0 / 18656.0 * a5
     )  # fmt: skip
-    a6 = _accel_at(segment, kin, ground, k, t + h, y6, v6)
+    a6 = accel_at(segment, kin, ground, k, t + h, y6, v6)
     y_new = y + h * (
         35.0 / 384.0 * v1 + 500.0 / 1113.0 * v3 + 125.0 / 192.0 * v4
         - 2187.0 / 6784.0 * v5 + 11.0 / 84.0 * v6
@@ -218,7 +218,7 @@ def take_step(segment: Segment, kin: Kinematics, ground: Ground, k, t, start: St
         35.0 / 384.0 * a1 + 500.0 / 1113.0 * a3 + 125.0 / 192.0 * a4
         - 2187.0 / 6784.0 * a5 + 11.0 / 84.0 * a6
     )  # fmt: skip
-    a7 = _accel_at(segment, kin, ground, k, t + h, y_new, w_new)
+    a7 = accel_at(segment, kin, ground, k, t + h, y_new, w_new)
     # Difference of the 5th- and 4th-order solutions.
     e1, e3, e4 = 71.0 / 57600.0, -71.0 / 16695.0, 71.0 / 1920.0
     e5, e6, e7 = -17253.0 / 339200.0, 22.0 / 525.0, -1.0 / 40.0

@@ -18,7 +18,10 @@ small state machine:
     (|u_pier| = B): the analysis stops;
   - a yielding device's *change of branch* (yield, elastic unloading, rupture or fracture,
     `device_events`): its state changes, θ1 and θ̇1 do not;
-  - optionally a *turning point* (θ̇1 = 0) to catch each peak exactly.
+
+and, optionally, each *turning point* (θ̇1 = 0), where θ1 peaks, is found on the interpolant of
+the step that holds it (`events.turning_point`) to catch each peak exactly; nothing jumps there,
+so the step is not cut.
 
 Steps never straddle a record sample, so the ground acceleration is linear within each step. An
 event is located (`events`) by re-stepping from the step's start with a shorter step (Illinois
@@ -50,15 +53,27 @@ from .events import (
     WATCH_GAP,
     WATCH_IMPACT,
     WATCH_PIER1,
-    WATCH_TURNING,
     first_event,
+    turning_point,
+    turns,
     watched,
 )
 from .geometry import Model
 from .impacts import onsets_at_rest
 from .kinematics import Displacements, Kinematics, displacements
 from .quantities import PEAK_NAMES
-from .schemes import RK4, Ground, Segment, State, Step, ground_at, ground_of, lift_at, take_step
+from .schemes import (
+    RK4,
+    Ground,
+    Segment,
+    State,
+    Step,
+    accel_at,
+    ground_at,
+    ground_of,
+    lift_at,
+    take_step,
+)
 
 ONSET, IMPACT, POUNDING, REOPENING, REST, ABUTMENT_FAILURE, PIER1_OVERTURNING, PIER2_OVERTURNING = (
     range(8)
@@ -118,7 +133,7 @@ class Settings(NamedTuple):
     max_step : largest step [s]
     event_tol : event times are located to within this [s]
     bisection : True for the paper's bisection, False for Illinois regula falsi
-    turning_points : locate every θ̇1 = 0 to catch the peaks exactly
+    turning_points : find every θ̇1 = 0 inside a step to catch the peaks exactly
     rest_velocity : chatter guard, |θ̇1| below which an impact may end in rest [rad/s]
     output_step : time step of the stored histories [s]
     max_events : the analysis stops with a solver error beyond this many events, the devices'
@@ -220,7 +235,7 @@ class Motion(NamedTuple):
     t: float
     k: int
     state: State
-    g: tuple[float, float, float, float, float, float, float]
+    g: tuple[float, float, float, float, float, float]
     sample: int
 
 
@@ -241,7 +256,7 @@ class Log(NamedTuple):
     written: int
 
 
-_AT_REST = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+_AT_REST = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 """`Motion.g` at rest, where nothing is watched (and of a motion not yet `_refreshed`)."""
 
 
@@ -394,6 +409,39 @@ def _tracked(theta1: float, d: Displacements):
     )  # fmt: skip
 
 
+@inlined
+def _peaked(peaks: np.ndarray, values, t: float) -> None:
+    """Raise each peak in ``peaks`` (one row per `PEAK_NAMES`: value, time [s]) that the
+    quantities ``values`` (`_tracked`) at time t exceed."""
+    for i in range(len(PEAK_NAMES)):
+        if values[i] > peaks[i, 0]:
+            peaks[i, 0], peaks[i, 1] = values[i], t
+
+
+@jit
+def _accelerated(problem: Problem, segment: Segment, step: Step) -> Step:
+    """The step with θ̈1 at both ends, which its interpolant needs (RK4 leaves it unknown)."""
+    if np.isfinite(step.start.accel) and np.isfinite(step.end.accel):
+        return step
+    (y, w, f0), (y1, w1, f1) = step.start, step.end
+    kin, ground, k = problem.kin, problem.ground, step.k
+    if not np.isfinite(f0):
+        f0 = accel_at(segment, kin, ground, k, step.t, y, w)
+    if not np.isfinite(f1):
+        f1 = accel_at(segment, kin, ground, k, step.t + step.h, y1, w1)
+    return Step(k, step.t, step.h, State(y, w, f0), State(y1, w1, f1))
+
+
+@jit
+def _turning_peaks(problem: Problem, segment: Segment, step: Step, peaks, device_peaks) -> None:
+    """Raise the peaks (and the devices' peaks) to their values at the turning point inside a
+    step that `events.turns`."""
+    model, kin, s = problem.model, problem.kin, segment.s
+    tau, theta = turning_point(_accelerated(problem, segment, step), s, problem.settings.event_tol)
+    _peaked(peaks, _tracked(theta, displacements(model, s, theta, kin)), step.t + tau)
+    tracked(problem.devices, device_peaks, model, s, theta, 0.0, step.t + tau, kin)
+
+
 @jit
 def _sample(histories: Histories, sample: int, output_step: float, s: float, step: Step, t_new):
     """Write the history samples from ``sample`` on that fall in an accepted step of mode s, which
@@ -525,7 +573,6 @@ def integrate(
     histories, peaks, segment, motion, log = _started(problem, theta0, omega0)
     device_peaks = peaks_of(devices)
     device_series = histories_of(devices, histories.theta1.size)
-    count = WATCH_TURNING + 1 if settings.turning_points else WATCH_TURNING  # watched functions
     h, steps, rejected, error, failure = settings.step, 0, 0, NO_ERROR, NOT_FAILED
     changes = 0  # the devices' changes of branch, which count as events
     while motion.k < acc.size - 1:
@@ -549,18 +596,17 @@ def integrate(
             break
         if rejection:
             continue
-        watch, step, g_end, d = first_event(segment, kin, ground, step, motion.g, count, settings)
+        watch, step, g_end, d = first_event(segment, kin, ground, step, motion.g, settings)
         t = boundary if (watch < 0 and step.h == boundary - t) else t + step.h
         sample = _sample(histories, motion.sample, settings.output_step, segment.s, step, t)
         sampled(devices, device_series, model, segment.s, histories.theta1, histories.rate,
                 motion.sample, sample, kin)  # fmt: skip
-        values = _tracked(step.end.theta, d)
-        for i in range(len(PEAK_NAMES)):
-            if values[i] > peaks[i, 0]:
-                peaks[i, 0], peaks[i, 1] = values[i], t
+        if settings.turning_points and turns(segment.s, step):
+            _turning_peaks(problem, segment, step, peaks, device_peaks)
+        _peaked(peaks, _tracked(step.end.theta, d), t)
         tracked(devices, device_peaks, model, segment.s, step.end.theta, step.end.rate, t, kin)
         motion = Motion(t, k + 1 if t >= boundary else k, step.end, g_end, sample)
-        if watch < 0 or watch == WATCH_TURNING:  # nothing changes but the peaks
+        if watch < 0:  # nothing changes but the peaks
             continue
         changes += watch == WATCH_DEVICES  # a device's change of branch is not logged
         if log.written + changes >= settings.max_events - 2:
