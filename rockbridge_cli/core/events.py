@@ -121,7 +121,7 @@ def interpolated(step: Step, tau: float):
 
 
 @inlined
-def turns(s: float, step: Step) -> bool:
+def holds_turning_point(s: float, step: Step) -> bool:
     """Whether a step of mode s holds a turning point: θ̇1 changes sign from rocking away
     (s·θ̇1 > 0) to rocking back, so that θ1 peaks inside it. A step that starts at θ̇1 = 0 (a
     release from rest) starts at one, which it does not count; one that ends at θ̇1 = 0 ends at
@@ -131,9 +131,9 @@ def turns(s: float, step: Step) -> bool:
 
 @jit
 def turning_point(step: Step, s: float, tol: float):
-    """The turning point inside a step of mode s that `turns`: its time from the step's start
-    [s], the root of θ̇1 on the step's interpolant (`interpolated`; θ̈1 known at both ends) found
-    by Illinois to ``tol`` [s], and θ1 there [rad].
+    """The turning point inside a step of mode s that `holds_turning_point`: its time from the
+    step's start [s], the root of θ̇1 on the step's interpolant (`interpolated`; θ̈1 known at
+    both ends) found by Illinois to ``tol`` [s], and θ1 there [rad].
 
     Not located by re-stepping, as an event is: nothing jumps at a turning point, and θ1 on the
     interpolant is within 5e-12 (relative) of θ1 after a step of that length at the `default`

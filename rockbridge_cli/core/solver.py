@@ -54,8 +54,8 @@ from .events import (
     WATCH_IMPACT,
     WATCH_PIER1,
     first_event,
+    holds_turning_point,
     turning_point,
-    turns,
     watched,
 )
 from .geometry import Model
@@ -435,7 +435,7 @@ def _accelerated(problem: Problem, segment: Segment, step: Step) -> Step:
 @jit
 def _turning_peaks(problem: Problem, segment: Segment, step: Step, peaks, device_peaks) -> None:
     """Raise the peaks (and the devices' peaks) to their values at the turning point inside a
-    step that `events.turns`."""
+    step that `events.holds_turning_point`."""
     model, kin, s = problem.model, problem.kin, segment.s
     tau, theta = turning_point(_accelerated(problem, segment, step), s, problem.settings.event_tol)
     _peaked(peaks, _tracked(theta, displacements(model, s, theta, kin)), step.t + tau)
@@ -601,7 +601,7 @@ def integrate(
         sample = _sample(histories, motion.sample, settings.output_step, segment.s, step, t)
         sampled(devices, device_series, model, segment.s, histories.theta1, histories.rate,
                 motion.sample, sample, kin)  # fmt: skip
-        if settings.turning_points and turns(segment.s, step):
+        if settings.turning_points and holds_turning_point(segment.s, step):
             _turning_peaks(problem, segment, step, peaks, device_peaks)
         _peaked(peaks, _tracked(step.end.theta, d), t)
         tracked(devices, device_peaks, model, segment.s, step.end.theta, step.end.rate, t, kin)
