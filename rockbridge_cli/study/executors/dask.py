@@ -17,6 +17,18 @@ from .pacing import Pace, batched
 from .worker import prepared
 
 
+def _parse(scheduler: str) -> None:
+    """Raise ValueError unless ``scheduler`` parses as an address, by Dask's own parser, before
+    any connection is tried: with a port that is not a number (``tcp://host:notaport``), the
+    oldest `distributed` admitted sometimes failed inside its connection attempt with a bare
+    AssertionError instead of its parser's ValueError."""
+    from distributed.comm.addressing import parse_address, parse_host_port
+
+    scheme, location = parse_address(scheduler)
+    if scheme in ("tcp", "tls", "ws", "wss"):
+        parse_host_port(location)
+
+
 @contextmanager
 def dask_workers(
     grid: Grid, journal: Journal, scheduler: str, notice: Notice | None = None
@@ -41,6 +53,7 @@ def dask_workers(
         reason = 'needs Dask: pip install "rockbridge[dask]"'
         raise InputError(scheduler, [("", reason)]) from None
     try:
+        _parse(scheduler)
         client = Client(scheduler, timeout="10s")
     except (ValueError, TypeError):  # not an address (Dask's words are its parser's)
         reason = "cannot reach the Dask scheduler: not an address like tcp://host:8786"
