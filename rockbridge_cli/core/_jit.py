@@ -36,11 +36,11 @@ uncounted = numba.njit(
     cache=True, nogil=True, fastmath=False, error_model="numpy", **_WITHOUT_COUNTING
 )
 """`jit` without numba's reference counting (its runtime's ``NRT_incref``/``NRT_decref``), for
-the kernels of every step (`schemes.take_step`, `events.first_event`), which allocate nothing:
-the arrays they read (the tables, the record) outlive the call. Compiled with counting, each
-inlined table look-up counted them in and out, two atomic operations each; perf put 24 % of a
-`default` solve's CPU in them. Such a kernel may call a counted one (`jit`), which counts its
-own."""
+the kernels of every step (`schemes.take_step`, `events.first_event`, `solver._sample`) and
+the loop of steps (`solver._rocking`), which allocate nothing: the arrays they read (the
+tables, the record, the histories) outlive the call. Compiled with counting, each inlined table
+look-up counted them in and out, two atomic operations each; perf put 24 % of a `default`
+solve's CPU in them. Such a kernel may call a counted one (`jit`), which counts its own."""
 
 
 CLOCK = getattr(time, "CLOCK_MONOTONIC", None)
