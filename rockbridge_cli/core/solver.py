@@ -575,8 +575,7 @@ def _rocking(problem: Problem, segment: Segment, motion: Motion, h: float, histo
         watch, step, g_end, d = first_event(segment, kin, ground, step, motion.g, settings)
         t = boundary if (watch < 0 and step.h == boundary - t) else t + step.h
         sample = _sample(histories, motion.sample, settings.output_step, segment.s, step, t)
-        sampled(devices, device_series, model, segment.s, theta1, rate, motion.sample, sample,
-                kin)  # fmt: skip
+        sampled(devices, device_series, model, segment.s, theta1, rate, motion.sample, sample, kin)
         if settings.turning_points and holds_turning_point(segment.s, step):
             _turning_peaks(problem, segment, step, peaks, device_peaks)
         _peaked(peaks, _tracked(step.end.theta, d), t)
@@ -640,8 +639,7 @@ def integrate(
         if segment.s == 0.0:  # at rest until the next onset (or the record's end)
             first = motion.sample
             segment, motion, log = _onset(problem, motion, log, theta1.size)
-            sampled(devices, device_series, model, 0.0, theta1, rate, first,
-                    motion.sample, kin)  # fmt: skip
+            sampled(devices, device_series, model, 0.0, theta1, rate, first, motion.sample, kin)
             h = settings.step
             continue
         watch, motion, h, tried, refused, error = _rocking(
