@@ -39,10 +39,12 @@ The timers cost a few microseconds per analysis (measured and printed), within t
 On a shared machine the wall times depend on the other processes; the CPU times much less.
 With ``--repeat R`` each row runs R times (the fidelities in turn) and the table gives medians.
 ``--profile`` instead runs the study on one worker (in the process itself) under cProfile and
-prints the functions that took the most time of their own.
+prints the functions that took the most time of their own. ``--start`` prints where a
+worker's start goes, a cold run's time, and the teardown of a process that has loaded the
+kernels, with its heap as is and frozen (as the ``rockbridge`` command ends).
 
     python benchmarks/bench_worker.py [--analyses 1500] [--fidelity fast default] [--workers 2]
-                                      [--repeat 1] [--profile [--top 25]]
+                                      [--repeat 1] [--profile [--top 25]] [--start]
 """
 
 from __future__ import annotations
@@ -303,11 +305,27 @@ worker loads them (`study.kernels.own_process`), the tables of the bridges."""
 
 STEPS = ("import numba", "import the kernels' modules", "load the kernels", "tables of 3 bridges")
 
+TEARDOWN = """
+import gc, sys, time
+from rockbridge_cli.study import kernels
+kernels.own_process()
+kernels.prepare(compiling=False)
+if sys.argv[1] == "frozen":
+    gc.freeze()
+print(time.time())
+"""
+"""A process that has loaded the kernels, as one that has analyzed ends: its objects left to the
+garbage collector's passes at the interpreter's teardown (``as is``), or out of them
+(``frozen``, `gc.freeze`, as the ``rockbridge`` command ends: `cli.entry`). It prints the
+time at which its last statement ran; the teardown is from then to the process's end."""
+
 
 def start(repeat: int) -> None:
     """Print where a worker's start goes (`START`, each step the median of ``repeat`` fresh
-    processes), and the wall time of a cold ``rockbridge run`` of a 3-analysis study on 1 and
-    2 workers (from outside; ``bench_study.measure_command``), the medians of ``repeat``."""
+    processes), the wall time of a cold ``rockbridge run`` of a 3-analysis study on 1 and
+    2 workers (from outside; ``bench_study.measure_command``), and a process's teardown once
+    it has loaded the kernels, its heap as is and frozen (`teardown`), the medians of
+    ``repeat``."""
     from bench_study import BRIDGES
 
     steps: list[list[float]] = [[] for _ in STEPS]
@@ -330,6 +348,17 @@ def start(repeat: int) -> None:
             f"{'rockbridge run, 3 analyses, ' + str(workers) + ' w.':<30} "
             f"{statistics.median(times):7.2f} s    ({min(times):.2f}–{max(times):.2f})"
         )
+    for heap in ("as is", "frozen"):
+        times = [teardown(heap) for _ in range(repeat)]
+        print(f"{'teardown, the heap ' + heap:<30} {1e3 * statistics.median(times):7.0f} ms   "
+              f"({1e3 * min(times):.0f}–{1e3 * max(times):.0f})")  # fmt: skip
+
+
+def teardown(heap: str) -> float:
+    """The teardown of a fresh process that has loaded the kernels (`TEARDOWN`), its heap ``as
+    is`` or ``frozen``: from its last statement to its end, as this process sees it [s]."""
+    done = float(child([sys.executable, "-c", TEARDOWN, heap.replace("as is", "as-is")]))
+    return time.time() - done
 
 
 def main() -> None:
@@ -342,7 +371,7 @@ def main() -> None:
                         help="cProfile the first fidelity's study on one worker")  # fmt: skip
     parser.add_argument("--top", type=int, default=25, help="functions --profile prints")
     parser.add_argument("--start", action="store_true",
-                        help="where a worker's start goes, and a cold run's time")  # fmt: skip
+                        help="a worker's start, a cold run, a teardown")  # fmt: skip
     parser.add_argument("--row", nargs=2, help=argparse.SUPPRESS)  # a row's process: STUDY W
     options = parser.parse_args()
     if options.row:
