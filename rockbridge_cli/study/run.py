@@ -195,7 +195,10 @@ def run_study(
                 stopped = True
                 raise
             finally:  # the plan as far as it got, the batches in flight included
-                ran = tuple(plan.ran(verdicts | journal.verdicts()))
+                # what ran: a sized plan's cells, an IDA's as its rule replays every verdict
+                # (reading the journal's back took 0.11-0.15 s of a 10 000-analysis run)
+                known = verdicts if plan.sized else verdicts | journal.verdicts()
+                ran = tuple(plan.ran(known))
                 grid = dataclasses.replace(grid, listed=ran)
                 tally = _finish(output, study, grid, shard, journal, described, assembly, rounds,
                                 plan.sized, stopped)  # fmt: skip
