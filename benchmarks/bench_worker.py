@@ -357,7 +357,7 @@ def start(repeat: int) -> None:
 def teardown(heap: str) -> float:
     """The teardown of a fresh process that has loaded the kernels (`TEARDOWN`), its heap ``as
     is`` or ``frozen``: from its last statement to its end, as this process sees it [s]."""
-    done = float(child([sys.executable, "-c", TEARDOWN, heap.replace("as is", "as-is")]))
+    done = float(child([sys.executable, "-c", TEARDOWN, heap]))
     return time.time() - done
 
 
