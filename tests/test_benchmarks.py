@@ -80,6 +80,23 @@ def test_bench_worker_splits_nested_timers_into_their_own_parts(monkeypatch):
     assert sum(cpu for _, cpu in parts.values()) == pytest.approx(1e5 * (1.5 + 0.2))
 
 
+def test_bench_compile_gives_each_kernel_its_own_compile_time(monkeypatch):
+    """numba's compile events nest (a kernel compiles its callees as it types them): each
+    kernel's time is its span less those of the kernels compiled inside it, summed over its
+    compiles, and the times add up to the outermost spans."""
+    monkeypatch.syspath_prepend(str(REPO / "benchmarks"))
+    from bench_compile import own_times
+
+    events = [  # integrate [0, 10] holds step [1, 4] and locate [5, 9], which holds watched [6, 8]
+        ("integrate", 0.0), ("step", 1.0), (None, 4.0), ("locate", 5.0), ("watched", 6.0),
+        (None, 8.0), (None, 9.0), (None, 10.0), ("step", 20.0), (None, 21.5),
+    ]  # fmt: skip
+    own = own_times(events)
+    assert own == pytest.approx({"integrate": 10 - 3 - 4, "step": 3 + 1.5, "locate": 4 - 2,
+                                 "watched": 2})  # fmt: skip
+    assert sum(own.values()) == pytest.approx(10 + 1.5)
+
+
 @pytest.mark.slow
 def test_bench_worker_prints_the_split_of_each_fidelity(tmp_path):
     env = {k: v for k, v in os.environ.items() if k != "ROCKBRIDGE_PATHS"}

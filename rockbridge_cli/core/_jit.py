@@ -22,7 +22,10 @@ jit = numba.njit(cache=True, nogil=True, fastmath=False, error_model="numpy")
 
 inlined = numba.njit(cache=True, nogil=True, fastmath=False, error_model="numpy", inline="always")
 """`jit` for the tiny kernels of the innermost loop (a table lookup, a cubic): compiled into each
-caller, which saves the call and the reference counting of the arrays it is passed."""
+caller, which saves the call and the reference counting of the arrays it is passed. Each call
+site is typed and compiled again, numba's compile being mostly that typing: a kernel that runs
+once an event, not once a step, calls a compiled-once kernel instead (`events.watched_one`,
+`schemes.accel_called`)."""
 
 
 def absent(argument_type) -> bool:

@@ -51,11 +51,16 @@ def watched(segment: Segment, kin: Kinematics, theta: float, rate: float):
     return functions, d
 
 
-@inlined
+@jit
 def watched_one(segment: Segment, kin: Kinematics, theta: float, rate: float, watch: int) -> float:
     """The function of ``watch`` alone at (θ1, θ̇1) = (theta, rate), bit for bit `watched`'s:
     an impact's without the displacements of the linkage, which only the others need (locating
-    an impact evaluates its function a dozen times)."""
+    an impact evaluates its function a dozen times).
+
+    Called, not inlined: it runs where an event is located, not at every step, and each call
+    site of an inlined `watched` is typed and compiled again (with `_past_limit`'s six, the
+    search for a step's first event took 29 % of the kernels' compile,
+    `benchmarks/bench_compile.py`)."""
     if watch == WATCH_IMPACT:
         return -segment.s * theta
     return watched(segment, kin, theta, rate)[0][watch]
@@ -260,10 +265,10 @@ def _past_limit(segment: Segment, kin: Kinematics, theta: float, watch: int) -> 
     """How far θ1 = ``theta`` is past the limit of ``watch`` [rad]: its function over the
     function's slope in θ1 (a central difference)."""
     delta = 1e-6 * abs(theta) + 1e-12
-    ahead = watched(segment, kin, theta + delta, 0.0)[0][watch]
-    behind = watched(segment, kin, theta - delta, 0.0)[0][watch]
+    ahead = watched_one(segment, kin, theta + delta, 0.0, watch)
+    behind = watched_one(segment, kin, theta - delta, 0.0, watch)
     slope = abs(ahead - behind) / (2.0 * delta)
-    g = watched(segment, kin, theta, 0.0)[0][watch]
+    g = watched_one(segment, kin, theta, 0.0, watch)
     return g / slope if slope > 0.0 else np.copysign(np.inf, g)
 
 

@@ -47,7 +47,6 @@ from ._jit import inlined, jit, uncounted
 from .device_events import fresh, settle
 from .device_histories import histories_of, sampled
 from .device_mechanics import peaks_of, tracked
-from .dynamics import acceleration
 from .events import (
     WATCH_ABUTMENT,
     WATCH_DEVICES,
@@ -69,7 +68,7 @@ from .schemes import (
     Segment,
     State,
     Step,
-    accel_at,
+    accel_called,
     ground_at,
     ground_of,
     lift_at,
@@ -268,10 +267,7 @@ def _refreshed(segment: Segment, kin: Kinematics, ground: Ground, motion: Motion
     t, k, (theta, rate, _), _, sample = motion
     if segment.s == 0.0 or k >= ground.acc.size - 1:
         return motion
-    model, s, contact, devices = segment
-    a_g = ground_at(ground.acc, ground.dt, k, t)
-    lift = lift_at(ground, model.g, k, t)
-    accel = acceleration(model, s, theta, rate, a_g, contact, kin, lift, devices)
+    accel = accel_called(segment, kin, ground, k, t, theta, rate)
     g = watched(segment, kin, theta, rate)[0]
     return Motion(t, k, State(theta, rate, accel), g, sample)
 
@@ -427,9 +423,9 @@ def _accelerated(problem: Problem, segment: Segment, step: Step) -> Step:
     (y, w, f0), (y1, w1, f1) = step.start, step.end
     kin, ground, k = problem.kin, problem.ground, step.k
     if not np.isfinite(f0):
-        f0 = accel_at(segment, kin, ground, k, step.t, y, w)
+        f0 = accel_called(segment, kin, ground, k, step.t, y, w)
     if not np.isfinite(f1):
-        f1 = accel_at(segment, kin, ground, k, step.t + step.h, y1, w1)
+        f1 = accel_called(segment, kin, ground, k, step.t + step.h, y1, w1)
     return Step(k, step.t, step.h, State(y, w, f0), State(y1, w1, f1))
 
 

@@ -31,12 +31,15 @@ COMPILE_TIME_S = 70
 """About how long compiling an analysis's kernels takes on an idle core [s]: 71 s wall, 65 s of
 CPU, for a cold `analyze` on the 2-core x86-64 machine of the manual's timings (2026-11-28, load
 average 0.8). The 15 s stated before was never this: the integrator alone compiled in 57 s of
-CPU at the code of 2026-11-26, and in 56 s before the yielding devices' events."""
+CPU at the code of 2026-11-26, and in 56 s before the yielding devices' events. On 2026-11-29,
+a slower host, `benchmarks/bench_compile.py` gave 77–96 s of CPU (92 s for the code before the
+search for events called what it had inlined)."""
 
 VERTICAL_COMPILE_TIME_S = 50
 """The same for the kernels of an analysis with a vertical ground motion, compiled for it of
 their own (`core.schemes.VerticalGround`) [s]: 48 s of CPU for the bundled vertical example
-once the others were compiled (2026-11-28)."""
+once the others were compiled (2026-11-28); 51–58 s on 2026-11-29 (`bench_compile.py`; 74 s
+for the code before)."""
 
 COMPILING = (
     f"compiling the analysis kernels, once for this installation (about {COMPILE_TIME_S} s on an "
@@ -52,10 +55,12 @@ COMPILING_VERTICAL = (
 )
 """What a run with vertical ground motions says when its kernels are being compiled."""
 
-DEVICES_COMPILE_TIME_S = 60
+DEVICES_COMPILE_TIME_S = 80
 """The same for the kernels of a bridge with devices, compiled for them of their own
-(`core.device_mechanics`), with and without a vertical ground motion [s]: 4 min in a test run
-that compiled them at two fidelities while four other jobs kept a 2-core host busy (issue 41)."""
+(`core.device_mechanics`) [s]: 78–79 s of CPU on 2026-11-29 (`benchmarks/bench_compile.py`, its
+``devices`` row; 115 s for the code before, and 60 s was stated: 4 min in a test run that
+compiled them at two fidelities while four other jobs kept a 2-core host busy, issue 41); about
+60 s more for those of a bridge with devices under a vertical ground motion."""
 
 COMPILING_DEVICES = (
     "compiling the analysis kernels for bridges with devices (tendons, dampers, dissipators), "
