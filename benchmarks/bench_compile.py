@@ -22,7 +22,6 @@ import json
 import os
 import platform
 import statistics
-import subprocess
 import sys
 import tempfile
 import time
@@ -87,14 +86,12 @@ def own_times(events: list[tuple[str | None, float]]) -> dict[str, float]:
 
 def compile_round() -> dict:
     """One round in a fresh process on an empty cache: the variants' times and the kernels'."""
+    from bench_study import child  # its failure stops with the round's own last lines
+
     with tempfile.TemporaryDirectory() as folder:
         environment = os.environ | {"NUMBA_CACHE_DIR": folder, "TMPDIR": folder}
-        done = subprocess.run([sys.executable, "-c", ROUND, str(REPO / "benchmarks")],
-                              env=environment, capture_output=True, text=True)  # fmt: skip
-    if done.returncode != 0:
-        sys.exit(f"bench_compile.py: a round failed (exit {done.returncode}):\n"
-                 + "\n".join(done.stderr.strip().splitlines()[-5:]))  # fmt: skip
-    return json.loads(done.stdout.strip().splitlines()[-1])
+        out = child([sys.executable, "-c", ROUND, str(REPO / "benchmarks")], env=environment)
+    return json.loads(out.strip().splitlines()[-1])
 
 
 def main() -> None:
@@ -102,6 +99,8 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=1, help="rounds; the table gives medians")
     parser.add_argument("--top", type=int, default=12, help="kernels listed")
     options = parser.parse_args()
+    if options.repeat < 1:
+        parser.error("--repeat: at least 1")
     print(f"{time.strftime('%Y-%m-%d %H:%M %Z')}; {platform.machine()}, {os.cpu_count()} CPUs "
           f"(load average {' '.join(f'{v:.1f}' for v in os.getloadavg())}), Python "
           f"{platform.python_version()}; median of {options.repeat} round(s)")  # fmt: skip
